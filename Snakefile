@@ -1,0 +1,20 @@
+# craquelure: scene files -> datasets -> figures -> report, for four particle models.
+from snakemake.utils import min_version
+
+min_version("9.0")
+
+
+configfile: "config/config.yaml"
+
+
+report: "workflow/report/workflow.rst"
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/drying.smk"
+
+
+rule all:
+    default_target: True
+    input:
+        all_targets(),

@@ -1,0 +1,5 @@
+import sys
+
+from craquelure.cli import main
+
+sys.exit(main())

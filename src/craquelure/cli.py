@@ -1,0 +1,48 @@
+"""Command line: ``craquelure <command> ...``.
+
+Commands live in :mod:`craquelure.commands`, one module each with ``NAME``, ``HELP``,
+``add_arguments(parser)`` and ``main(args) -> int``; this module discovers them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import pkgutil
+import sys
+
+from craquelure import __version__
+from craquelure.errors import CraquelureError
+
+
+def build_parser() -> argparse.ArgumentParser:
+    import craquelure.commands as commands
+
+    parser = argparse.ArgumentParser(prog="craquelure", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"craquelure {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True)
+    for info in sorted(pkgutil.iter_modules(commands.__path__), key=lambda i: i.name):
+        module = importlib.import_module(f"craquelure.commands.{info.name}")
+        if not hasattr(module, "NAME"):
+            continue
+        p = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
+        module.add_arguments(p)
+        p.set_defaults(_main=module.main)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args._main(args) or 0)
+    except CraquelureError as exc:
+        print(f"craquelure {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except (ValueError, KeyError) as exc:
+        print(f"craquelure {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,81 @@
+"""Registry of physical effects.
+
+Every effect is one small module (``craquelure/<engine>/effects/<name>.py``) that declares
+``EFFECT = Effect(...)``: its name, the models it belongs to, the scene parameters it needs
+(dotted paths, per model) and a one-line description. Scene validation reads the registry, so
+an unknown effect or a missing parameter is rejected before anything runs, and the engine
+compiles only the effects a scene lists.
+"""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from dataclasses import dataclass, field
+from functools import cache
+
+
+@dataclass(frozen=True)
+class Effect:
+    """Declaration of one physical effect.
+
+    ``requires`` maps a model name to the dotted scene paths the effect needs in that model
+    (e.g. ``{"drying": ("material.eta",)}``); ``conflicts`` names effects it cannot run with.
+    """
+
+    name: str
+    models: tuple[str, ...]
+    description: str
+    requires: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    conflicts: tuple[str, ...] = ()
+
+    def required_paths(self, model: str) -> tuple[str, ...]:
+        return tuple(self.requires.get(model, ()))
+
+
+# Each model lists the packages whose modules declare its effects.
+EFFECT_PACKAGES: dict[str, tuple[str, ...]] = {
+    "drying": ("craquelure.sph.effects",),
+    "impact": ("craquelure.sph.effects",),
+    "lattice": ("craquelure.lattice.effects",),
+    "softdyn": ("craquelure.softdyn.effects",),
+}
+
+
+@cache
+def _effects_in_package(package: str) -> dict[str, Effect]:
+    try:
+        pkg = importlib.import_module(package)
+    except ModuleNotFoundError:
+        return {}
+    found: dict[str, Effect] = {}
+    for info in pkgutil.iter_modules(pkg.__path__):
+        module = importlib.import_module(f"{package}.{info.name}")
+        effect = getattr(module, "EFFECT", None)
+        if isinstance(effect, Effect):
+            if effect.name in found:
+                raise RuntimeError(f"effect {effect.name!r} declared twice in {package}")
+            found[effect.name] = effect
+    return found
+
+
+def known_effects(model: str) -> dict[str, Effect]:
+    """All effects available to ``model``, by name (sorted)."""
+    effects: dict[str, Effect] = {}
+    for package in EFFECT_PACKAGES.get(model, ()):
+        for name, effect in _effects_in_package(package).items():
+            if model in effect.models:
+                effects[name] = effect
+    return dict(sorted(effects.items()))
+
+
+def get_effect(model: str, name: str) -> Effect:
+    effects = known_effects(model)
+    if name not in effects:
+        from craquelure.errors import SceneError
+
+        raise SceneError(
+            f"effects: unknown effect {name!r} for model {model!r}; "
+            f"known effects: {', '.join(effects) or '(none)'}"
+        )
+    return effects[name]

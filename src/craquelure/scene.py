@@ -1,0 +1,239 @@
+"""Scene files: load, override, validate.
+
+A scene is a YAML file ``config/scenes/<model>/<name>.yaml`` with the sections ``model``,
+``description``, ``domain``, ``particles``, ``material``, ``numerics``, ``outputs`` and an
+explicit ``effects`` list. Each model has a JSON schema (``craquelure/schemas/<model>.yaml``)
+that rejects unknown keys and out-of-range values; the effect registry
+(:mod:`craquelure.registry`) rejects unknown effects and effects whose parameters are missing.
+Every error names the key, the bad value and what is allowed. Defaults from the schema are
+filled in, so the resolved scene (``Scene.text``) states every number a run used.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+from functools import cache
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import yaml
+
+from craquelure.errors import SceneError
+from craquelure.registry import known_effects
+
+MODELS = ("drying", "impact", "lattice", "softdyn")
+_MISSING = object()
+
+
+def project_root() -> Path:
+    """The checkout this package lives in (editable install), else the working directory."""
+    root = Path(__file__).resolve().parents[2]
+    return root if (root / "config" / "scenes").is_dir() else Path.cwd()
+
+
+def scenes_dir() -> Path:
+    return project_root() / "config" / "scenes"
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene: ``data`` is the resolved mapping (defaults and overrides applied)."""
+
+    name: str
+    data: dict[str, Any]
+    source_text: str
+    overrides: tuple[str, ...] = ()
+    path: Path | None = None
+    text: str = field(default="", compare=False)
+
+    @property
+    def model(self) -> str:
+        return self.data["model"]
+
+    @property
+    def effects(self) -> tuple[str, ...]:
+        return tuple(self.data["effects"])
+
+    def has(self, effect: str) -> bool:
+        return effect in self.data["effects"]
+
+    def get(self, dotted: str, default: Any = _MISSING) -> Any:
+        node: Any = self.data
+        for key in dotted.split("."):
+            if not isinstance(node, dict) or key not in node:
+                if default is _MISSING:
+                    raise KeyError(dotted)
+                return default
+            node = node[key]
+        return node
+
+    def with_overrides(self, overrides: list[str] | tuple[str, ...]) -> Scene:
+        """A new validated scene with more ``key.path=value`` overrides applied."""
+        return load_scene_text(
+            self.source_text, name=self.name, overrides=(*self.overrides, *overrides),
+            path=self.path,
+        )
+
+
+@cache
+def model_schema(model: str) -> dict[str, Any]:
+    text = resources.files("craquelure").joinpath(f"schemas/{model}.yaml").read_text()
+    return yaml.safe_load(text)
+
+
+def resolve_scene_path(ref: str | Path) -> Path:
+    """A path to a YAML file, or a built-in scene name such as ``drying/default``."""
+    path = Path(ref)
+    if path.is_file():
+        return path
+    builtin = scenes_dir() / f"{ref}.yaml"
+    if builtin.is_file():
+        return builtin
+    raise SceneError(
+        f"scene {str(ref)!r} not found: give a YAML file or a built-in scene "
+        f"(`craquelure scenes` lists them)"
+    )
+
+
+def load_scene(ref: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scene:
+    path = resolve_scene_path(ref)
+    name = path.stem
+    return load_scene_text(path.read_text(), name=name, overrides=overrides, path=path)
+
+
+def load_scene_text(
+    text: str, name: str = "scene", overrides: list[str] | tuple[str, ...] = (),
+    path: Path | None = None,
+) -> Scene:
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        raise SceneError(f"scene {name}: not valid YAML: {exc}") from exc
+    if not isinstance(data, dict):
+        raise SceneError(f"scene {name}: the top level must be a mapping of sections")
+    for item in overrides:
+        apply_override(data, item)
+    data = validate_scene_data(data)
+    resolved = yaml.safe_dump(data, sort_keys=False)
+    return Scene(name=name, data=data, source_text=text, overrides=tuple(overrides),
+                 path=path, text=resolved)
+
+
+def parse_override(item: str) -> tuple[list[str], Any]:
+    if "=" not in item:
+        raise SceneError(f"--set {item!r}: expected key.path=value")
+    key, raw = item.split("=", 1)
+    keys = [k for k in key.strip().split(".") if k]
+    if not keys:
+        raise SceneError(f"--set {item!r}: empty key")
+    try:
+        value = yaml.safe_load(raw) if raw.strip() else ""
+    except yaml.YAMLError as exc:
+        raise SceneError(f"--set {item!r}: value is not valid YAML: {exc}") from exc
+    return keys, value
+
+
+def apply_override(data: dict[str, Any], item: str) -> None:
+    """Set ``data[a][b][c] = value`` for ``a.b.c=value`` (intermediate mappings are created;
+    the schema then rejects keys that do not exist)."""
+    keys, value = parse_override(item)
+    node = data
+    for depth, key in enumerate(keys[:-1]):
+        nxt = node.setdefault(key, {})
+        if not isinstance(nxt, dict):
+            where = ".".join(keys[: depth + 1])
+            raise SceneError(f"--set {item!r}: {where} is {nxt!r}, not a section")
+        node = nxt
+    node[keys[-1]] = value
+
+
+def _fill_defaults(node: Any, schema: dict[str, Any]) -> None:
+    if not isinstance(node, dict):
+        return
+    for key, sub in schema.get("properties", {}).items():
+        if key not in node and "default" in sub:
+            node[key] = copy.deepcopy(sub["default"])
+        if key in node and sub.get("type") == "object":
+            _fill_defaults(node[key], sub)
+
+
+def _path(error: jsonschema.ValidationError) -> str:
+    return ".".join(str(p) for p in error.absolute_path) or "(top level)"
+
+
+def _describe(error: jsonschema.ValidationError) -> str:
+    where, value, kind = _path(error), error.instance, error.validator
+    if kind == "additionalProperties":
+        allowed = sorted(error.schema.get("properties", {}))
+        extra = sorted(set(value) - set(allowed))
+        return (f"{where}: unknown key {', '.join(map(repr, extra))}; "
+                f"allowed keys: {', '.join(allowed)}")
+    if kind == "enum":
+        return (f"{where}: {value!r} is not allowed; allowed values: "
+                f"{', '.join(map(str, error.validator_value))}")
+    if kind == "required":
+        return f"{where}: {error.message}"
+    bounds = {"minimum": ">=", "exclusiveMinimum": ">", "maximum": "<=", "exclusiveMaximum": "<"}
+    if kind in bounds:
+        return f"{where}: {value!r} is not allowed; must be {bounds[kind]} {error.validator_value}"
+    if kind == "type":
+        return f"{where}: {value!r} is not allowed; must be of type {error.validator_value}"
+    return f"{where}: {value!r} is not allowed: {error.message}"
+
+
+def validate_scene_data(data: dict[str, Any]) -> dict[str, Any]:
+    """Validate against the model's schema and the effect registry; returns a resolved copy."""
+    data = copy.deepcopy(data)
+    model = data.get("model")
+    if model not in MODELS:
+        raise SceneError(f"model: {model!r} is not allowed; allowed values: {', '.join(MODELS)}")
+    schema = model_schema(model)
+    _fill_defaults(data, schema)
+    validator = jsonschema.Draft202012Validator(schema)
+    errors = sorted(validator.iter_errors(data), key=lambda e: (len(e.absolute_path), _path(e)))
+    if errors:
+        raise SceneError("invalid scene:\n  " + "\n  ".join(_describe(e) for e in errors))
+    _check_effects(data)
+    return data
+
+
+def _check_effects(data: dict[str, Any]) -> None:
+    model, listed = data["model"], data["effects"]
+    known = known_effects(model)
+    unknown = [e for e in listed if e not in known]
+    if unknown:
+        raise SceneError(
+            f"effects: unknown effect {', '.join(map(repr, unknown))} for model {model!r}; "
+            f"known effects: {', '.join(known) or '(none)'}"
+        )
+    if len(set(listed)) != len(listed):
+        raise SceneError(f"effects: listed twice: {sorted({e for e in listed if listed.count(e) > 1})}")
+    problems = []
+    for name in listed:
+        effect = known[name]
+        for dotted in effect.required_paths(model):
+            node: Any = data
+            for key in dotted.split("."):
+                node = node.get(key) if isinstance(node, dict) else None
+            if node is None:
+                problems.append(f"effect {name!r} needs {dotted}, which the scene does not set")
+        for other in effect.conflicts:
+            if other in listed:
+                problems.append(f"effects {name!r} and {other!r} cannot run together")
+    if problems:
+        raise SceneError("invalid scene:\n  " + "\n  ".join(problems))
+
+
+def list_scenes() -> list[tuple[str, str]]:
+    """Built-in scenes as (``model/name``, one-line description)."""
+    out = []
+    for path in sorted(scenes_dir().glob("*/*.yaml")):
+        try:
+            desc = (yaml.safe_load(path.read_text()) or {}).get("description", "")
+        except yaml.YAMLError:
+            desc = "(unreadable YAML)"
+        out.append((f"{path.parent.name}/{path.stem}", " ".join(str(desc).split())))
+    return out

@@ -1,0 +1,19 @@
+r"""Drying stress (drying spec section 2): :math:`\sigma_{dry} = v_r\, t\, \mathbf 1`, isotropic
+and linear in time; in 2D it adds :math:`v_r t` to :math:`\sigma_{xx}` and :math:`\sigma_{yy}`.
+Tension is positive."""
+
+from numba import njit
+
+from craquelure.registry import Effect
+
+EFFECT = Effect(
+    name="drying",
+    models=("drying",),
+    description="isotropic drying stress sigma_dry = v_r t 1",
+    requires={"drying": ("material.drying_rate",)},
+)
+
+
+@njit(inline="always", cache=True)
+def drying_stress(t, v_r):
+    return v_r * t

@@ -1,0 +1,24 @@
+r"""Thin-layer substrate resistance (drying spec section 3, Eq. 15):
+
+.. math:: \rho\,\dot{\mathbf v} = \nabla\cdot\sigma - \frac{\mu}{H^2}\,\mathbf u,
+
+with :math:`\mathbf u = \mathbf r - \mathbf r(0)` the displacement of the surface point (no slip
+at the bottom, free top, one finite difference across the thickness H). The per-particle
+acceleration is :math:`-\mu\,\mathbf u / (H^2 \rho_I)`."""
+
+from numba import njit
+
+from craquelure.registry import Effect
+
+EFFECT = Effect(
+    name="substrate",
+    models=("drying",),
+    description="thin-layer substrate spring -(mu/H^2) u",
+    requires={"drying": ("material.lame_mu", "material.thickness")},
+)
+
+
+@njit(inline="always", cache=True)
+def substrate_acceleration(ux, uy, rho, mu, thickness):
+    k = mu / (thickness * thickness * rho)
+    return -k * ux, -k * uy

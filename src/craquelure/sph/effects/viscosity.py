@@ -1,0 +1,19 @@
+r"""Voigt viscous stress (drying spec section 2): :math:`\sigma_{vis} = \eta D`
+(no factor 2), :math:`D = (L + L^T)/2`, added to the total stress at every rate evaluation."""
+
+from numba import njit
+
+from craquelure.registry import Effect
+
+EFFECT = Effect(
+    name="viscosity",
+    models=("drying",),
+    description="Voigt viscous stress sigma_vis = eta D",
+    requires={"drying": ("material.eta",)},
+)
+
+
+@njit(inline="always", cache=True)
+def viscous_stress(lxx, lxy, lyx, lyy, eta):
+    """(sxx, syy, sxy) of eta D."""
+    return eta * lxx, eta * lyy, 0.5 * eta * (lxy + lyx)

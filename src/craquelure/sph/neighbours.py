@@ -1,0 +1,209 @@
+"""O(N) cell-list neighbour search in 2D for periodic and open boxes.
+
+Particles are binned into square cells of side >= the search radius; each particle's
+neighbours are found in its own and the 8 surrounding cells (wrapped in a periodic box, where
+the minimum image gives the pair vector). The result is a CSR list (``offsets``, ``index``):
+the neighbours of I are ``index[offsets[I]:offsets[I+1]]``, every pair appears in both rows
+(gather-style loops, safe under ``prange``), I itself is excluded. Inactive particles
+(``active == 0``) neither have nor are neighbours.
+
+``cell_order`` gives the permutation that sorts particles by cell, for memory locality.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+
+@dataclass(frozen=True)
+class Box:
+    """Axis-aligned box [lo_x, lo_x + length_x) x [lo_y, lo_y + length_y), periodic or open.
+
+    For an open box particles outside the bounds are binned into the edge cells, so the bounds
+    only need to be approximately right for performance, never for correctness.
+    """
+
+    length_x: float
+    length_y: float
+    periodic: bool = True
+    lo_x: float = 0.0
+    lo_y: float = 0.0
+
+    @classmethod
+    def square(cls, length: float, periodic: bool = True) -> Box:
+        return cls(float(length), float(length), periodic)
+
+    @classmethod
+    def around(cls, x: np.ndarray, y: np.ndarray, pad: float) -> Box:
+        lo_x, lo_y = float(x.min()) - pad, float(y.min()) - pad
+        return cls(float(x.max()) + pad - lo_x, float(y.max()) + pad - lo_y, False, lo_x, lo_y)
+
+
+def cells_per_side(box: Box, radius: float) -> tuple[int, int]:
+    if radius <= 0:
+        raise ValueError(f"search radius must be > 0, got {radius}")
+    if box.periodic and (box.length_x < 2 * radius or box.length_y < 2 * radius):
+        raise ValueError(
+            f"periodic box {box.length_x} x {box.length_y} is smaller than twice the search "
+            f"radius {radius}: the minimum image is ambiguous")
+    nx = max(1, int(box.length_x / radius))
+    ny = max(1, int(box.length_y / radius))
+    return nx, ny
+
+
+@njit(inline="always", cache=True)
+def _cell_coord(v, lo, length, n, periodic):
+    c = int(np.floor((v - lo) / length * n))
+    if periodic:
+        c %= n
+    elif c < 0:
+        c = 0
+    elif c >= n:
+        c = n - 1
+    return c
+
+
+@njit(cache=True)
+def bin_particles(x, y, active, lo_x, lo_y, lx, ly, nx, ny, periodic):
+    """Counting sort into cells: particles of cell c are ``order[start[c]:start[c+1]]``."""
+    n = x.size
+    cell = np.empty(n, np.int64)
+    count = np.zeros(nx * ny + 1, np.int64)
+    for i in range(n):
+        if active[i]:
+            cx = _cell_coord(x[i], lo_x, lx, nx, periodic)
+            cy = _cell_coord(y[i], lo_y, ly, ny, periodic)
+            cell[i] = cy * nx + cx
+            count[cell[i] + 1] += 1
+        else:
+            cell[i] = -1
+    start = np.cumsum(count)
+    fill = start[:-1].copy()
+    order = np.empty(start[-1], np.int64)
+    for i in range(n):
+        if cell[i] >= 0:
+            order[fill[cell[i]]] = i
+            fill[cell[i]] += 1
+    return cell, start, order
+
+
+@njit(inline="always", cache=True)
+def _neighbour_cells(c, nx, ny, periodic, out):
+    """Distinct cells around cell c (itself included); returns how many were written."""
+    cx, cy = c % nx, c // nx
+    k = 0
+    for dy in range(-1, 2):
+        for dx in range(-1, 2):
+            ix, iy = cx + dx, cy + dy
+            if periodic:
+                ix %= nx
+                iy %= ny
+            elif ix < 0 or ix >= nx or iy < 0 or iy >= ny:
+                continue
+            cc = iy * nx + ix
+            seen = False
+            for j in range(k):
+                if out[j] == cc:
+                    seen = True
+            if not seen:
+                out[k] = cc
+                k += 1
+    return k
+
+
+@njit(inline="always", cache=True)
+def min_image(d, length, periodic):
+    if periodic:
+        return d - length * np.rint(d / length)
+    return d
+
+
+@njit(parallel=True, cache=True)
+def _count(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max):
+    n = x.size
+    counts = np.zeros(n, np.int64)
+    for i in prange(n):
+        if cell[i] < 0:
+            continue
+        cells = np.empty(9, np.int64)
+        nc = _neighbour_cells(cell[i], nx, ny, periodic, cells)
+        k = 0
+        for a in range(nc):
+            c = cells[a]
+            for p in range(start[c], start[c + 1]):
+                j = order[p]
+                if j == i:
+                    continue
+                dx = min_image(x[i] - x[j], lx, periodic)
+                dy = min_image(y[i] - y[j], ly, periodic)
+                if dx * dx + dy * dy < r2max:
+                    k += 1
+        counts[i] = k
+    return counts
+
+
+@njit(parallel=True, cache=True)
+def _fill(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max, offsets, index):
+    n = x.size
+    for i in prange(n):
+        if cell[i] < 0:
+            continue
+        cells = np.empty(9, np.int64)
+        nc = _neighbour_cells(cell[i], nx, ny, periodic, cells)
+        k = offsets[i]
+        for a in range(nc):
+            c = cells[a]
+            for p in range(start[c], start[c + 1]):
+                j = order[p]
+                if j == i:
+                    continue
+                dx = min_image(x[i] - x[j], lx, periodic)
+                dy = min_image(y[i] - y[j], ly, periodic)
+                if dx * dx + dy * dy < r2max:
+                    index[k] = j
+                    k += 1
+
+
+def neighbour_list(x: np.ndarray, y: np.ndarray, radius: float, box: Box,
+                   active: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """All pairs with ``|r_I - r_J| < radius`` (minimum image if periodic), as CSR arrays."""
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    y = np.ascontiguousarray(y, dtype=np.float64)
+    if active is None:
+        active = np.ones(x.size, np.bool_)
+    nx, ny = cells_per_side(box, radius)
+    cell, start, order = bin_particles(x, y, active, box.lo_x, box.lo_y, box.length_x,
+                                       box.length_y, nx, ny, box.periodic)
+    counts = _count(x, y, cell, start, order, nx, ny, box.length_x, box.length_y,
+                    box.periodic, radius * radius)
+    offsets = np.zeros(x.size + 1, np.int64)
+    np.cumsum(counts, out=offsets[1:])
+    index = np.empty(offsets[-1], np.int64)
+    _fill(x, y, cell, start, order, nx, ny, box.length_x, box.length_y, box.periodic,
+          radius * radius, offsets, index)
+    return offsets, index
+
+
+def cell_order(x: np.ndarray, y: np.ndarray, radius: float, box: Box) -> np.ndarray:
+    """Permutation that sorts particles by cell (row-major), stable within a cell."""
+    nx, ny = cells_per_side(box, radius)
+    active = np.ones(x.size, np.bool_)
+    cell, _, _ = bin_particles(np.asarray(x, np.float64), np.asarray(y, np.float64), active,
+                               box.lo_x, box.lo_y, box.length_x, box.length_y, nx, ny,
+                               box.periodic)
+    return np.argsort(cell, kind="stable")
+
+
+def brute_force_pairs(x, y, radius, box: Box) -> set[tuple[int, int]]:
+    """O(N^2) reference for tests: all ordered pairs (i, j), i != j, closer than radius."""
+    dx = x[:, None] - x[None, :]
+    dy = y[:, None] - y[None, :]
+    if box.periodic:
+        dx -= box.length_x * np.rint(dx / box.length_x)
+        dy -= box.length_y * np.rint(dy / box.length_y)
+    close = (dx * dx + dy * dy < radius * radius)
+    np.fill_diagonal(close, False)
+    return {(int(i), int(j)) for i, j in zip(*np.nonzero(close), strict=True)}
