@@ -36,7 +36,7 @@ class Effect:
 # Each model lists the packages whose modules declare its effects.
 EFFECT_PACKAGES: dict[str, tuple[str, ...]] = {
     "drying": ("craquelure.sph.effects",),
-    "impact": ("craquelure.sph.effects",),
+    "impact": ("craquelure.impact.effects",),
     "lattice": ("craquelure.lattice.effects",),
     "softdyn": ("craquelure.softdyn.effects",),
 }
