@@ -11,9 +11,9 @@ from craquelure.scene import Scene
 # benchmarks/sph_engine.py on this 2-core machine; used only for wall-time estimates.
 PAIR_VISITS_PER_S_PER_THREAD = 3.0e7
 RK4_REAL_AXIS, ABM4_REAL_AXIS = 2.785, 1.285
-EVALS_PER_STEP = {"rk4": 4, "abm4": 2, "leapfrog": 1}
+EVALS_PER_STEP = {"rk4": 4, "abm4": 2, "rk2": 2}
 
-__all__ = ["build_initial_state", "derived_numbers"]
+__all__ = ["build_initial_state", "derived_numbers", "run"]
 
 
 def viscous_spectral_radius(scene: Scene) -> float:
@@ -26,7 +26,7 @@ def stable_time_step(scene: Scene) -> float:
     """Largest stable step of the scene's integrator, from the viscous and acoustic limits."""
     radius = viscous_spectral_radius(scene)
     integrator = scene.get("numerics.integrator")
-    axis = {"rk4": RK4_REAL_AXIS, "abm4": ABM4_REAL_AXIS, "leapfrog": 2.0}[integrator]
+    axis = {"rk4": RK4_REAL_AXIS, "abm4": ABM4_REAL_AXIS, "rk2": 2.0}[integrator]
     limits = [axis / radius] if radius > 0 else []
     if scene.has("elasticity"):
         lam, mu = scene.get("material.lame_lambda"), scene.get("material.lame_mu")
@@ -55,3 +55,9 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "rate evaluations": steps * evals,
         "estimated wall time, 1 thread [s]": pair_visits / PAIR_VISITS_PER_S_PER_THREAD,
     }
+
+
+def run(scene: Scene, out, seed: int = 0, init=None, resume: bool = False):
+    from craquelure.drying.run import run as run_drying
+
+    return run_drying(scene, out, seed=seed, init=init, resume=resume)

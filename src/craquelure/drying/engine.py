@@ -1,0 +1,258 @@
+"""Drying-paste SPH engine: state, specialised rate function, neighbour list, fracture and the
+integrator loop (drying spec sections 2-8). No file I/O here (see :mod:`craquelure.drying.run`).
+
+- The rate function is compiled for the scene's effect set only (:mod:`craquelure.sph.codegen`).
+- Neighbours: CSR Verlet list of radius h(1 + skin), rebuilt when a particle has moved more
+  than skin h / 2 since the last build, after removals and at every checkpoint (so a resumed run
+  repeats the summation order of an uninterrupted one: bit-identical results).
+- Fracture (effect ``fracture``): after each accepted step, with the rates of the new state,
+  particles with mean stress tr(sigma)/2 > sigma_Y are removed (alive = 0, mass = 0, v = 0) and
+  the multistep integrator restarts with RK4.
+- Time step: the scene's dt; at the start and every ``spectral_check_every`` steps the viscous
+  spectral radius is re-estimated by power iteration and dt is halved while it exceeds 0.6 of the
+  integrator's real-axis limit (spec section 8).
+- Guards: NaN/inf anywhere in the state, or a kinetic energy above ``energy_runaway_factor``
+  times the energy the stresses can supply, stop the run with :class:`SimulationDiverged`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from craquelure.errors import SimulationDiverged
+from craquelure.scene import Scene
+from craquelure.sph import drying_rate as template
+from craquelure.sph.codegen import specialise
+from craquelure.sph.integrators import REAL_AXIS_LIMIT, Stepper
+from craquelure.sph.kernels import kernel_kind
+from craquelure.sph.neighbours import Box, neighbour_list
+
+RATE_EFFECTS = ("continuity", "drying", "elasticity", "substrate", "viscosity", "xsph")
+NVAR = template.NVAR
+X, Y, VX, VY, RHO, SXX, SYY, SXY = range(8)
+
+
+def compile_rate(effects, kernel: str = "quintic"):
+    """The rate module specialised on ``effects`` (names outside RATE_EFFECTS are ignored)."""
+    flags: dict[str, bool | int] = {e.upper(): e in effects for e in RATE_EFFECTS}
+    flags["KERNEL"] = kernel_kind(kernel)
+    tag = "drying_rate_" + "_".join(sorted(e for e in effects if e in RATE_EFFECTS))
+    return specialise(template, flags, tag or "drying_rate_none")
+
+
+def parameters(scene: Scene) -> np.ndarray:
+    p = np.zeros(template.NPARAM)
+    p[template.P_LAMBDA] = scene.get("material.lame_lambda", 0.0)
+    p[template.P_MU] = scene.get("material.lame_mu", 0.0)
+    p[template.P_ETA] = scene.get("material.eta", 0.0)
+    p[template.P_VR] = scene.get("material.drying_rate", 0.0)
+    p[template.P_THICK] = scene.get("material.thickness", 1.0)
+    p[template.P_EPS] = scene.get("numerics.xsph_epsilon", 0.0)
+    p[template.P_SUPPORT] = scene.get("numerics.h")
+    p[template.P_BOX] = scene.get("domain.box_length")
+    return p
+
+
+class DryingEngine:
+    """Holds the state of one drying-paste run and advances it."""
+
+    def __init__(self, scene: Scene, x, y, mass, rho, sigma_e, vx=None, vy=None) -> None:
+        self.scene = scene
+        n = len(x)
+        self.n = n
+        self.box_length = float(scene.get("domain.box_length"))
+        self.h = float(scene.get("numerics.h"))
+        self.box = Box.square(self.box_length)
+        self.state = np.zeros((NVAR, n))
+        self.state[X], self.state[Y] = x, y
+        self.state[VX] = 0.0 if vx is None else vx
+        self.state[VY] = 0.0 if vy is None else vy
+        self.state[RHO] = rho
+        self.state[SXX:SXY + 1] = sigma_e
+        self.x0, self.y0 = np.array(x, float), np.array(y, float)
+        self.mass = np.array(mass, float)
+        self.alive = np.ones(n, np.bool_)
+        self.t = 0.0
+        self.step_count = 0
+        self.dt = float(scene.get("numerics.dt"))
+        self.params = parameters(scene)
+        self.effects = scene.effects
+        self.fracture = scene.has("fracture")
+        self.yield_stress = float(scene.get("material.yield_stress", math.inf))
+        kernel = scene.get("numerics.kernel")
+        self.rate_module = compile_rate(self.effects, kernel)
+        self.viscous_module = compile_rate(("viscosity",), kernel)
+        self.stepper = Stepper(scene.get("numerics.integrator"),
+                               scene.get("numerics.restart_steps"))
+        self.skin = float(scene.get("numerics.neighbour_skin")) * self.h
+        self.overwrite_velocity = bool(scene.get("numerics.xsph_overwrite_velocity"))
+        self.n_removed = 0
+        self.evaluations = 0
+        self.stress = np.zeros((3, n))
+        self._build_neighbours()
+        self.f_current = self.evaluate(self.state, self.t)
+        self.energy_bound = self._energy_bound()
+
+    # -- neighbours and rates ------------------------------------------------------------
+    def _build_neighbours(self) -> None:
+        self.offsets, self.index = neighbour_list(
+            self.state[X], self.state[Y], self.h + self.skin, self.box, self.alive)
+        self._built_x = self.state[X].copy()
+        self._built_y = self.state[Y].copy()
+        self.neighbour_builds = getattr(self, "neighbour_builds", 0) + 1
+
+    def _maybe_rebuild(self, state: np.ndarray) -> None:
+        if self.skin <= 0:
+            self._rebuild_with(state)
+            return
+        moved2 = (state[X] - self._built_x) ** 2 + (state[Y] - self._built_y) ** 2
+        if moved2.max(initial=0.0) > (0.5 * self.skin) ** 2:
+            self._rebuild_with(state)
+
+    def _rebuild_with(self, state: np.ndarray) -> None:
+        saved = self.state
+        self.state = state
+        try:
+            self._build_neighbours()
+        finally:
+            self.state = saved
+
+    def evaluate(self, state: np.ndarray, t: float, stress: np.ndarray | None = None):
+        """dY/dt at (state, t); the total stress goes to ``stress`` (default: self.stress)."""
+        self._maybe_rebuild(state)
+        out = np.empty_like(state)
+        self.rate_module.rate(state, t, self.mass, self.alive, self.x0, self.y0, self.offsets,
+                              self.index, self.params, out,
+                              self.stress if stress is None else stress)
+        self.evaluations += 1
+        return out
+
+    def _stage_rate(self, state: np.ndarray, t: float) -> np.ndarray:
+        return self.evaluate(state, t, stress=np.empty_like(self.stress))
+
+    # -- diagnostics -----------------------------------------------------------------------
+    @property
+    def mean_stress(self) -> np.ndarray:
+        """tr(sigma)/2 of the total stress of the current state (0 for removed particles)."""
+        return 0.5 * (self.stress[0] + self.stress[1])
+
+    def kinetic_energy(self) -> float:
+        return float(0.5 * np.sum(self.mass * (self.state[VX] ** 2 + self.state[VY] ** 2)))
+
+    def elastic_energy(self) -> float:
+        """sum_I V_I w_I, w = (tr s)^2 / (8 (lambda + mu)) + (s_dev : s_dev) / (4 mu) for the
+        elastic stress s of a 2D isotropic solid with Lame constants lambda, mu."""
+        lam, mu = self.params[template.P_LAMBDA], self.params[template.P_MU]
+        if mu <= 0:
+            return 0.0
+        sxx, syy, sxy = self.state[SXX], self.state[SYY], self.state[SXY]
+        tr = sxx + syy
+        dev2 = (0.5 * (sxx - syy)) ** 2 * 2 + 2 * sxy**2
+        w = tr**2 / (8 * (lam + mu)) + dev2 / (4 * mu)
+        volume = np.where(self.alive, self.mass / self.state[RHO], 0.0)
+        return float(np.sum(volume * w))
+
+    def momentum(self) -> tuple[float, float]:
+        return (float(np.sum(self.mass * self.state[VX])),
+                float(np.sum(self.mass * self.state[VY])))
+
+    def _energy_bound(self) -> float:
+        """Energy the stresses can supply over the run (used by the runaway guard)."""
+        lam, mu = self.params[template.P_LAMBDA], self.params[template.P_MU]
+        t_end = float(self.scene.get("outputs.t_end"))
+        sigma = max(float(np.abs(self.state[SXX:SXY + 1]).max(initial=0.0)),
+                    self.params[template.P_VR] * t_end,
+                    self.yield_stress if math.isfinite(self.yield_stress) else 0.0)
+        modulus = max(min(mu, lam + mu), 1e-12)
+        area = self.box_length**2
+        return self.kinetic_energy() + area * sigma**2 / (2 * modulus) + 1e-300
+
+    def check_health(self) -> None:
+        if not np.isfinite(self.state).all():
+            bad = np.nonzero(~np.isfinite(self.state).all(axis=0))[0]
+            rows = ["x", "y", "vx", "vy", "rho", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy"]
+            fields = [rows[r] for r in range(NVAR) if not np.isfinite(self.state[r]).all()]
+            raise SimulationDiverged(
+                f"non-finite {', '.join(fields)} at t = {self.t:.6g} (step {self.step_count}, "
+                f"dt = {self.dt:g}) in {bad.size} particles (first: {bad[0]}); "
+                f"try a smaller numerics.dt")
+        ke = self.kinetic_energy()
+        factor = float(self.scene.get("numerics.energy_runaway_factor"))
+        if ke > factor * self.energy_bound:
+            raise SimulationDiverged(
+                f"kinetic energy ran away at t = {self.t:.6g} (step {self.step_count}, "
+                f"dt = {self.dt:g}): {ke:.4g} > {factor:g} x {self.energy_bound:.4g}, the energy "
+                f"the stresses can supply; try a smaller numerics.dt")
+
+    # -- time step control -------------------------------------------------------------------
+    def viscous_spectral_radius(self, iterations: int = 40, seed: int = 12345) -> float:
+        """Largest |eigenvalue| of the linear map v -> dv/dt of the viscous term alone, by
+        power iteration on the current configuration."""
+        if not self.scene.has("viscosity") or self.params[template.P_ETA] == 0:
+            return 0.0
+        rng = np.random.default_rng(seed)
+        probe = self.state.copy()
+        probe[SXX:SXY + 1] = 0.0
+        v = rng.standard_normal((2, self.n)) * self.alive
+        out = np.empty_like(probe)
+        stress = np.empty_like(self.stress)
+        radius = 0.0
+        for _ in range(iterations):
+            v /= np.linalg.norm(v)
+            probe[VX], probe[VY] = v
+            self.viscous_module.rate(probe, 0.0, self.mass, self.alive, self.x0, self.y0,
+                                     self.offsets, self.index, self.params, out, stress)
+            v = out[VX:VY + 1].copy()
+            radius = float(np.linalg.norm(v))
+        return radius
+
+    def control_time_step(self) -> float | None:
+        """Halve dt while it exceeds 0.6 of the stability limit; returns the new dt if changed."""
+        radius = self.viscous_spectral_radius()
+        if radius <= 0:
+            return None
+        limit = REAL_AXIS_LIMIT[self.stepper.name] / radius
+        changed = False
+        while self.dt > 0.6 * limit:
+            self.dt *= 0.5
+            changed = True
+        if changed:
+            self.stepper.restart()
+            return self.dt
+        return None
+
+    # -- stepping ------------------------------------------------------------------------------
+    def step(self) -> int:
+        """Advance one step; returns the number of particles removed in it."""
+        new = self.stepper.step(self.state, self.f_current, self.t, self.dt, self._stage_rate)
+        self.state = new
+        self.t += self.dt
+        self.step_count += 1
+        self.f_current = self.evaluate(self.state, self.t)
+        removed = 0
+        if self.fracture:
+            removed = self.remove_overstressed()
+        if self.overwrite_velocity:
+            self.state[VX] = self.f_current[X]
+            self.state[VY] = self.f_current[Y]
+        return removed
+
+    def remove_overstressed(self) -> int:
+        doomed = np.nonzero(self.alive & (self.mean_stress > self.yield_stress))[0]
+        if doomed.size == 0:
+            return 0
+        self.alive[doomed] = False
+        self.mass[doomed] = 0.0
+        self.state[VX:VY + 1, doomed] = 0.0
+        self.n_removed += doomed.size
+        self._build_neighbours()
+        self.f_current = self.evaluate(self.state, self.t)
+        self.stepper.restart()
+        return int(doomed.size)
+
+    def rebuild(self) -> None:
+        """Fresh neighbour list and rate of the current state (checkpoint/resume points)."""
+        self._build_neighbours()
+        self.f_current = self.evaluate(self.state, self.t)

@@ -1,0 +1,164 @@
+r"""Rate function template of the drying paste (drying spec section 6); specialised per effect
+set by :mod:`craquelure.sph.codegen` (the FLAGS block is replaced, absent effects compile out).
+
+State rows (struct of arrays, shape ``(NVAR, N)``): x, y (unwrapped positions), vx, vy, rho,
+sigma_e xx, yy, xy. Two pair passes per evaluation:
+
+1. velocity gradient :math:`L^I_{ab} = \sum_J V_J (v^J_a - v^I_a)\,\partial_b W_{IJ}` and the XSPH
+   sum; then per particle the total stress :math:`\sigma = \eta D + \sigma_e + v_r t \mathbf 1`,
+   the Jaumann rate of :math:`\sigma_e`, :math:`\dot\rho = -\rho\,\mathrm{tr} L`,
+   :math:`\dot{\mathbf r} = \mathbf v + \epsilon\,\text{XSPH}`;
+2. momentum :math:`\dot v^I_a = \sum_J m_J (\sigma^I_{ab}/\rho_I^2 + \sigma^J_{ab}/\rho_J^2)\,
+   \partial_b W_{IJ} - \mu u^I_a/(H^2\rho^I)`.
+
+Pairs come from a CSR Verlet list (radius h + skin); pairs beyond h contribute exactly 0.
+Removed particles (``alive == 0``) have zero mass and zero rates.
+"""
+
+import numpy as np
+from numba import njit, prange
+
+from craquelure.sph.effects.continuity import density_rate
+from craquelure.sph.effects.drying import drying_stress
+from craquelure.sph.effects.elasticity import jaumann_rate
+from craquelure.sph.effects.substrate import substrate_acceleration
+from craquelure.sph.effects.viscosity import viscous_stress
+from craquelure.sph.effects.xsph import xsph_pair
+from craquelure.sph.kernels import kernel_dwdr, kernel_w
+
+# BEGIN FLAGS
+CONTINUITY = True
+DRYING = True
+ELASTICITY = True
+KERNEL = 0
+SUBSTRATE = True
+VISCOSITY = True
+XSPH = True
+# END FLAGS
+
+X, Y, VX, VY, RHO, SXX, SYY, SXY = 0, 1, 2, 3, 4, 5, 6, 7
+NVAR = 8
+P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX = 0, 1, 2, 3, 4, 5, 6, 7
+NPARAM = 8
+
+
+@njit(parallel=True, cache=True)
+def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
+    """Fill ``out`` (NVAR, N) with dY/dt and ``stress`` (3, N) with the total stress."""
+    n = state.shape[1]
+    s = p[P_SUPPORT]
+    box = p[P_BOX]
+    s2 = s * s
+    for i in prange(n):
+        if not alive[i]:
+            for v in range(NVAR):
+                out[v, i] = 0.0
+            stress[0, i] = 0.0
+            stress[1, i] = 0.0
+            stress[2, i] = 0.0
+            continue
+        xi, yi = state[X, i], state[Y, i]
+        vxi, vyi = state[VX, i], state[VY, i]
+        rhoi = state[RHO, i]
+        lxx = 0.0
+        lxy = 0.0
+        lyx = 0.0
+        lyy = 0.0
+        hx = 0.0
+        hy = 0.0
+        for k in range(offsets[i], offsets[i + 1]):
+            j = index[k]
+            dx = xi - state[X, j]
+            dx -= box * np.rint(dx / box)
+            dy = yi - state[Y, j]
+            dy -= box * np.rint(dy / box)
+            r2 = dx * dx + dy * dy
+            if r2 >= s2:
+                continue
+            r = np.sqrt(r2)
+            dvx = state[VX, j] - vxi
+            dvy = state[VY, j] - vyi
+            if r > 0.0:
+                f = (mass[j] / state[RHO, j]) * kernel_dwdr(KERNEL, r, s, 2) / r
+                gx = f * dx
+                gy = f * dy
+                lxx += dvx * gx
+                lxy += dvx * gy
+                lyx += dvy * gx
+                lyy += dvy * gy
+            if XSPH:
+                cx, cy = xsph_pair(mass[j], rhoi, state[RHO, j], dvx, dvy,
+                                   kernel_w(KERNEL, r, s, 2))
+                hx += cx
+                hy += cy
+        sxx = state[SXX, i]
+        syy = state[SYY, i]
+        sxy = state[SXY, i]
+        if VISCOSITY:
+            vxx, vyy, vxy = viscous_stress(lxx, lxy, lyx, lyy, p[P_ETA])
+            sxx += vxx
+            syy += vyy
+            sxy += vxy
+        if DRYING:
+            dry = drying_stress(t, p[P_VR])
+            sxx += dry
+            syy += dry
+        stress[0, i] = sxx
+        stress[1, i] = syy
+        stress[2, i] = sxy
+        if ELASTICITY:
+            a, b, c = jaumann_rate(lxx, lxy, lyx, lyy, state[SXX, i], state[SYY, i],
+                                   state[SXY, i], p[P_LAMBDA], p[P_MU])
+            out[SXX, i] = a
+            out[SYY, i] = b
+            out[SXY, i] = c
+        else:
+            out[SXX, i] = 0.0
+            out[SYY, i] = 0.0
+            out[SXY, i] = 0.0
+        if CONTINUITY:
+            out[RHO, i] = density_rate(rhoi, lxx, lyy)
+        else:
+            out[RHO, i] = 0.0
+        if XSPH:
+            out[X, i] = vxi + p[P_EPS] * hx
+            out[Y, i] = vyi + p[P_EPS] * hy
+        else:
+            out[X, i] = vxi
+            out[Y, i] = vyi
+    for i in prange(n):
+        if not alive[i]:
+            continue
+        xi, yi = state[X, i], state[Y, i]
+        rhoi = state[RHO, i]
+        inv2 = 1.0 / (rhoi * rhoi)
+        axx = stress[0, i] * inv2
+        ayy = stress[1, i] * inv2
+        axy = stress[2, i] * inv2
+        ax = 0.0
+        ay = 0.0
+        for k in range(offsets[i], offsets[i + 1]):
+            j = index[k]
+            dx = xi - state[X, j]
+            dx -= box * np.rint(dx / box)
+            dy = yi - state[Y, j]
+            dy -= box * np.rint(dy / box)
+            r2 = dx * dx + dy * dy
+            if r2 >= s2 or r2 == 0.0:
+                continue
+            r = np.sqrt(r2)
+            f = mass[j] * kernel_dwdr(KERNEL, r, s, 2) / r
+            gx = f * dx
+            gy = f * dy
+            rj2 = 1.0 / (state[RHO, j] * state[RHO, j])
+            txx = axx + stress[0, j] * rj2
+            tyy = ayy + stress[1, j] * rj2
+            txy = axy + stress[2, j] * rj2
+            ax += txx * gx + txy * gy
+            ay += txy * gx + tyy * gy
+        if SUBSTRATE:
+            bx, by = substrate_acceleration(xi - x0[i], yi - y0[i], rhoi, p[P_MU], p[P_THICK])
+            ax += bx
+            ay += by
+        out[VX, i] = ax
+        out[VY, i] = ay
