@@ -22,8 +22,32 @@ rule mass_consistency:
         "--threads {threads} {params.overrides} > {log} 2>&1"
 
 
+
+
+rule drying_run:
+    input:
+        scene=drying_scene,
+        state="results/mass/{scene}/seed{seed}.nc",
+    output:
+        "results/drying/{scene}/run/seed{seed}.nc",
+    params:
+        cli=CRAQUELURE,
+        overrides=scene_overrides("drying"),
+    log:
+        "logs/drying_run/{scene}/seed{seed}.log",
+    benchmark:
+        "benchmarks/results/drying_run/{scene}/seed{seed}.tsv"
+    threads: config["drying"]["threads"]
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_run"],
+    shell:
+        "{params.cli} run {input.scene} --init {input.state} --out {output} --resume "
+        "--threads {threads} {params.overrides} > {log} 2>&1"
+
+
 TARGETS["drying"] = expand(
-    "results/mass/{scene}/seed{seed}.nc",
+    "results/drying/{scene}/run/seed{seed}.nc",
     scene=config["drying"]["scene"],
     seed=seeds("drying"),
 )

@@ -15,6 +15,7 @@ every checkpoint in both runs.
 
 from __future__ import annotations
 
+import hashlib
 import os
 import sys
 from pathlib import Path
@@ -166,6 +167,15 @@ def _restore(engine: DryingEngine, rec: Recorder, ck: xr.Dataset) -> float:
     return float(ck.attrs["wall_time_so_far"])
 
 
+def _fingerprint(scene: Scene, init: xr.Dataset) -> str:
+    """Hash of the resolved scene and the initial state: a checkpoint is only resumed by the
+    run it belongs to."""
+    digest = hashlib.sha256(scene.text.encode())
+    for key in ("x", "y", "mass", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy"):
+        digest.update(np.ascontiguousarray(init[key].values).tobytes())
+    return digest.hexdigest()
+
+
 def checkpoint_path(out: Path) -> Path:
     return out.with_name(out.name + ".checkpoint.nc")
 
@@ -187,8 +197,16 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     rec = Recorder(output_times(scene))
     ck_path = checkpoint_path(out)
     wall_before = 0.0
-    if resume and ck_path.exists():
-        wall_before = _restore(engine, rec, open_dataset(ck_path))
+    fingerprint = _fingerprint(scene, init_ds)
+    checkpoint = open_dataset(ck_path) if resume and ck_path.exists() else None
+    if checkpoint is not None and checkpoint.attrs.get("fingerprint") != fingerprint:
+        print(f"ignoring checkpoint {ck_path}: made from another scene or initial state",
+              file=sys.stderr)
+        checkpoint = None
+    if checkpoint is not None:
+        wall_before = _restore(engine, rec, checkpoint)
+        print(f"resumed from {ck_path} at t = {engine.t:g} (step {engine.step_count})",
+              file=sys.stderr)
     else:
         engine.control_time_step()
         rec.maybe_snapshot(engine)
@@ -211,7 +229,9 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
             engine.control_time_step()
         if engine.step_count % ck_every == 0:
             engine.rebuild()
-            write_dataset(_checkpoint_dataset(engine, rec, wall_before + clock.elapsed), ck_path)
+            ck = _checkpoint_dataset(engine, rec, wall_before + clock.elapsed)
+            ck.attrs["fingerprint"] = fingerprint
+            write_dataset(ck, ck_path)
             if stop_after_steps is not None and steps_this_process >= stop_after_steps:
                 progress.close()
                 return ck_path
