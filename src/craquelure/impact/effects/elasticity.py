@@ -1,0 +1,47 @@
+r"""Hypo-elastic effective stress with the Jaumann rate, bulk/shear moduli K, G (spec section 2.1).
+
+.. math::
+    \dot p = -K\,\mathrm{tr}D, \qquad
+    \dot s = 2G\,(D - \tfrac13 \mathrm{tr}D\,\mathbf 1) + \Omega s - s\Omega, \qquad
+    \tilde\sigma = -p\mathbf 1 + s,
+
+with :math:`L_{ab} = \partial v_a/\partial x_b`, :math:`D = (L+L^T)/2`, :math:`\Omega = (L-L^T)/2`.
+Components stored: xx, yy, xy, zz (tension positive). Plane strain: :math:`D_{zz} = 0` and
+:math:`\tilde\sigma_{zz}` evolves (the material point driver of check 6 passes a non-zero
+:math:`D_{zz}` to make the z direction stress-free). With :math:`w = \Omega_{xy}`:
+:math:`(\Omega\sigma-\sigma\Omega)_{xx} = 2w\sigma_{xy}`, :math:`(\ldots)_{yy} = -2w\sigma_{xy}`,
+:math:`(\ldots)_{xy} = w(\sigma_{yy}-\sigma_{xx})`, zz unaffected by an in-plane spin.
+The increment is explicit (forward Euler over the step with the mid-step gradient).
+"""
+
+from numba import njit
+
+from craquelure.registry import Effect
+
+EFFECT = Effect(
+    name="elasticity",
+    models=("impact",),
+    description="hypo-elastic effective stress, Jaumann rate (K, G), plane strain s_zz",
+    requires={"impact": ("material.bulk_modulus", "material.shear_modulus")},
+)
+
+
+@njit(inline="always", cache=True)
+def jaumann_trial(sxx, syy, sxy, szz, dxx, dyy, dxy, dzz, w, bulk, shear, dt):
+    """Trial effective stress after ``dt`` for strain rate D (xx, yy, xy, zz) and spin w."""
+    tr = dxx + dyy + dzz
+    lam = bulk - 2.0 * shear / 3.0
+    nxx = sxx + dt * (lam * tr + 2.0 * shear * dxx + 2.0 * w * sxy)
+    nyy = syy + dt * (lam * tr + 2.0 * shear * dyy - 2.0 * w * sxy)
+    nxy = sxy + dt * (2.0 * shear * dxy + w * (syy - sxx))
+    nzz = szz + dt * (lam * tr + 2.0 * shear * dzz)
+    return nxx, nyy, nxy, nzz
+
+
+@njit(inline="always", cache=True)
+def elastic_energy_density(sxx, syy, sxy, szz, bulk, shear):
+    """p^2/(2K) + s:s/(4G) of an effective stress (J/m^3)."""
+    p = -(sxx + syy + szz) / 3.0
+    dxx, dyy, dzz = sxx + p, syy + p, szz + p
+    ss = dxx * dxx + dyy * dyy + dzz * dzz + 2.0 * sxy * sxy
+    return 0.5 * p * p / bulk + 0.25 * ss / shear

@@ -1,0 +1,57 @@
+r"""Drucker-Prager perfect plasticity with radial return, zero dilatancy (spec section 2.2).
+
+.. math::
+    f = \sqrt{J_2} + \alpha I_1 - k \le 0, \quad I_1 = \mathrm{tr}\tilde\sigma, \quad
+    \alpha = \frac{f_{bc} - f_c}{\sqrt3\,(2f_{bc} - f_c)}, \quad k = f_c(1/\sqrt3 - \alpha),
+
+fitted to uniaxial (:math:`f_c`) and equibiaxial (:math:`f_{bc} = 1.16 f_c`) compression
+(:math:`\alpha = 0.0700`, :math:`k = 21.87` MPa). If :math:`f > 0`: :math:`s \leftarrow r s`,
+:math:`r = (k - \alpha I_1)/\sqrt{J_2}` (:math:`s = 0` if :math:`r < 0`), the pressure is
+unchanged; :math:`\Delta\bar\varepsilon_p = (1-r)\sqrt{J_2^{trial}}/(\sqrt3 G)`; plastic work
+density :math:`s:(s^{tr}-s)/(2G) = r(1-r) J_2^{tr}/G` (:math:`J_2^{tr}/G` if r is clipped to 0).
+:math:`J_2 = \tfrac12 s:s` includes :math:`s_{zz}` (plane strain keeps it).
+
+Decision [D]: the return is applied only for a compressive mean stress (:math:`I_1 < 0`). The
+cone's tensile side (uniaxial tension at :math:`k/(1/\sqrt3+\alpha)` = 33.8 MPa effective) would
+otherwise cap :math:`\tilde\sigma_1` far below :math:`E\kappa_f` (320 MPa at ℓ_c = 4.8 mm), so
+the Rankine softening could never complete and G_F would not be dissipated; tension is the
+damage model's domain (check 6 tests both).
+"""
+
+import math
+
+from numba import njit
+
+from craquelure.registry import Effect
+
+EFFECT = Effect(
+    name="plasticity",
+    models=("impact",),
+    description="Drucker-Prager radial return (f_c, f_bc = 1.16 f_c), zero dilatancy",
+    requires={"impact": ("material.f_c",)},
+)
+
+
+def dp_constants(f_c: float, f_bc_ratio: float) -> tuple[float, float]:
+    """(alpha, k) of the Drucker-Prager cone through f_c and f_bc = ratio f_c."""
+    f_bc = f_bc_ratio * f_c
+    alpha = (f_bc - f_c) / (math.sqrt(3.0) * (2.0 * f_bc - f_c))
+    return alpha, f_c * (1.0 / math.sqrt(3.0) - alpha)
+
+
+@njit(inline="always", cache=True)
+def dp_return(sxx, syy, sxy, szz, alpha, k, shear):
+    """Returns (sxx, syy, sxy, szz, d_eps_p, plastic work density)."""
+    i1 = sxx + syy + szz
+    m = i1 / 3.0
+    dxx, dyy, dzz = sxx - m, syy - m, szz - m
+    j2 = 0.5 * (dxx * dxx + dyy * dyy + dzz * dzz) + sxy * sxy
+    sq = math.sqrt(j2)
+    if i1 >= 0.0 or sq + alpha * i1 - k <= 0.0:
+        return sxx, syy, sxy, szz, 0.0, 0.0
+    r = (k - alpha * i1) / sq
+    if r < 0.0:
+        r = 0.0
+    deps = (1.0 - r) * sq / (math.sqrt(3.0) * shear)
+    work = r * (1.0 - r) * j2 / shear if r > 0.0 else j2 / shear
+    return m + r * dxx, m + r * dyy, r * sxy, m + r * dzz, deps, work

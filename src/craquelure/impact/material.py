@@ -1,0 +1,161 @@
+r"""Material point model of the concrete (spec section 2), composed from the effect fragments.
+
+Update order per particle and step (spec section 3): Jaumann trial effective stress
+(:mod:`.effects.elasticity`) → Drucker-Prager return (:mod:`.effects.plasticity`) → Rankine damage
+and nominal stress (:mod:`.effects.damage`). :class:`Concrete` holds the derived constants.
+:func:`drive` is a strain-driven single-point driver (no SPH) with stress-free lateral directions,
+used by check 6: the prescribed strain-rate components are imposed, the free ones are found by a
+Newton iteration (finite-difference Jacobian) so that the free *nominal* stresses vanish.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from craquelure.impact.effects.damage import damage_update
+from craquelure.impact.effects.elasticity import jaumann_trial
+from craquelure.impact.effects.plasticity import dp_constants, dp_return
+
+
+@dataclass(frozen=True)
+class Concrete:
+    """Derived constants of the concrete model (SI units)."""
+
+    bulk: float
+    shear: float
+    f_c: float
+    f_bc_ratio: float
+    f_t: float
+    G_F: float
+    band: float  # crack-band width l_c
+
+    @property
+    def young(self) -> float:
+        return 9.0 * self.bulk * self.shear / (3.0 * self.bulk + self.shear)
+
+    @property
+    def poisson(self) -> float:
+        return (3.0 * self.bulk - 2.0 * self.shear) / (2.0 * (3.0 * self.bulk + self.shear))
+
+    @property
+    def dp(self) -> tuple[float, float]:
+        return dp_constants(self.f_c, self.f_bc_ratio)
+
+    @property
+    def kappa0(self) -> float:
+        return self.f_t / self.young
+
+    @property
+    def kappa_f(self) -> float:
+        return 2.0 * self.G_F / (self.f_t * self.band)
+
+    @property
+    def hillerborg_length(self) -> float:
+        return self.young * self.G_F / self.f_t**2
+
+    def check(self) -> None:
+        from craquelure.errors import SceneError
+
+        if self.kappa_f <= self.kappa0:
+            raise SceneError(
+                f"material: crack band width {self.band:g} m is >= 2 l_ch = "
+                f"{2 * self.hillerborg_length:g} m: linear softening would snap back")
+
+
+# Not cached: numba's cache does not see edits in the inlined effect fragments, and this
+# driver is not a hot path (the SPH kernels are generated per effect set, see engine.py).
+@njit
+def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young, kappa0,
+                 kappa_f, plastic, damage):
+    """Advance one point. ``state`` = [sxx, syy, sxy, szz (effective), kappa, D_t, eps_p, wp];
+    returns the nominal stress (xx, yy, xy, zz)."""
+    sxx, syy, sxy, szz = jaumann_trial(state[0], state[1], state[2], state[3], dxx, dyy, dxy,
+                                       dzz, w, bulk, shear, dt)
+    if plastic:
+        sxx, syy, sxy, szz, deps, work = dp_return(sxx, syy, sxy, szz, alpha, k, shear)
+        state[6] += deps
+        state[7] += work
+    state[0], state[1], state[2], state[3] = sxx, syy, sxy, szz
+    nom = np.empty(4)
+    if damage:
+        kap, d, nxx, nyy, nxy, nzz = damage_update(sxx, syy, sxy, szz, state[4], young, kappa0,
+                                                   kappa_f)
+        state[4], state[5] = kap, d
+        nom[0], nom[1], nom[2], nom[3] = nxx, nyy, nxy, nzz
+    else:
+        nom[0], nom[1], nom[2], nom[3] = sxx, syy, sxy, szz
+    return nom
+
+
+# Strain components of the driver, in the order of the state: xx, yy, xy, zz.
+COMPONENTS = ("xx", "yy", "xy", "zz")
+
+
+def drive(mat: Concrete, strain_path: np.ndarray, free: tuple[str, ...],
+          plastic: bool = True, damage: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Strain-driven material point without spin.
+
+    ``strain_path``: (n, 4) prescribed total strains (xx, yy, xy, zz) at each step; components
+    named in ``free`` are ignored and solved so that their nominal stress is zero.
+    Returns (strains (n, 4) actually followed, nominal stresses (n, 4)); state starts at zero.
+    """
+    alpha, k = mat.dp
+    free_idx = [COMPONENTS.index(c) for c in free]
+    state = np.zeros(8)
+    eps = np.zeros(4)
+    out_eps = np.zeros_like(strain_path)
+    out_sig = np.zeros_like(strain_path)
+    lam = mat.bulk - 2 * mat.shear / 3
+    # Elastic stiffness restricted to the free components: Newton's first guess.
+    stiff = np.full((4, 4), lam)
+    stiff[[0, 1, 3], [0, 1, 3]] += 2 * mat.shear
+    stiff[2, :] = 0
+    stiff[:, 2] = 0
+    stiff[2, 2] = 2 * mat.shear
+    guess_free = np.zeros(len(free_idx))
+
+    def trial(d):
+        st = state.copy()
+        nom = point_update(st, d[0], d[1], d[2], d[3], 0.0, 1.0, mat.bulk, mat.shear, alpha, k,
+                           mat.young, mat.kappa0, mat.kappa_f, plastic, damage)
+        return st, nom
+
+    for n in range(strain_path.shape[0]):
+        d = strain_path[n] - eps
+        d[2] = 0.5 * d[2] if "xy" not in free else 0.0  # tensor shear = engineering / 2
+        if free_idx:
+            d[free_idx] = guess_free
+            scale = max(abs(d).max(), 1e-14)
+            for _ in range(50):
+                st, nom = trial(d)
+                res = nom[free_idx]
+                if np.abs(res).max() < 1e-9 * max(mat.f_c, 1.0):
+                    break
+                jac = np.empty((len(free_idx), len(free_idx)))
+                for a, ia in enumerate(free_idx):
+                    dd = d.copy()
+                    dd[ia] += 1e-6 * scale
+                    jac[:, a] = (trial(dd)[1][free_idx] - res) / (1e-6 * scale)
+                if abs(np.linalg.det(jac)) < 1e-12 * abs(np.linalg.det(
+                        stiff[np.ix_(free_idx, free_idx)])):
+                    jac = stiff[np.ix_(free_idx, free_idx)]
+                d[free_idx] -= np.linalg.solve(jac, res)
+            guess_free = d[free_idx]
+        st, nom = trial(d)
+        state[:] = st
+        eps = eps + d
+        out_eps[n] = eps
+        out_sig[n] = nom
+    return out_eps, out_sig
+
+
+def standard_concrete(band: float = 0.0048) -> Concrete:
+    """Spec Table 1 values (K, G, f_c, f_t, G_F) with l_c = h(0) = 1.2 * 4 mm by default."""
+    return Concrete(bulk=14.15e9, shear=12.92e9, f_c=43.1e6, f_bc_ratio=1.16,
+                    f_t=0.30 * (43.1 - 8.0) ** (2.0 / 3.0) * 1e6, G_F=83.25, band=band)
+
+
+__all__ = ["Concrete", "drive", "point_update", "standard_concrete"]
