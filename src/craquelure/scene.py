@@ -12,6 +12,7 @@ filled in, so the resolved scene (``Scene.text``) states every number a run used
 from __future__ import annotations
 
 import copy
+import re
 from dataclasses import dataclass, field
 from functools import cache
 from importlib import resources
@@ -26,6 +27,22 @@ from craquelure.registry import known_effects
 
 MODELS = ("drying", "impact", "lattice", "softdyn")
 _MISSING = object()
+
+
+class _SceneLoader(yaml.SafeLoader):
+    """SafeLoader that also reads ``1e-3`` and ``1.0e6`` as floats (YAML 1.2; PyYAML's YAML 1.1
+    resolver needs a dot and a signed exponent, so ``--set numerics.dt=1e-3`` was a string)."""
+
+
+_SceneLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
+    list("-+0123456789."),
+)
+
+
+def _load_yaml(text: str):
+    return yaml.load(text, Loader=_SceneLoader)  # a SafeLoader subclass: no arbitrary objects
 
 
 def project_root() -> Path:
@@ -109,7 +126,7 @@ def load_scene_text(
     path: Path | None = None,
 ) -> Scene:
     try:
-        data = yaml.safe_load(text)
+        data = _load_yaml(text)
     except yaml.YAMLError as exc:
         raise SceneError(f"scene {name}: not valid YAML: {exc}") from exc
     if not isinstance(data, dict):
@@ -130,7 +147,7 @@ def parse_override(item: str) -> tuple[list[str], Any]:
     if not keys:
         raise SceneError(f"--set {item!r}: empty key")
     try:
-        value = yaml.safe_load(raw) if raw.strip() else ""
+        value = _load_yaml(raw) if raw.strip() else ""
     except yaml.YAMLError as exc:
         raise SceneError(f"--set {item!r}: value is not valid YAML: {exc}") from exc
     return keys, value
@@ -210,7 +227,8 @@ def _check_effects(data: dict[str, Any]) -> None:
             f"known effects: {', '.join(known) or '(none)'}"
         )
     if len(set(listed)) != len(listed):
-        raise SceneError(f"effects: listed twice: {sorted({e for e in listed if listed.count(e) > 1})}")
+        twice = sorted({e for e in listed if listed.count(e) > 1})
+        raise SceneError(f"effects: listed twice: {twice}")
     problems = []
     for name in listed:
         effect = known[name]

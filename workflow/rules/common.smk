@@ -1,4 +1,5 @@
 # Helpers shared by all model files (config validation, scene paths, target registry).
+import shlex
 import sys
 
 from snakemake.utils import validate
@@ -24,7 +25,7 @@ def scene_file(model, scene):
 
 def scene_overrides(section):
     """`--set` arguments from a model section's `set` list (profile-level overrides)."""
-    return " ".join(f"--set {item}" for item in config[section].get("set", []))
+    return " ".join(f"--set {shlex.quote(item)}" for item in config[section].get("set", []))
 
 
 def seeds(section):
