@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from craquelure.sph.neighbours import Box, brute_force_pairs
-from craquelure.sph.positions import random_sequential_addition, square_lattice
+from craquelure.sph.positions import PackingError, random_sequential_addition, square_lattice
 
 
 def min_image_distances(x, y, length):
@@ -55,7 +55,7 @@ def test_rsa_is_statistically_uniform():
 
 
 def test_rsa_near_jamming_fails_clearly():
-    with pytest.raises(RuntimeError, match="near jamming"):
+    with pytest.raises(PackingError, match="near jamming"):
         random_sequential_addition(400, 1.0, 1.0 / 20, np.random.default_rng(0),
                                    max_attempts_per_particle=20)
 

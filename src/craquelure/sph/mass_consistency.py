@@ -19,13 +19,14 @@ import scipy.sparse as sp
 from numba import njit, prange
 from scipy.sparse.linalg import cg
 
+from craquelure.errors import CraquelureError
 from craquelure.sph.field import mesh_field
 from craquelure.sph.kernels import kernel_kind, kernel_w
 from craquelure.sph.neighbours import Box, neighbour_list
 
 
-class MassSolveError(RuntimeError):
-    pass
+class MassSolveError(CraquelureError, RuntimeError):
+    """The solve misses a bound of drying spec 13.3 (a user-facing error: the CLI prints it)."""
 
 
 @dataclass(frozen=True)

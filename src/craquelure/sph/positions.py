@@ -14,6 +14,12 @@ import math
 import numpy as np
 from numba import njit
 
+from craquelure.errors import CraquelureError
+
+
+class PackingError(CraquelureError, RuntimeError):
+    """RSA cannot place the requested points (near jamming); the CLI prints the message."""
+
 
 @njit(cache=True)
 def _rsa_accept(cand_x, cand_y, px, py, n_placed, n_target, grid, ng, csize, length, d2):
@@ -61,7 +67,7 @@ def random_sequential_addition(n: int, box_length: float, d_min: float,
     placed, attempts, batch = 0, 0, max(1024, 4 * n)
     while placed < n:
         if attempts > max_attempts_per_particle * n:
-            raise RuntimeError(
+            raise PackingError(
                 f"RSA placed only {placed} of {n} particles with minimum separation {d_min:g} "
                 f"after {attempts} attempts: the packing is near jamming; lower "
                 f"particles.rsa_min_separation")
