@@ -1,0 +1,91 @@
+r"""Binarisation of a drying-paste snapshot (drying spec section 9).
+
+The paste indicator is the SPH Shepard field on a periodic square mesh of spacing
+:math:`\Delta x`:
+
+.. math:: \phi(\mathbf x) = \sum_J \frac{m_J}{\rho_J}\, W(|\mathbf x - \mathbf r_J|; h),
+
+summed over the particles still alive, and a mesh point is paste (pixel 1) where
+:math:`\phi \ge \phi_0` (paper: :math:`\phi_0 = 0.8`, :math:`\Delta x = 0.01 h`), crack (0)
+otherwise. :math:`\phi` is computed by :func:`craquelure.sph.field.mesh_field` (neighbour
+search: O(mesh x neighbours)), i.e. by the direct sum, not by the FFT deposition the spec also
+allows [D: exact, and fast enough at the sizes we run].
+
+Edge bias: at a straight free edge of uniform paste :math:`\phi` falls to 1/2, and reaches
+:math:`\phi_0` only a depth :math:`d^*` inside the material, with
+
+.. math:: \phi(d) = \tfrac12 + \int_0^d w_1(u)\,du, \qquad
+          w_1(u) = \int_{-\infty}^{\infty} W\big(\sqrt{u^2 + v^2}; h\big)\, dv,
+
+so every crack looks :math:`2 d^*` wider than the particle-free band and every fragment loses
+about perimeter x :math:`d^*`. :func:`edge_depth` computes :math:`d^*` by quadrature
+(0.199 h for the quintic kernel and :math:`\phi_0 = 0.8`).
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import numpy as np
+import xarray as xr
+from scipy import integrate, optimize
+
+from craquelure.sph.field import mesh_field, mesh_spacing
+from craquelure.sph.kernels import w as kernel_w
+
+DEFAULT_PHI0 = 0.8
+DEFAULT_SPACING_H = 0.01  # mesh spacing in units of h (paper)
+
+
+def phi_field(x: np.ndarray, y: np.ndarray, volume: np.ndarray, box_length: float, h: float,
+              spacing: float, kernel: str = "quintic",
+              active: np.ndarray | None = None) -> np.ndarray:
+    """Shepard field :math:`\\phi` on the periodic mesh (array ``[j, i]``, row = y)."""
+    return mesh_field(x, y, volume, box_length, h, spacing, kernel, active=active)
+
+
+def binarise(phi: np.ndarray, phi0: float = DEFAULT_PHI0) -> np.ndarray:
+    """Paste image: True where :math:`\\phi \\ge \\phi_0`."""
+    return np.asarray(phi) >= phi0
+
+
+def snapshot_image(run: xr.Dataset, time_index: int, spacing_h: float = DEFAULT_SPACING_H,
+                   phi0: float = DEFAULT_PHI0, kernel: str = "quintic"
+                   ) -> tuple[np.ndarray, float]:
+    """Paste image of snapshot ``time_index`` of a run dataset, and the mesh spacing used.
+
+    Uses the particles with ``alive == 1`` and :math:`V_J = m_J/\\rho_J` at that time.
+    """
+    snap = run.isel(time=time_index)
+    h = float(run.attrs["h"])
+    length = float(run.attrs["box_length"])
+    spacing = mesh_spacing(length, spacing_h * h)
+    alive = snap["alive"].values.astype(bool)
+    volume = snap["mass"].values / snap["rho"].values
+    phi = phi_field(snap["x"].values, snap["y"].values, np.where(alive, volume, 0.0), length, h,
+                    spacing, kernel, active=alive)
+    return binarise(phi, phi0), spacing
+
+
+@cache
+def edge_depth(phi0: float = DEFAULT_PHI0, kernel: str = "quintic", h: float = 1.0) -> float:
+    """Depth :math:`d^*` inside a straight free edge of uniform paste where
+    :math:`\\phi = \\phi_0` (module docstring), in the units of ``h``."""
+    if not 0.5 < phi0 < 1.0:
+        raise ValueError(f"phi0 must lie in (0.5, 1) for an edge depth, got {phi0}")
+
+    def marginal(u: float) -> float:
+        if u >= 1.0:
+            return 0.0
+        top = np.sqrt(1.0 - u * u)
+        value, _ = integrate.quad(lambda v: float(kernel_w(kernel, np.hypot(u, v), 1.0)[()]),
+                                  -top, top, epsabs=1e-13, epsrel=1e-12, limit=200,
+                                  points=[0.0])
+        return value
+
+    def phi(d: float) -> float:
+        value, _ = integrate.quad(marginal, 0.0, d, epsabs=1e-12, epsrel=1e-11, limit=200,
+                                  points=[p for p in (1 / 3, 2 / 3) if p < d])
+        return 0.5 + value
+
+    return h * optimize.brentq(lambda d: phi(d) - phi0, 0.0, 1.0, xtol=1e-12)
