@@ -1,0 +1,204 @@
+"""Model API of the concrete impact for the CLI: initial state, derived numbers, run.
+
+``run`` writes one dataset per run: particle fields (reference grid, masses, final state),
+field snapshots, time series (contact force, energies, balance error, momentum) and the run's
+measurements as attributes (see :mod:`craquelure.impact.measure`). A diverging run raises
+:class:`~craquelure.errors.SimulationDiverged` before anything is written. ``init``/``resume`` are
+not used: a run is short (< 1 min) and starts from the scene and seed.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from craquelure.errors import CraquelureError
+from craquelure.impact.engine import Engine, Settings, State
+from craquelure.impact.material import Concrete
+from craquelure.impact.measure import contact_metrics, run_metrics
+from craquelure.impact.specimen import Specimen, build_specimen, initial_smoothing_length
+from craquelure.io import write_dataset
+from craquelure.progress import Progress
+from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.scene import Scene
+
+# Steps per second of the 1264-particle disc on one thread of this machine (measured with
+# benchmarks/impact_engine.py); only for the wall-time estimate of `craquelure check`.
+STEPS_PER_S = 180.0
+
+
+def concrete(scene: Scene) -> Concrete:
+    band = scene.get("material.crack_band_width") or initial_smoothing_length(scene)
+    mat = Concrete(bulk=scene.get("material.bulk_modulus", 1.0),
+                   shear=scene.get("material.shear_modulus", 1.0),
+                   f_c=scene.get("material.f_c", 1e30), f_bc_ratio=scene.get("material.f_bc_ratio"),
+                   f_t=scene.get("material.f_t", 1e30), G_F=scene.get("material.G_F", 1e30),
+                   band=band)
+    if scene.has("damage"):
+        mat.check()
+    return mat
+
+
+def settings(scene: Scene) -> Settings:
+    g = scene.get
+    return Settings(
+        material=concrete(scene), rho0=g("material.rho0"), spacing=g("particles.spacing"),
+        effects=scene.effects, cfl=g("numerics.cfl"), dt_max=g("numerics.dt_max"),
+        av_alpha=g("numerics.av_alpha", 0.0), av_beta=g("numerics.av_beta", 0.0),
+        as_epsilon=g("numerics.as_epsilon", 0.0), as_n=g("numerics.as_n"),
+        h_min=g("numerics.h_min"), h_max=g("numerics.h_max"), base_y=g("domain.base_y"),
+        contact_radius=g("numerics.contact_radius"), contact_a=g("numerics.contact_a", 0.1),
+        kinematic_ratio=g("numerics.kinematic_ratio"),
+        energy_runaway_factor=g("numerics.energy_runaway_factor"))
+
+
+def initial_state(scene: Scene, specimen: Specimen) -> State:
+    return State.grid(specimen.x, specimen.y, 0.0, -scene.get("particles.impact_velocity"),
+                      specimen.mass, scene.get("material.rho0"), initial_smoothing_length(scene))
+
+
+def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
+    sp = build_specimen(scene, seed)
+    ds = xr.Dataset(
+        {"x": ("particle", sp.x), "y": ("particle", sp.y), "mass": ("particle", sp.mass),
+         "precrack": ("particle", sp.precrack.astype(np.int8))},
+        attrs={"spacing": sp.spacing, "radius": sp.radius, "centre_y": sp.centre_y})
+    ds.attrs.update(provenance_attrs(scene, seed, WallClock()))
+    return ds
+
+
+def derived_numbers(scene: Scene) -> dict[str, object]:
+    st = settings(scene)
+    mat = st.material
+    sp = build_specimen(scene, 0)
+    h0 = initial_smoothing_length(scene)
+    av = (st.av_alpha * st.wave_speed * 1.2) if scene.has("artificial_viscosity") else 0.0
+    dt = min(st.dt_max, st.cfl * h0 / (st.wave_speed + scene.get("particles.impact_velocity")
+                                        + av))
+    steps = math.ceil(scene.get("outputs.t_end") / dt)
+    return {
+        "particles": sp.n,
+        "E [Pa], nu": (mat.young, mat.poisson),
+        "c_p, c_s [m/s]": (st.wave_speed, math.sqrt(mat.shear / st.rho0)),
+        "h(0) [m]": h0,
+        "Drucker-Prager alpha, k [Pa]": mat.dp,
+        "kappa0, kappa_f": (mat.kappa0, mat.kappa_f),
+        "Hillerborg length [m]": mat.hillerborg_length,
+        "initial time step [s]": dt,
+        "steps (approx.)": steps,
+        "estimated wall time, 1 thread [s]": steps / STEPS_PER_S * sp.n / 1264,
+    }
+
+
+def _field_vars(prefix: str, st: State) -> dict:
+    return {f"{prefix}x": st.x.copy(), f"{prefix}y": st.y.copy(),
+            f"{prefix}damage": st.dmg.copy(), f"{prefix}plastic_strain": st.epsp.copy()}
+
+
+def simulate(scene: Scene, seed: int, progress: bool = True):
+    """Run a scene; returns (specimen, engine, series dict, snapshots list of (t, fields))."""
+    sp = build_specimen(scene, seed)
+    eng = Engine(settings(scene), initial_state(scene, sp))
+    t_end = scene.get("outputs.t_end")
+    every = scene.get("outputs.series_dt")
+    snap_times = sorted(t for t in scene.get("outputs.snapshot_times") if t < t_end)
+    series: dict[str, list] = {k: [] for k in (
+        "time", "contact_force", "contact_force_penalty", "kinetic", "internal", "elastic",
+        "plastic", "damage", "viscous", "artificial_stress", "penalty", "kinematic_removed",
+        "balance_error", "momentum_y", "vcm_y", "cracked_fraction", "impulse")}
+    mass_total = float(eng.state.m.sum())
+    cracked = scene.get("material.cracked_threshold")
+    last = {"t": 0.0, "impulse": 0.0}
+
+    def sample():
+        dt_int = eng.t - last["t"]
+        series["time"].append(eng.t)
+        series["contact_force"].append((eng.impulse - last["impulse"]) / dt_int
+                                       if dt_int > 0 else eng.force)
+        series["contact_force_penalty"].append(eng.force)
+        for key, val in eng.energies().items():
+            series[key].append(val)
+        series["balance_error"].append(eng.balance_error())
+        py = eng.momentum()[1]
+        series["momentum_y"].append(py)
+        series["vcm_y"].append(py / mass_total)
+        series["cracked_fraction"].append(float(np.mean(eng.state.dmg >= cracked)))
+        series["impulse"].append(eng.impulse)
+        last["t"], last["impulse"] = eng.t, eng.impulse
+
+    sample()
+    snapshots = []
+    bar = Progress(t_end * 1e6, f"impact {scene.name} seed {seed}", unit="us") if progress \
+        else None
+    next_sample = every
+    while eng.t < t_end * (1 - 1e-12):
+        dt = min(eng.dt, t_end - eng.t)
+        eng.step(dt)
+        if eng.step_count % 50 == 0:
+            eng.check()
+        if snap_times and eng.t >= snap_times[0]:
+            snapshots.append((eng.t, _field_vars("", eng.state)))
+            snap_times.pop(0)
+        if eng.t >= next_sample * (1 - 1e-9) or eng.t >= t_end * (1 - 1e-12):
+            eng.check()
+            sample()
+            next_sample += every
+            if bar is not None:
+                bar.update_to(eng.t * 1e6, f"F = {eng.force:.3g} N/m")
+    if bar is not None:
+        bar.close()
+    eng.check()
+    snapshots.append((eng.t, _field_vars("", eng.state)))
+    return sp, eng, {k: np.asarray(v) for k, v in series.items()}, snapshots
+
+
+def run(scene: Scene, out: Path, seed: int, init: Path | None = None,
+        resume: bool = False) -> Path:
+    if scene.model != "impact":
+        raise CraquelureError(f"scene {scene.name} is not an impact scene")
+    clock = WallClock()
+    sp, eng, series, snapshots = simulate(scene, seed)
+    ds = run_dataset(scene, seed, sp, eng, series, snapshots)
+    ds.attrs.update(provenance_attrs(scene, seed, clock))
+    return write_dataset(ds, out)
+
+
+def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
+    st = eng.state
+    data = {
+        "x0": ("particle", sp.x), "y0": ("particle", sp.y), "mass": ("particle", sp.mass),
+        "precrack": ("particle", sp.precrack.astype(np.int8)),
+        "x": ("particle", st.x), "y": ("particle", st.y), "vx": ("particle", st.vx),
+        "vy": ("particle", st.vy), "damage": ("particle", st.dmg),
+        "plastic_strain": ("particle", st.epsp), "h": ("particle", st.h),
+        "rho": ("particle", st.rho),
+    }
+    for key, arr in series.items():
+        if key != "time":
+            data[f"series_{key}"] = ("time", arr)
+    for key in ("x", "y", "damage", "plastic_strain"):
+        data[f"snap_{key}"] = (("snapshot_time", "particle"),
+                               np.stack([f[key] for _, f in snapshots]))
+    ds = xr.Dataset(data, coords={"time": series["time"],
+                                  "snapshot_time": [t for t, _ in snapshots]})
+    ds["series_contact_force"].attrs.update(units="N/m", long_name="base contact force per "
+                                            "metre (interval average of the impulse)")
+    g = scene.get
+    metrics = run_metrics(sp.x, sp.y, st.dmg, st.epsp, sp.precrack, sp.spacing, sp.radius,
+                          g("material.cracked_threshold"), g("material.crushed_strain"))
+    metrics.update(contact_metrics(series["time"], series["contact_force"], series["vcm_y"]))
+    metrics.update({
+        "contact_force_peak_step": eng.force_peak,
+        "energy_balance_error_max": float(np.abs(series["balance_error"]).max()),
+        "energy_initial": eng.e0, "steps": eng.step_count, "dt_min": eng.dt_min_seen,
+        "max_penetration": eng.max_penetration, "kinematic_impulse": eng.impulse_kin,
+        "min_y_final": float(st.y.min()), "spacing": sp.spacing, "radius": sp.radius,
+        "kappa": g("numerics.kappa"), "distribution": g("particles.masses.distribution"),
+        "precrack_layout": g("particles.precrack"), "n_particles": sp.n,
+        "n_zero_mass": int(np.sum(sp.mass == 0)),
+    })
+    ds.attrs.update({f"metric_{k}": v for k, v in metrics.items()})
+    return ds

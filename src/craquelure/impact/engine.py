@@ -1,0 +1,339 @@
+"""SPH engine of the impact model: effect-specialised kernels, kick-drift-kick leapfrog,
+diagnostics (spec section 3).
+
+Specialisation: :func:`kernels_for` copies :mod:`.kernels_template` into
+``$CRAQUELURE_CACHE/impact_kernels/k_<hash>.py`` with the effect flags of the scene as module
+constants (numba folds the branches of absent effects away) and imports it; the hash covers the
+flags, the template and every fragment module it calls, so numba's ``cache=True`` is keyed on a
+file whose content never changes.
+
+One step of length Δt (the accelerations a_n at x_n are known):
+
+1. half kick v_{n+1/2} = v_n + a_n Δt/2;
+2. material pass with v_{n+1/2} at x_n: L, ρ, h, stress, internal energy to n+1;
+3. drift x_{n+1} = x_n + v_{n+1/2} Δt; kinematic floor for constrained contact particles;
+4. neighbour list at x_{n+1} (radius 2 max h; r < 2 h_ij checked in the loops);
+5. artificial stress tensors, force pass (AV with v_{n+1/2}), base contact → a_{n+1};
+6. half kick v_{n+1} = v_{n+1/2} + a_{n+1} Δt/2; kinematic v_y ≥ 0 for constrained particles;
+7. next Δt = cfl min h/(c + |v| + 1.2(α c + β max|μ|)), ≤ dt_max.
+
+Energy balance: E = KE + Σ m e_int + E_AV + E_AS + E_pen + E_kin,removed, compared with E(0):
+e_int integrates the nominal stress power σ:D/ρ from the material pass; E_AV and E_AS are the
+pairwise powers of the force pass (rectangle rule); E_pen = Σ ½ k g². The elastic part is
+Σ m (1-D_t) w(σ̃)/ρ, the plastic part Σ m w_p, and the rest of the internal energy is reported
+as damage (+ residual) dissipation. NaN/inf or E > factor·E(0) raises
+:class:`~craquelure.errors.SimulationDiverged` (time, step, what).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import inspect
+import math
+import os
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from craquelure.errors import SimulationDiverged
+from craquelure.impact import kernels_template
+from craquelure.impact.effects import (
+    artificial_stress,
+    artificial_viscosity,
+    contact_bulk,
+    contact_mass,
+    damage,
+    elasticity,
+    plasticity,
+    variable_smoothing_length,
+)
+from craquelure.impact.effects.contact_bulk import bulk_stiffness
+from craquelure.impact.material import Concrete
+from craquelure.sph import kernels as sph_kernels
+from craquelure.sph.neighbours import Box, neighbour_list
+
+FLAG_OF_EFFECT = {
+    "elasticity": "ELASTICITY",
+    "plasticity": "PLASTICITY",
+    "damage": "DAMAGE",
+    "artificial_viscosity": "ARTIFICIAL_VISCOSITY",
+    "artificial_stress": "ARTIFICIAL_STRESS",
+    "variable_smoothing_length": "VARIABLE_SMOOTHING_LENGTH",
+    "contact_bulk": "CONTACT_BULK",
+    "contact_mass": "CONTACT_MASS",
+}
+_FRAGMENTS = (kernels_template, artificial_stress, artificial_viscosity, contact_bulk,
+              contact_mass, damage, elasticity, plasticity, variable_smoothing_length,
+              sph_kernels)
+_LOADED: dict[str, object] = {}
+
+
+def cache_dir() -> Path:
+    root = os.environ.get("CRAQUELURE_CACHE") or Path.home() / ".cache" / "craquelure"
+    return Path(root) / "impact_kernels"
+
+
+def kernels_for(effects, periodic: bool = False):
+    """The kernel module compiled for this effect set (generated once, then cached)."""
+    flags = {flag: (name in effects) for name, flag in FLAG_OF_EFFECT.items()}
+    flags["PERIODIC"] = bool(periodic)
+    template = inspect.getsource(kernels_template)
+    start = template.index("# --- effect flags")
+    end = template.index("# --- end of flags ---")
+    block = "".join(f"{k} = {v}\n" for k, v in sorted(flags.items()))
+    source = template[:start] + "# --- effect flags (generated) ---\n" + block + template[end:]
+    digest = hashlib.sha256(source.encode())
+    for mod in _FRAGMENTS:
+        digest.update(inspect.getsource(mod).encode())
+    name = f"k_{digest.hexdigest()[:16]}"
+    if name in _LOADED:
+        return _LOADED[name]
+    folder = cache_dir()
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"{name}.py"
+    if not path.exists() or path.read_text() != source:
+        tmp = path.with_name(f".{name}.{os.getpid()}.tmp")
+        tmp.write_text(source)
+        os.replace(tmp, path)
+    spec = importlib.util.spec_from_file_location(f"craquelure_impact_kernels_{name}", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    _LOADED[name] = module
+    return module
+
+
+@dataclass
+class Settings:
+    """Numbers the engine needs (SI), from a scene or set directly by tests."""
+
+    material: Concrete
+    rho0: float
+    spacing: float
+    effects: tuple[str, ...]
+    cfl: float = 0.3
+    dt_max: float = 1e-5
+    av_alpha: float = 1.0
+    av_beta: float = 2.0
+    as_epsilon: float = 0.3
+    as_n: float = 4.0
+    h_min: float = 0.2
+    h_max: float = 2.0
+    base_y: float = 0.0
+    contact_radius: float = 0.5  # units of spacing
+    contact_a: float = 0.1
+    kinematic_ratio: float = 0.5
+    energy_runaway_factor: float = 1.5
+    periodic_box: tuple[float, float] | None = None
+
+    @property
+    def wave_speed(self) -> float:
+        m = self.material
+        return math.sqrt((m.bulk + 4.0 * m.shear / 3.0) / self.rho0)
+
+    def params(self, module) -> np.ndarray:
+        m = self.material
+        alpha, k = m.dp
+        p = np.zeros(module.N_PARAMS)
+        p[module.P_BULK], p[module.P_SHEAR], p[module.P_YOUNG] = m.bulk, m.shear, m.young
+        p[module.P_ALPHA_DP], p[module.P_K_DP] = alpha, k
+        p[module.P_KAPPA0], p[module.P_KAPPA_F] = m.kappa0, m.kappa_f
+        p[module.P_C] = self.wave_speed
+        p[module.P_AV_ALPHA], p[module.P_AV_BETA] = self.av_alpha, self.av_beta
+        p[module.P_AS_EPS], p[module.P_AS_N] = self.as_epsilon, self.as_n
+        p[module.P_SPACING] = self.spacing
+        p[module.P_H_MIN], p[module.P_H_MAX] = self.h_min, self.h_max
+        p[module.P_BASE], p[module.P_RC] = self.base_y, self.contact_radius * self.spacing
+        p[module.P_CONTACT_A] = self.contact_a
+        p[module.P_K_BULK] = bulk_stiffness(self.contact_a, m.bulk, self.spacing)
+        p[module.P_KIN_RATIO] = self.kinematic_ratio
+        if self.periodic_box is not None:
+            p[module.P_LX], p[module.P_LY] = self.periodic_box
+        return p
+
+
+@dataclass
+class State:
+    """Struct of arrays of the particles (SI; 2D)."""
+
+    x: np.ndarray
+    y: np.ndarray
+    vx: np.ndarray
+    vy: np.ndarray
+    m: np.ndarray
+    rho: np.ndarray
+    h: np.ndarray
+    h0: np.ndarray
+    sig: np.ndarray = field(default=None)   # effective stress xx, yy, xy, zz
+    nom: np.ndarray = field(default=None)   # nominal stress
+    kap: np.ndarray = field(default=None)
+    dmg: np.ndarray = field(default=None)
+    epsp: np.ndarray = field(default=None)
+    wp: np.ndarray = field(default=None)    # plastic work per unit mass
+    eint: np.ndarray = field(default=None)  # internal energy per unit mass
+    eel: np.ndarray = field(default=None)   # elastic energy per unit mass
+
+    def __post_init__(self):
+        n = self.x.size
+        for name in ("x", "y", "vx", "vy", "m", "rho", "h", "h0"):
+            setattr(self, name, np.ascontiguousarray(getattr(self, name), dtype=np.float64))
+        for name, shape in (("sig", (n, 4)), ("nom", (n, 4)), ("kap", n), ("dmg", n),
+                            ("epsp", n), ("wp", n), ("eint", n), ("eel", n)):
+            if getattr(self, name) is None:
+                setattr(self, name, np.zeros(shape))
+
+    @classmethod
+    def grid(cls, x, y, vx, vy, m, rho0, h0):
+        n = np.asarray(x).size
+        return cls(x=x, y=y, vx=np.broadcast_to(vx, n).copy(), vy=np.broadcast_to(vy, n).copy(),
+                   m=m, rho=np.full(n, rho0), h=np.full(n, h0), h0=np.full(n, h0))
+
+
+class Engine:
+    """Leapfrog KDK integration of one state with one effect set."""
+
+    def __init__(self, settings: Settings, state: State):
+        self.s = settings
+        self.state = state
+        self.k = kernels_for(settings.effects, settings.periodic_box is not None)
+        self.prm = self.s.params(self.k)
+        n = state.x.size
+        self.ax = np.zeros(n)
+        self.ay = np.zeros(n)
+        self.pav = np.zeros(n)
+        self.pas = np.zeros(n)
+        self.mumax = np.zeros(n)
+        self.rst = np.zeros((n, 3))
+        self.kinematic = np.zeros(n, np.bool_)
+        self.t = 0.0
+        self.step_count = 0
+        self.e_av = 0.0
+        self.e_as = 0.0
+        self.e_pen = 0.0
+        self.e_kin = 0.0          # kinetic energy removed by the kinematic constraint
+        self.impulse = 0.0        # total momentum (y) given by the base
+        self.impulse_kin = 0.0
+        self.force = 0.0          # penalty force at the current positions
+        self.force_peak = 0.0
+        self.max_penetration = 0.0
+        self.dt = self.s.dt_max
+        self.dt_min_seen = np.inf
+        self._neighbours()
+        self._forces(self.dt)
+        self.dt = self._time_step()
+        self.e0 = self.total_energy()
+
+    # --- pieces of a step -------------------------------------------------------------
+    def _neighbours(self):
+        st = self.state
+        radius = 2.0 * float(st.h.max()) * (1.0 + 1e-9)
+        if self.s.periodic_box is not None:
+            lx, ly = self.s.periodic_box
+            box = Box(lx, ly, True, 0.0, 0.0)
+        else:
+            box = Box.around(st.x, st.y, radius)
+        self.offsets, self.index = neighbour_list(st.x, st.y, radius, box)
+
+    def _forces(self, dt):
+        st, k = self.state, self.k
+        k.artificial_stress_pass(st.nom, st.rho, self.prm, self.rst)
+        k.force_pass(st.x, st.y, st.vx, st.vy, st.m, st.rho, st.h, st.nom, self.rst,
+                     self.offsets, self.index, self.prm, self.ax, self.ay, self.pav, self.pas,
+                     self.mumax)
+        self.force, self.e_pen = k.contact_pass(st.y, st.m, self.ay, dt, self.prm,
+                                                self.kinematic)
+        gap = self.prm[k.P_BASE] + self.prm[k.P_RC] - st.y[st.m > 0]
+        if gap.size:
+            self.max_penetration = max(self.max_penetration, float(gap.max()))
+
+    def _time_step(self):
+        return min(self.s.dt_max, self.k.time_step(self.state.h, self.state.vx, self.state.vy,
+                                                   self.mumax, self.prm, self.s.cfl))
+
+    def _wrap(self):
+        if self.s.periodic_box is not None:
+            lx, ly = self.s.periodic_box
+            np.mod(self.state.x, lx, out=self.state.x)
+            np.mod(self.state.y, ly, out=self.state.y)
+
+    def step(self, dt: float | None = None) -> None:
+        st, k = self.state, self.k
+        dt = self.dt if dt is None else dt
+        f_old = self.force
+        self.e_av += dt * float(np.dot(st.m, self.pav))
+        self.e_as += dt * float(np.dot(st.m, self.pas))
+        st.vx += 0.5 * dt * self.ax
+        st.vy += 0.5 * dt * self.ay
+        k.material_pass(st.x, st.y, st.vx, st.vy, st.m, st.rho, st.h, st.h0, st.sig, st.nom,
+                        st.kap, st.dmg, st.epsp, st.wp, st.eint, st.eel, self.offsets,
+                        self.index, dt, self.prm)
+        st.x += dt * st.vx
+        st.y += dt * st.vy
+        self._wrap()
+        k.kinematic_position(st.y, self.kinematic, self.prm)
+        self._neighbours()
+        self._forces(dt)
+        st.vx += 0.5 * dt * self.ax
+        st.vy += 0.5 * dt * self.ay
+        mom, ke = k.kinematic_velocity(st.y, st.vy, st.m, self.kinematic, self.prm)
+        self.impulse += 0.5 * (f_old + self.force) * dt + mom
+        self.impulse_kin += mom
+        self.e_kin += ke
+        self.force_peak = max(self.force_peak, self.force)
+        self.t += dt
+        self.step_count += 1
+        self.dt_min_seen = min(self.dt_min_seen, dt)
+        self.dt = self._time_step()
+
+    # --- diagnostics --------------------------------------------------------------------
+    def kinetic_energy(self) -> float:
+        st = self.state
+        return 0.5 * float(np.dot(st.m, st.vx**2 + st.vy**2))
+
+    def energies(self) -> dict[str, float]:
+        st = self.state
+        e_int = float(np.dot(st.m, st.eint))
+        e_el = float(np.dot(st.m, st.eel))
+        e_p = float(np.dot(st.m, st.wp))
+        return {"kinetic": self.kinetic_energy(), "internal": e_int, "elastic": e_el,
+                "plastic": e_p, "damage": e_int - e_el - e_p, "viscous": self.e_av,
+                "artificial_stress": self.e_as, "penalty": self.e_pen,
+                "kinematic_removed": self.e_kin}
+
+    def total_energy(self) -> float:
+        e = self.energies()
+        return (e["kinetic"] + e["internal"] + e["viscous"] + e["artificial_stress"]
+                + e["penalty"] + e["kinematic_removed"])
+
+    def balance_error(self) -> float:
+        return (self.total_energy() - self.e0) / self.e0 if self.e0 > 0 else 0.0
+
+    def momentum(self) -> tuple[float, float]:
+        st = self.state
+        return float(np.dot(st.m, st.vx)), float(np.dot(st.m, st.vy))
+
+    def check(self) -> None:
+        """Raise SimulationDiverged on NaN/inf or runaway energy."""
+        st = self.state
+        for name in ("x", "y", "vx", "vy", "rho", "h"):
+            arr = getattr(st, name)
+            if not np.isfinite(arr).all():
+                bad = int(np.flatnonzero(~np.isfinite(arr))[0])
+                raise SimulationDiverged(
+                    f"t = {self.t:.6g} s, step {self.step_count}: {name} of particle {bad} is "
+                    f"not finite")
+        if not np.isfinite(st.sig).all():
+            raise SimulationDiverged(f"t = {self.t:.6g} s, step {self.step_count}: stress is "
+                                     f"not finite")
+        total = self.total_energy()
+        if self.e0 > 0 and total > self.s.energy_runaway_factor * self.e0:
+            raise SimulationDiverged(
+                f"t = {self.t:.6g} s, step {self.step_count}: total energy {total:.4g} J/m "
+                f"exceeds {self.s.energy_runaway_factor} x E(0) = {self.e0:.4g} J/m "
+                f"(runaway)")
+        if self.dt < 1e-6 * self.s.dt_max and self.dt < 1e-12:
+            raise SimulationDiverged(f"t = {self.t:.6g} s, step {self.step_count}: time step "
+                                     f"collapsed to {self.dt:.3g} s")

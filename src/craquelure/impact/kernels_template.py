@@ -1,0 +1,256 @@
+"""Template of the compiled SPH kernels of the impact model (spec section 3).
+
+:mod:`craquelure.impact.engine` copies this file into a generated module per effect set, with the
+flags below replaced by the scene's constants, so numba compiles each effect set separately and
+the branches of absent effects fold away (globals are compile-time constants in numba). The
+generated file's name hashes this template and every fragment it calls, so ``cache=True`` is
+never stale. Importing the template itself (all effects on) is only for linting and reading.
+
+Pair loops are gather-style over the CSR neighbour list (every pair in both rows, ``prange``
+safe). Pair smoothing length h_ij = (h_i + h_j)/2, support 2 h_ij (cubic B-spline, kernel kind
+``CUBIC`` with s = 2 h_ij); massless neighbours are skipped (m_j = 0 contributes nothing).
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from craquelure.impact.effects.artificial_stress import artificial_stress_tensor
+from craquelure.impact.effects.artificial_viscosity import monaghan_pi
+from craquelure.impact.effects.contact_bulk import bulk_penalty
+from craquelure.impact.effects.contact_mass import mass_penalty
+from craquelure.impact.effects.damage import damage_update
+from craquelure.impact.effects.elasticity import elastic_energy_density, jaumann_trial
+from craquelure.impact.effects.plasticity import dp_return
+from craquelure.impact.effects.variable_smoothing_length import benz_update
+from craquelure.sph.kernels import CUBIC, kernel_dwdr, kernel_w
+
+# --- effect flags (replaced by the generator) ---
+ELASTICITY = True
+PLASTICITY = True
+DAMAGE = True
+ARTIFICIAL_VISCOSITY = True
+ARTIFICIAL_STRESS = True
+VARIABLE_SMOOTHING_LENGTH = True
+CONTACT_BULK = True
+CONTACT_MASS = False
+PERIODIC = False
+# --- end of flags ---
+DIM = 2
+KIND = CUBIC
+
+# Parameter vector layout (engine.PARAMS gives the names).
+P_BULK, P_SHEAR, P_YOUNG, P_ALPHA_DP, P_K_DP, P_KAPPA0, P_KAPPA_F = 0, 1, 2, 3, 4, 5, 6
+P_C, P_AV_ALPHA, P_AV_BETA, P_AS_EPS, P_AS_N, P_SPACING = 7, 8, 9, 10, 11, 12
+P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = 13, 14, 15, 16, 17, 18, 19
+P_LX, P_LY = 20, 21
+N_PARAMS = 22
+
+
+@njit(inline="always", cache=True)
+def pair_vector(x, y, i, j, prm):
+    dx = x[i] - x[j]
+    dy = y[i] - y[j]
+    if PERIODIC:
+        dx -= prm[P_LX] * np.rint(dx / prm[P_LX])
+        dy -= prm[P_LY] * np.rint(dy / prm[P_LY])
+    return dx, dy
+
+
+@njit(parallel=True, cache=True)
+def material_pass(x, y, vx, vy, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, eint, eel,
+                  offsets, index, dt, prm):
+    """Velocity gradient with the mid-step velocities, then per particle: ρ and h (exact
+    exponential update), Jaumann trial → DP return → damage → nominal stress; stress power
+    (trapezoidal in the nominal stress) accumulated into the specific internal energy."""
+    n = x.size
+    for i in prange(n):
+        lxx = 0.0
+        lxy = 0.0
+        lyx = 0.0
+        lyy = 0.0
+        for p in range(offsets[i], offsets[i + 1]):
+            j = index[p]
+            if m[j] == 0.0:
+                continue
+            dx, dy = pair_vector(x, y, i, j, prm)
+            r = math.sqrt(dx * dx + dy * dy)
+            s = h[i] + h[j]  # support 2 h_ij
+            if r >= s or r == 0.0:
+                continue
+            dw = kernel_dwdr(KIND, r, s, DIM) / r
+            vol = m[j] / rho[j]
+            dvx = vx[j] - vx[i]
+            dvy = vy[j] - vy[i]
+            lxx += vol * dvx * dw * dx
+            lxy += vol * dvx * dw * dy
+            lyx += vol * dvy * dw * dx
+            lyy += vol * dvy * dw * dy
+        tr = lxx + lyy
+        rho_old = rho[i]
+        rho[i] = rho_old * math.exp(-tr * dt)
+        if VARIABLE_SMOOTHING_LENGTH:
+            h[i] = benz_update(h[i], h0[i], tr, dt, DIM, prm[P_H_MIN], prm[P_H_MAX])
+        dxy = 0.5 * (lxy + lyx)
+        w = 0.5 * (lxy - lyx)
+        oxx, oyy, oxy = nom[i, 0], nom[i, 1], nom[i, 2]
+        sxx, syy, sxy, szz = sig[i, 0], sig[i, 1], sig[i, 2], sig[i, 3]
+        if ELASTICITY:
+            sxx, syy, sxy, szz = jaumann_trial(sxx, syy, sxy, szz, lxx, lyy, dxy, 0.0, w,
+                                               prm[P_BULK], prm[P_SHEAR], dt)
+        if PLASTICITY:
+            sxx, syy, sxy, szz, deps, work = dp_return(sxx, syy, sxy, szz, prm[P_ALPHA_DP],
+                                                       prm[P_K_DP], prm[P_SHEAR])
+            epsp[i] += deps
+            wp[i] += work / rho[i]
+        sig[i, 0], sig[i, 1], sig[i, 2], sig[i, 3] = sxx, syy, sxy, szz
+        if DAMAGE:
+            k, d, nxx, nyy, nxy, nzz = damage_update(sxx, syy, sxy, szz, kap[i], prm[P_YOUNG],
+                                                     prm[P_KAPPA0], prm[P_KAPPA_F])
+            kap[i] = k
+            dmg[i] = d
+            nom[i, 0], nom[i, 1], nom[i, 2], nom[i, 3] = nxx, nyy, nxy, nzz
+        else:
+            nom[i, 0], nom[i, 1], nom[i, 2], nom[i, 3] = sxx, syy, sxy, szz
+        power = ((oxx + nom[i, 0]) * lxx + (oyy + nom[i, 1]) * lyy
+                 + 2.0 * (oxy + nom[i, 2]) * dxy)
+        eint[i] += 0.5 * dt * power * 2.0 / (rho_old + rho[i])
+        if ELASTICITY:
+            eel[i] = (1.0 - dmg[i]) * elastic_energy_density(
+                sxx, syy, sxy, szz, prm[P_BULK], prm[P_SHEAR]) / rho[i]
+
+
+@njit(parallel=True, cache=True)
+def force_pass(x, y, vx, vy, m, rho, h, nom, rst, offsets, index, prm, ax, ay, pav, pas,
+               mumax):
+    """Accelerations from the pair bracket σ_i/ρ_i² + σ_j/ρ_j² − Π_ij 1 + f^n (R_i + R_j);
+    per-particle AV and artificial-stress powers (per unit mass of i, symmetric halves) and
+    max |μ_ij| for the time step."""
+    n = x.size
+    for i in prange(n):
+        axi = 0.0
+        ayi = 0.0
+        pa = 0.0
+        ps = 0.0
+        mu_max = 0.0
+        ri2 = 1.0 / (rho[i] * rho[i])
+        ixx, iyy, ixy = nom[i, 0] * ri2, nom[i, 1] * ri2, nom[i, 2] * ri2
+        for p in range(offsets[i], offsets[i + 1]):
+            j = index[p]
+            if m[j] == 0.0:
+                continue
+            dx, dy = pair_vector(x, y, i, j, prm)
+            r2 = dx * dx + dy * dy
+            r = math.sqrt(r2)
+            s = h[i] + h[j]
+            if r >= s or r == 0.0:
+                continue
+            dw = kernel_dwdr(KIND, r, s, DIM) / r
+            gx = dw * dx
+            gy = dw * dy
+            rj2 = 1.0 / (rho[j] * rho[j])
+            bxx = ixx + nom[j, 0] * rj2
+            byy = iyy + nom[j, 1] * rj2
+            bxy = ixy + nom[j, 2] * rj2
+            dvx = vx[i] - vx[j]
+            dvy = vy[i] - vy[j]
+            vg = dvx * gx + dvy * gy
+            if ARTIFICIAL_VISCOSITY:
+                pi, mu = monaghan_pi(dvx * dx + dvy * dy, r2, 0.5 * s, 0.5 * (rho[i] + rho[j]),
+                                     prm[P_C], prm[P_AV_ALPHA], prm[P_AV_BETA])
+                bxx -= pi
+                byy -= pi
+                pa += 0.5 * m[j] * pi * vg
+                if -mu > mu_max:
+                    mu_max = -mu
+            if ARTIFICIAL_STRESS:
+                wd = kernel_w(KIND, prm[P_SPACING], s, DIM)
+                fn = (kernel_w(KIND, r, s, DIM) / wd) ** prm[P_AS_N] if wd > 0.0 else 0.0
+                cxx = fn * (rst[i, 0] + rst[j, 0])
+                cyy = fn * (rst[i, 1] + rst[j, 1])
+                cxy = fn * (rst[i, 2] + rst[j, 2])
+                bxx += cxx
+                byy += cyy
+                bxy += cxy
+                ps -= 0.5 * m[j] * (dvx * (cxx * gx + cxy * gy) + dvy * (cxy * gx + cyy * gy))
+            axi += m[j] * (bxx * gx + bxy * gy)
+            ayi += m[j] * (bxy * gx + byy * gy)
+        ax[i] = axi
+        ay[i] = ayi
+        pav[i] = pa
+        pas[i] = ps
+        mumax[i] = mu_max
+
+
+@njit(cache=True)
+def artificial_stress_pass(nom, rho, prm, rst):
+    for i in range(rho.size):
+        if ARTIFICIAL_STRESS:
+            rst[i, 0], rst[i, 1], rst[i, 2] = artificial_stress_tensor(
+                nom[i, 0], nom[i, 1], nom[i, 2], rho[i], prm[P_AS_EPS])
+
+
+@njit(cache=True)
+def contact_pass(y, m, ay, dt, prm, kinematic):
+    """Penalty forces of the rigid base (added to ay); returns (total force, penalty energy).
+    ``kinematic[i]`` marks particles left to the kinematic constraint (bulk contact)."""
+    force = 0.0
+    energy = 0.0
+    limit = prm[P_BASE] + prm[P_RC]
+    for i in range(y.size):
+        kinematic[i] = False
+        gap = limit - y[i]
+        if gap <= 0.0:
+            continue
+        if CONTACT_BULK:
+            f, e, kin = bulk_penalty(gap, m[i], prm[P_K_BULK], dt, prm[P_KIN_RATIO])
+            kinematic[i] = kin
+        elif CONTACT_MASS:
+            f, e = mass_penalty(gap, m[i], prm[P_CONTACT_A], dt)
+        else:
+            f, e = 0.0, 0.0
+        if f != 0.0:
+            ay[i] += f / m[i]
+        force += f
+        energy += e
+    return force, energy
+
+
+@njit(cache=True)
+def kinematic_position(y, kinematic, prm):
+    """Kinematic fallback after the drift: y <- max(y, r_c - 0.05 Δ)."""
+    floor = prm[P_BASE] + prm[P_RC] - 0.05 * prm[P_SPACING]
+    for i in range(y.size):
+        if kinematic[i] and y[i] < floor:
+            y[i] = floor
+
+
+@njit(cache=True)
+def kinematic_velocity(y, vy, m, kinematic, prm):
+    """Kinematic fallback after the kick: v_y <- max(v_y, 0) for constrained particles in
+    contact; returns (momentum given to the base, kinetic energy removed)."""
+    mom = 0.0
+    ke = 0.0
+    limit = prm[P_BASE] + prm[P_RC]
+    for i in range(y.size):
+        if kinematic[i] and y[i] < limit and vy[i] < 0.0:
+            mom += m[i] * (-vy[i])
+            ke += 0.5 * m[i] * vy[i] * vy[i]
+            vy[i] = 0.0
+    return mom, ke
+
+
+@njit(cache=True)
+def time_step(h, vx, vy, mumax, prm, cfl):
+    """Δt = cfl min_i h_i / (c + |v_i| + 1.2 (α c + β max_j |μ_ij|))."""
+    best = np.inf
+    c = prm[P_C]
+    for i in range(h.size):
+        speed = c + math.sqrt(vx[i] * vx[i] + vy[i] * vy[i])
+        if ARTIFICIAL_VISCOSITY:
+            speed += 1.2 * (prm[P_AV_ALPHA] * c + prm[P_AV_BETA] * mumax[i])
+        t = cfl * h[i] / speed
+        if t < best:
+            best = t
+    return best

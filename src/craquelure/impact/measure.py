@@ -1,0 +1,115 @@
+"""Measurements of an impact run (spec section 6), from reference (grid) positions and fields.
+
+- Cracked fraction φ_c = Σ V0 [D_t ≥ 0.9] / Σ V0 (equal V0: a particle count ratio).
+- Main cracks: clusters of cracked, not crushed particles, adjacent if their reference distance
+  is ≤ 1.5Δ; a cluster counts if its reference extent along its principal axis is ≥ R. Angle θ to
+  the vertical in (−90°, 90°], length = extent along the axis + Δ.
+- Crushed zone [D]: crushed particles (ε̄_p ≥ 0.0035) in clusters that touch the lowest two grid
+  rows (the contact region; "connected to the lowest particle" generalised to the rows that
+  touch the base); area A_cr = count·Δ² (per metre), height h_cr = reference y-extent + Δ.
+- Contact: peak force, impulse ∫F dt, duration (first to last sample with F > 1 % of the peak),
+  rebound = final centre-of-mass v_y.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+
+def clusters(x0: np.ndarray, y0: np.ndarray, member: np.ndarray, spacing: float,
+             link: float = 1.5) -> list[np.ndarray]:
+    """Index arrays of the connected clusters of ``member`` particles."""
+    idx = np.flatnonzero(member)
+    if idx.size == 0:
+        return []
+    pts = np.column_stack([x0[idx], y0[idx]])
+    pairs = cKDTree(pts).query_pairs(link * spacing * (1 + 1e-9), output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])) if len(pairs) else
+                       ([], ([], [])), shape=(idx.size, idx.size))
+    n, labels = connected_components(graph, directed=False)
+    return [idx[labels == c] for c in range(n)]
+
+
+def principal_axis(x: np.ndarray, y: np.ndarray) -> tuple[float, float, float]:
+    """(extent along the principal axis, angle to the vertical in degrees, extent across)."""
+    if x.size < 2:
+        return 0.0, 0.0, 0.0
+    pts = np.column_stack([x - x.mean(), y - y.mean()])
+    _, vecs = np.linalg.eigh(pts.T @ pts)
+    u = vecs[:, -1]
+    if u[1] < 0 or (u[1] == 0 and u[0] < 0):
+        u = -u
+    along = pts @ u
+    across = pts @ np.array([-u[1], u[0]])
+    angle = math.degrees(math.atan2(u[0], u[1]))
+    return float(np.ptp(along)), angle, float(np.ptp(across))
+
+
+def main_cracks(x0, y0, damage, plastic, spacing, radius, cracked=0.9, crushed=0.0035):
+    """List of dicts (length, angle_deg, n) of the main cracks, longest first."""
+    member = (damage >= cracked) & (plastic < crushed)
+    out = []
+    for c in clusters(x0, y0, member, spacing):
+        extent, angle, _ = principal_axis(x0[c], y0[c])
+        if extent >= radius:
+            out.append({"length": extent + spacing, "angle_deg": angle, "n": int(c.size)})
+    return sorted(out, key=lambda d: -d["length"])
+
+
+def crushed_zone(x0, y0, plastic, spacing, crushed=0.0035) -> tuple[float, float]:
+    member = plastic >= crushed
+    bottom = y0 <= y0.min() + 1.01 * spacing
+    area, height = 0.0, 0.0
+    chosen = [c for c in clusters(x0, y0, member, spacing) if bottom[c].any()]
+    if chosen:
+        idx = np.concatenate(chosen)
+        area = idx.size * spacing**2
+        height = float(np.ptp(y0[idx])) + spacing
+    return area, height
+
+
+def precrack_agreement(x0, y0, damage, precrack, spacing, cracked=0.9) -> float:
+    """Fraction of particles within 1.5Δ of a pre-crack particle that are cracked."""
+    if not precrack.any():
+        return float("nan")
+    tree = cKDTree(np.column_stack([x0[precrack], y0[precrack]]))
+    d, _ = tree.query(np.column_stack([x0, y0]))
+    near = d <= 1.5 * spacing * (1 + 1e-9)
+    return float(np.mean(damage[near] >= cracked))
+
+
+def contact_metrics(t, force, vcm_y) -> dict[str, float]:
+    t = np.asarray(t)
+    force = np.asarray(force)
+    peak = float(force.max()) if force.size else 0.0
+    impulse = float(np.trapezoid(force, t)) if force.size > 1 else 0.0
+    on = np.flatnonzero(force > 0.01 * peak) if peak > 0 else np.array([], int)
+    duration = float(t[on[-1]] - t[on[0]]) if on.size else 0.0
+    return {"contact_force_peak": peak, "contact_impulse": impulse,
+            "contact_duration": duration, "rebound_velocity": float(vcm_y[-1])}
+
+
+def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
+                crushed=0.0035) -> dict[str, float]:
+    mcs = main_cracks(x0, y0, damage, plastic, spacing, radius, cracked, crushed)
+    area, height = crushed_zone(x0, y0, plastic, spacing, crushed)
+    out = {
+        "cracked_fraction": float(np.mean(damage >= cracked)),
+        "n_main_cracks": len(mcs),
+        "main_crack_angle_deg": mcs[0]["angle_deg"] if mcs else float("nan"),
+        "main_crack_length": mcs[0]["length"] if mcs else 0.0,
+        "main_crack_angles_deg": ",".join(f"{m['angle_deg']:.1f}" for m in mcs),
+        "crushed_area": area,
+        "crushed_height": height,
+    }
+    if precrack.any():
+        out["precrack_cracked_fraction"] = precrack_agreement(x0, y0, damage, precrack, spacing,
+                                                              cracked)
+        _, angle, _ = principal_axis(x0[precrack], y0[precrack])
+        out["precrack_angle_deg"] = angle
+    return out

@@ -1,0 +1,122 @@
+r"""Specimen: regular grid geometry, random particle masses, pre-crack layouts (spec sections 1, 4).
+
+- Disc: a ``diameter_cells``² cell-centred square grid of spacing Δ keeping the centres within
+  radius ``diameter_cells``·Δ/2 of the disc centre (40 cells → 1264 particles). Rectangle (tests):
+  ``diameter_cells`` × ``height_cells`` cells. The lowest centre sits at
+  :math:`y = y_{base} + r_c + \text{gap}\,\Delta`; every particle moves at
+  :math:`(0, -v_{impact})`.
+- Masses: total :math:`M = N\rho_0\Delta^2` (per metre in 2D) is fixed; :math:`\omega_i` i.i.d.
+  with mean 1: ``uniform`` U(0, 2) [C]; ``normal`` N(1, sd²) with negatives redrawn [D];
+  ``poisson`` :math:`\omega = k/\lambda_P`, :math:`k \sim` Poisson(λ_P) (exact zeros) [D];
+  :math:`m_i = \omega_i M/\sum_j\omega_j`. ``homogeneous``: :math:`m_i = \rho_0\Delta^2`.
+  :math:`\rho_i(0) = \rho_0` and :math:`h_i(0) = \kappa\,h_{factor}\Delta` for every particle, so
+  the geometry stays the homogeneous grid and only the "virtual volume" :math:`m_i/\rho_0` varies.
+- Pre-cracks: a layout is data in the scene (``precracks``: name → segments in units of R from
+  the disc centre); particles whose centre lies within Δ/2 of a segment get m = 0, the others keep
+  the homogeneous mass; the total mass is not renormalised [C maps]. A pre-crack is applied on top
+  of the chosen mass distribution (the paper's cases use homogeneous masses).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from craquelure.errors import SceneError
+from craquelure.scene import Scene
+
+
+@dataclass
+class Specimen:
+    x: np.ndarray
+    y: np.ndarray
+    mass: np.ndarray
+    spacing: float
+    radius: float        # disc radius (rectangle: half width)
+    centre_y: float
+    precrack: np.ndarray  # bool, particle on a pre-crack line
+
+    @property
+    def n(self) -> int:
+        return self.x.size
+
+
+def grid(shape: str, cells: int, height_cells: int, spacing: float) -> tuple[np.ndarray, ...]:
+    """Cell-centred grid points relative to the body centre."""
+    if shape == "disc":
+        c = (np.arange(cells) - (cells - 1) / 2.0) * spacing
+        gx, gy = np.meshgrid(c, c, indexing="xy")
+        keep = gx**2 + gy**2 <= (cells * spacing / 2.0) ** 2 * (1 + 1e-12)
+        return gx[keep], gy[keep]
+    cx = (np.arange(cells) - (cells - 1) / 2.0) * spacing
+    cy = (np.arange(height_cells) - (height_cells - 1) / 2.0) * spacing
+    gx, gy = np.meshgrid(cx, cy, indexing="xy")
+    return gx.ravel(), gy.ravel()
+
+
+def draw_weights(distribution: str, n: int, rng: np.random.Generator, normal_sd: float = 0.3,
+                 poisson_lambda: float = 4.0) -> np.ndarray:
+    """Relative masses omega_i with mean 1 (before the exact rescaling)."""
+    if distribution == "homogeneous":
+        return np.ones(n)
+    if distribution == "uniform":
+        return rng.uniform(0.0, 2.0, n)
+    if distribution == "normal":
+        w = rng.normal(1.0, normal_sd, n)
+        while (bad := w < 0).any():
+            w[bad] = rng.normal(1.0, normal_sd, int(bad.sum()))
+        return w
+    if distribution == "poisson":
+        return rng.poisson(poisson_lambda, n) / poisson_lambda
+    raise SceneError(f"particles.masses.distribution: {distribution!r} is not allowed")
+
+
+def segment_distance(px, py, ax, ay, bx, by) -> np.ndarray:
+    ux, uy = bx - ax, by - ay
+    t = np.clip(((px - ax) * ux + (py - ay) * uy) / (ux * ux + uy * uy), 0.0, 1.0)
+    return np.hypot(px - ax - t * ux, py - ay - t * uy)
+
+
+def precrack_mask(x_rel, y_rel, segments, radius: float, spacing: float) -> np.ndarray:
+    mask = np.zeros(x_rel.size, bool)
+    for (x0, y0), (x1, y1) in segments:
+        d = segment_distance(x_rel, y_rel, x0 * radius, y0 * radius, x1 * radius, y1 * radius)
+        mask |= d <= 0.5 * spacing * (1 + 1e-9)
+    return mask
+
+
+def build_specimen(scene: Scene, seed: int) -> Specimen:
+    dx = scene.get("particles.spacing")
+    shape = scene.get("particles.shape")
+    cells = scene.get("particles.diameter_cells")
+    x, y = grid(shape, cells, scene.get("particles.height_cells"), dx)
+    radius = cells * dx / 2.0
+    r_c = scene.get("numerics.contact_radius") * dx
+    centre_y = scene.get("domain.base_y") + r_c + scene.get("particles.gap") * dx - y.min()
+    rho0 = scene.get("material.rho0")
+    n = x.size
+    rng = np.random.default_rng(seed)
+    w = draw_weights(scene.get("particles.masses.distribution"), n, rng,
+                     scene.get("particles.masses.normal_sd"),
+                     scene.get("particles.masses.poisson_lambda"))
+    total = n * rho0 * dx * dx
+    if w.sum() <= 0:
+        raise SceneError("particles.masses: every drawn weight is zero")
+    mass = w * (total / w.sum())
+    name = scene.get("particles.precrack")
+    crack = np.zeros(n, bool)
+    if name != "none":
+        layouts = scene.get("precracks")
+        if name not in layouts:
+            raise SceneError(f"particles.precrack: {name!r} is not allowed; allowed values: "
+                             f"none, {', '.join(layouts)}")
+        crack = precrack_mask(x, y, layouts[name], radius, dx)
+        mass[crack] = 0.0
+    return Specimen(x=x, y=y + centre_y, mass=mass, spacing=dx, radius=radius,
+                    centre_y=centre_y, precrack=crack)
+
+
+def initial_smoothing_length(scene: Scene) -> float:
+    return (scene.get("numerics.kappa") * scene.get("numerics.h_factor")
+            * scene.get("particles.spacing"))
