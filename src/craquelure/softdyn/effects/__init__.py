@@ -1,0 +1,1 @@
+"""Soft Dynamics effects: one module per physical effect (see :mod:`craquelure.registry`)."""

@@ -1,0 +1,230 @@
+r"""Scenarios: the T1 of four spheres (spec section 6) and two-sphere approach/separation/sliding
+(companion paper), from a validated scene, plus their time-series datasets.
+
+T1 [S unless tagged]: d = 2R + h0, A = (-d/2, 0), B = (d/2, 0), C = (0, sqrt3 d/2),
+D = (0, -sqrt3 d/2); all six pairs in a fixed list with zero initial deflection [D]; C pushed down
+and D up by F_v, A and B pushed toward each other by F_h. The scene gives the reduced AB load
+F~ = |F_v/sqrt3 - F_h|/(E R^2) and r = F_h/F_v, so F_v = F~ E R^2/|1/sqrt3 - r| [D] and
+tau = eta R^2/F with F = F~ E R^2 (for r = 0: tau = sqrt3 eta R^2/F_v, spec Eq. 29). theta is the
+angle between AC and AB. The T1 ends when the CD normal force reaches phi (F_v - F_h/sqrt3)
+(``stop: cd_force``) or when theta <= theta_end (``stop: angle``).
+
+Pair: spheres 0 and 1 on the x axis at distance 2R + h0, loaded by F = F~ E R^2 toward each other
+(compression) or apart (tension), optionally with a tangential couple T (y) for sliding.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from craquelure.errors import SceneError
+from craquelure.softdyn import theory
+from craquelure.softdyn.integrate import Result, integrate
+from craquelure.softdyn.system import System, flags_for
+
+SQRT3 = math.sqrt(3.0)
+T1_PARTICLES = ("A", "B", "C", "D")
+T1_PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
+T1_PAIR_NAMES = ("AB", "AC", "AD", "BC", "BD", "CD")
+
+
+@dataclass
+class Setup:
+    """A system with its scales: force unit F, time unit tau, F_v (T1) and the stop function."""
+
+    scene: object
+    system: System
+    force: float          # F = F~ E R^2
+    tau: float            # eta R^2 / F
+    f_v: float            # T1: vertical load; pair: F
+    f_h: float
+    h0: float             # units of R
+
+    @property
+    def arrangement(self) -> str:
+        return self.scene.get("particles.arrangement")
+
+    def stop_function(self):
+        kind = self.scene.get("outputs.stop")
+        if kind == "none":
+            return None
+        sysm = self.system
+        if kind == "cd_force":
+            if self.arrangement != "t1":
+                raise SceneError("outputs.stop: 'cd_force' needs particles.arrangement: t1")
+            target = self.scene.get("outputs.phi") * (self.f_v - self.f_h / SQRT3)
+            return lambda t, y: self.pair_normal_force(t, y, 5) / target - 1.0
+        if kind == "angle":
+            if self.arrangement != "t1":
+                raise SceneError("outputs.stop: 'angle' needs particles.arrangement: t1")
+            theta_end = math.radians(self.scene.get("outputs.theta_end_deg"))
+            return lambda t, y: theta_end - t1_angle(sysm.unpack(y)[0])
+        gap_end = self.scene.get("outputs.gap_end", None)
+        if gap_end is None:
+            raise SceneError("outputs.gap_end: required with stop: gap")
+        sign = 1.0 if self.scene.get("loads.direction") == "tension" else -1.0
+        radius = sysm.radius
+        return lambda t, y: sign * (sysm.min_gap(y) - gap_end * radius)
+
+    def pair_normal_force(self, t: float, y: np.ndarray, k: int) -> float:
+        sysm = self.system
+        if sysm.flags.hertz:
+            x, s, _ = sysm.unpack(y)
+            i, j = sysm.pairs[k]
+            r = float(np.linalg.norm(x[i] - x[j]))
+            h = r - 2.0 * sysm.radius + s[k]
+            a = math.sqrt(sysm.radius * (h + abs(s[k])))
+            return sysm.young * a * sysm.k_n * float(s[k])
+        return float(sysm.evaluate(t, y)["f_n"][k])
+
+    def run(self, sample_times_tau: np.ndarray | None = None, desc: str = "softdyn") -> Result:
+        sc = self.scene
+        if sample_times_tau is None:
+            sample_times_tau = sample_times(sc)
+        method = sc.get("numerics.integrator")
+        dt = sc.get("numerics.dt", None)
+        return integrate(
+            self.system, sc.get("outputs.t_end") * self.tau, method=method,
+            rtol=sc.get("numerics.rtol"), atol=sc.get("numerics.atol"),
+            dt=None if dt is None else dt * self.tau, stop=self.stop_function(),
+            sample_times=np.asarray(sample_times_tau) * self.tau, force_scale=self.f_v,
+            drift_tolerance=sc.get("numerics.drift_tolerance"), time_unit=self.tau,
+            max_steps=sc.get("numerics.max_steps"), desc=desc,
+            terminal=not sc.get("outputs.run_past_stop"))
+
+
+def sample_times(scene) -> np.ndarray:
+    """Log-spaced sample times (units of tau) from t_r/10 (or 1e-3) to t_end."""
+    t_end = scene.get("outputs.t_end")
+    t_r = scene.get("loads.ramp_time")
+    first = min(t_r / 10.0 if t_r > 0 else 1e-3, t_end / 10.0)
+    return np.geomspace(first, t_end, scene.get("outputs.n_samples") - 1)
+
+
+def t1_angle(x: np.ndarray) -> float:
+    """Angle (rad) between AC and AB."""
+    ab, ac = x[1] - x[0], x[2] - x[0]
+    cross = ab[0] * ac[1] - ab[1] * ac[0]
+    if x.shape[1] == 3:
+        cross = float(np.linalg.norm(np.cross(ab, ac)))
+    return math.atan2(abs(cross), float(ab @ ac))
+
+
+def build(scene) -> Setup:
+    """The system and scales of a scene (T1 or pair)."""
+    flags = flags_for(scene)
+    radius = scene.get("material.radius")
+    eta = scene.get("material.viscosity")
+    young = scene.get("material.young", 1.0)
+    k_n = scene.get("material.k_n", 1.0)
+    k_t = scene.get("material.k_t", 1.0)
+    c_n = scene.get("material.c_n")
+    c_t = scene.get("material.c_t", math.pi)
+    dim = scene.get("domain.dim", 2)
+    h0 = scene.get("particles.h0")
+    force = scene.get("loads.reduced_force") * young * radius**2
+    tau = eta * radius**2 / force
+    d = (2.0 + h0) * radius
+    if scene.get("particles.arrangement") == "t1":
+        r = scene.get("loads.fh_over_fv")
+        if abs(1.0 / SQRT3 - r) < 1e-6:
+            raise SceneError("loads.fh_over_fv: 1/sqrt(3) makes the AB load vanish; tau is "
+                             "undefined (choose a value on either side)")
+        f_v = force / abs(1.0 / SQRT3 - r)
+        f_h = r * f_v
+        x0 = np.array([[-d / 2, 0.0], [d / 2, 0.0], [0.0, SQRT3 * d / 2], [0.0, -SQRT3 * d / 2]])
+        F0 = np.array([[f_h, 0.0], [-f_h, 0.0], [0.0, -f_v], [0.0, f_v]])
+        pairs, pnames, names = np.array(T1_PAIRS), T1_PAIR_NAMES, T1_PARTICLES
+    else:
+        f_v, f_h = force, 0.0
+        sign = 1.0 if scene.get("loads.direction") == "compression" else -1.0
+        tang = scene.get("loads.tangential_over_normal") * force
+        x0 = np.array([[-d / 2, 0.0], [d / 2, 0.0]])
+        F0 = np.array([[sign * force, tang], [-sign * force, -tang]])
+        pairs, pnames, names = np.array([(0, 1)]), ("01",), ("0", "1")
+    if dim == 3:
+        x0 = np.hstack([x0, np.zeros((x0.shape[0], 1))])
+        F0 = np.hstack([F0, np.zeros((F0.shape[0], 1))])
+    system = System(
+        x0=x0, pairs=pairs, F0=F0, radius=radius, viscosity=eta, young=young, k_n=k_n,
+        k_t=k_t, c_n=c_n, c_t=c_t, tau_baumgarte=scene.get("numerics.baumgarte_time") * tau,
+        ramp_time=scene.get("loads.ramp_time") * tau, flags=flags,
+        linear_solver=scene.get("numerics.linear_solver"), pair_names=pnames,
+        particle_names=names)
+    return Setup(scene=scene, system=system, force=force, tau=tau, f_v=f_v, f_h=f_h, h0=h0)
+
+
+def predictions(scene) -> dict[str, float]:
+    """h*, h0/h*, T_P, T_H and the quadrature T_sep (units of R and tau)."""
+    ft = scene.get("loads.reduced_force")
+    k_n, c_n, h0 = scene.get("material.k_n", 1.0), scene.get("material.c_n"), \
+        scene.get("particles.h0")
+    hs = theory.h_star(ft, k_n)
+    return {"h_star": hs, "h0_over_h_star": h0 / hs, "T_P": theory.t_poiseuille(h0, c_n),
+            "T_H": theory.t_hertz(h0, ft, k_n, c_n),
+            "T_sep": theory.t_separation(h0, ft, k_n, c_n) if h0 < 1.0 else 0.0,
+            "regime": theory.regime(h0, ft, k_n)}
+
+
+def series_dataset(setup: Setup, result: Result) -> xr.Dataset:
+    """Time series of a run: positions, gaps, deflections, forces, frictions, angle."""
+    sysm, tau = setup.system, setup.tau
+    rows = [sysm.evaluate(t, y) for t, y in zip(result.t, result.y, strict=True)]
+    dims = ("x", "y", "z")[: sysm.d]
+
+    def stack(key):
+        return np.array([row[key] for row in rows])
+
+    ds = xr.Dataset(
+        {
+            "position": (("time", "particle", "dim"), stack("x") / sysm.radius,
+                         {"units": "R"}),
+            "velocity": (("time", "particle", "dim"), stack("v") * tau / sysm.radius,
+                         {"units": "R/tau"}),
+            "gap": (("time", "pair"), stack("h") / sysm.radius, {"units": "R"}),
+            "deflection_normal": (("time", "pair"), stack("s") / sysm.radius,
+                                  {"units": "R", "long_name": "s (> 0: compression)"}),
+            "interaction_radius": (("time", "pair"), stack("a") / sysm.radius, {"units": "R"}),
+            "force_normal": (("time", "pair"), stack("f_n") / setup.f_v,
+                             {"units": "F_v", "long_name": "f_ij . n (> 0: compressive)"}),
+            "force_tangential": (("time", "pair"),
+                                 np.linalg.norm(stack("f_t"), axis=-1) / setup.f_v,
+                                 {"units": "F_v"}),
+            "zeta_n": (("time", "pair"), stack("zeta_n") / (sysm.viscosity * sysm.radius),
+                       {"units": "eta R"}),
+            "zeta_t": (("time", "pair"), stack("zeta_t") / (sysm.viscosity * sysm.radius),
+                       {"units": "eta R"}),
+            "balance_residual": ("time",
+                                 np.abs(stack("residual")).max(axis=(1, 2)) / setup.f_v,
+                                 {"units": "F_v", "long_name": "max_i |F_i + sum_j f_ij|"}),
+        },
+        coords={"time": ("time", result.t / tau, {"units": "tau"}),
+                "particle": list(sysm.particle_names), "pair": list(sysm.pair_names),
+                "dim": list(dims)},
+    )
+    if setup.arrangement == "t1":
+        ds["theta"] = ("time", np.degrees([t1_angle(row["x"]) for row in rows]),
+                       {"units": "deg", "long_name": "angle between AC and AB"})
+    ds.attrs.update(run_attrs(setup, result))
+    return ds
+
+
+def run_attrs(setup: Setup, result: Result) -> dict[str, object]:
+    sc = setup.scene
+    pred = predictions(sc)
+    return {
+        "tau": setup.tau, "force_unit": setup.force, "F_v": setup.f_v, "F_h": setup.f_h,
+        "h0": setup.h0, "reduced_force": sc.get("loads.reduced_force"),
+        "h_star": pred["h_star"], "h0_over_h_star": pred["h0_over_h_star"],
+        "T_P": pred["T_P"], "T_H": pred["T_H"], "T_sep": pred["T_sep"],
+        "regime": pred["regime"], "stop": sc.get("outputs.stop"),
+        "stopped": int(result.stopped), "duration": result.t_stop / setup.tau,
+        "integrator": sc.get("numerics.integrator"), "n_steps": result.n_steps,
+        "n_rhs": result.n_rhs, "n_rejected": result.n_rejected,
+        "integration_wall_time_s": result.wall_time_s, "linear_solver": setup.system.solver,
+        "deflection_rule": sc.get("numerics.deflection_rule"),
+    }

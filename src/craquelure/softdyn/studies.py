@@ -1,0 +1,173 @@
+"""Studies made of many T1 runs: the duration sweep over (h0, F~) (paper Fig. 5) and the
+occurrence of the T1 in the (F_h, F_v) plane (Fig. 3).
+
+Sweep: grid ``study.h0`` x ``study.reduced_force``; only points with h0/h* inside
+``study.window`` are run (the informative window of spec 9.2; outside it a run is either pure
+Poiseuille or hopelessly long), the others are NaN with ``computed = 0``. Each point runs to the
+end of the T1 (``stop: cd_force``); points that do not finish by ``outputs.t_end`` have
+``finished = 0`` and a NaN duration. Phase: grid ``study.fh_over_fv`` x ``study.reduced_force``,
+each run until theta <= ``outputs.theta_end_deg`` or ``outputs.t_end`` (units of tau of the AB
+load |F_v/sqrt3 - F_h|).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from craquelure.errors import SceneError
+from craquelure.softdyn import theory
+from craquelure.softdyn.scenarios import SQRT3, build, t1_angle
+
+
+def sweep_grid(scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(h0 values, force values, mask[h0, force] of points inside the window)."""
+    h0 = np.asarray(scene.get("study.h0", []), dtype=float)
+    force = np.asarray(scene.get("study.reduced_force", []), dtype=float)
+    if h0.size == 0 or force.size == 0:
+        raise SceneError("study.h0 and study.reduced_force: a sweep needs both lists")
+    lo, hi = scene.get("study.window")
+    k_n = scene.get("material.k_n", 1.0)
+    ratio = h0[:, None] / np.array([theory.h_star(f, k_n) for f in force])[None, :]
+    return h0, force, (ratio >= lo * (1 - 1e-9)) & (ratio <= hi * (1 + 1e-9))
+
+
+def sweep_points(scene) -> list[tuple[int, int]]:
+    h0, force, mask = sweep_grid(scene)
+    return [(i, j) for i in range(h0.size) for j in range(force.size) if mask[i, j]]
+
+
+def point_scene(scene, h0: float, force: float, extra: tuple[str, ...] = ()):
+    return scene.with_overrides([f"particles.h0={h0!r}", f"loads.reduced_force={force!r}",
+                                 "outputs.run_past_stop=false", *extra])
+
+
+def run_sweep_point(scene, i: int, j: int) -> xr.Dataset:
+    """One T1 of the sweep, as a dataset with length-1 dims h0 and force."""
+    h0, force, mask = sweep_grid(scene)
+    if not mask[i, j]:
+        raise SceneError(f"sweep point ({i}, {j}) = (h0 {h0[i]:g}, F~ {force[j]:g}) is outside "
+                         f"study.window")
+    sc = point_scene(scene, float(h0[i]), float(force[j]))
+    setup = build(sc)
+    res = setup.run(sample_times_tau=np.array([]), desc=f"T1 h0={h0[i]:g} F~={force[j]:g}")
+    k_n, c_n = sc.get("material.k_n"), sc.get("material.c_n")
+    x = setup.system.unpack(res.y_stop)[0]
+    values = {
+        "duration": res.t_stop / setup.tau if res.stopped else math.nan,
+        "finished": int(res.stopped),
+        "theta_end": math.degrees(t1_angle(x)),
+        "T_P": theory.t_poiseuille(h0[i], c_n),
+        "T_H": theory.t_hertz(h0[i], force[j], k_n, c_n),
+        "T_sep": theory.t_separation(h0[i], force[j], k_n, c_n),
+        "h0_over_h_star": h0[i] / theory.h_star(force[j], k_n),
+        "n_rhs": res.n_rhs, "n_steps": res.n_steps, "run_wall_time_s": res.wall_time_s,
+    }
+    ds = xr.Dataset({k: (("h0", "force"), [[v]]) for k, v in values.items()},
+                    coords={"h0": [h0[i]], "force": [force[j]]})
+    ds["regime"] = (("h0", "force"), [[theory.regime(h0[i], force[j], k_n)]])
+    return ds
+
+
+SWEEP_ATTRS = {
+    "duration": {"units": "tau", "long_name": "T1 duration (CD force reaches phi F_v)"},
+    "finished": {"long_name": "1 if the T1 ended before outputs.t_end"},
+    "computed": {"long_name": "1 if the point is inside study.window and was run"},
+    "theta_end": {"units": "deg", "long_name": "angle AC-AB at the end"},
+    "T_P": {"units": "tau", "long_name": "Poiseuille prediction c_n ln(R/h0) (Eq. 33)"},
+    "T_H": {"units": "tau", "long_name": "Hertz prediction (c_n/2)(h*/h0)^2 (Eq. 34)"},
+    "T_sep": {"units": "tau", "long_name": "quadrature of the AB opening time (section 7)"},
+    "h0_over_h_star": {"long_name": "h0/h*, h* = R (F~/k_n)^(2/3)"},
+    "regime": {"long_name": "hertz (h0/h* <= 1/3), poiseuille (>= 3) or crossover"},
+    "n_rhs": {"long_name": "right-hand-side evaluations"},
+    "run_wall_time_s": {"units": "s"},
+}
+
+
+def aggregate_sweep(scene, points: list[xr.Dataset]) -> xr.Dataset:
+    """Sweep dataset with named dims (h0, force) from the point datasets."""
+    h0, force, mask = sweep_grid(scene)
+    k_n, c_n = scene.get("material.k_n"), scene.get("material.c_n")
+    hs = np.array([theory.h_star(f, k_n) for f in force])
+    shape = (h0.size, force.size)
+    ds = xr.Dataset(coords={"h0": ("h0", h0, {"units": "R"}),
+                            "force": ("force", force, {"long_name": "reduced force F~"})})
+    ds["h_star"] = ("force", hs, {"units": "R"})
+    numeric = ["duration", "finished", "theta_end", "T_sep", "n_rhs", "n_steps",
+               "run_wall_time_s"]
+    for name in numeric:
+        ds[name] = (("h0", "force"), np.full(shape, np.nan))
+    ds["computed"] = (("h0", "force"), mask.astype(np.int8))
+    ds["T_P"] = (("h0", "force"), np.array([[theory.t_poiseuille(h, c_n) for _ in force]
+                                            for h in h0]))
+    ds["T_H"] = (("h0", "force"), np.array([[theory.t_hertz(h, f, k_n, c_n) for f in force]
+                                            for h in h0]))
+    ds["h0_over_h_star"] = (("h0", "force"), h0[:, None] / hs[None, :])
+    ds["regime"] = (("h0", "force"), np.array([[theory.regime(h, f, k_n) for f in force]
+                                               for h in h0], dtype=object))
+    for point in points:
+        i = int(np.argmin(np.abs(np.log(h0 / float(point.h0.values[0])))))
+        j = int(np.argmin(np.abs(np.log(force / float(point.force.values[0])))))
+        for name in numeric:
+            ds[name].values[i, j] = float(point[name].values[0, 0])
+    missing = [(float(h0[i]), float(force[j])) for i, j in zip(*np.nonzero(mask), strict=True)
+               if np.isnan(ds["finished"].values[i, j])]
+    if missing:
+        raise SceneError(f"sweep aggregate: no result for the grid points {missing}")
+    for name, attrs in SWEEP_ATTRS.items():
+        if name in ds:
+            ds[name].attrs.update(attrs)
+    ds.attrs.update({"n_points": int(mask.sum()),
+                     "n_finished": int(np.nansum(ds["finished"].values)),
+                     "window_lo": scene.get("study.window")[0],
+                     "window_hi": scene.get("study.window")[1]})
+    return ds
+
+
+def run_sweep(scene) -> xr.Dataset:
+    """The whole sweep, serially (Snakemake runs the points as parallel jobs instead)."""
+    return aggregate_sweep(scene, [run_sweep_point(scene, i, j)
+                                   for i, j in sweep_points(scene)])
+
+
+def run_phase(scene) -> xr.Dataset:
+    """Occurrence of the T1 over (F_h/F_v, F~)."""
+    ratios = np.asarray(scene.get("study.fh_over_fv", []), dtype=float)
+    force = np.asarray(scene.get("study.reduced_force", []), dtype=float)
+    if ratios.size == 0 or force.size == 0:
+        raise SceneError("study.fh_over_fv and study.reduced_force: a phase scan needs both")
+    shape = (ratios.size, force.size)
+    out = {k: np.full(shape, np.nan) for k in
+           ("occurred", "time", "theta_end", "f_ab_end", "f_v", "f_h", "tau", "n_rhs")}
+    for i, r in enumerate(ratios):
+        for j, f in enumerate(force):
+            sc = point_scene(scene, scene.get("particles.h0"), float(f),
+                             (f"loads.fh_over_fv={r!r}", "outputs.stop=angle"))
+            setup = build(sc)
+            res = setup.run(sample_times_tau=np.array([]), desc=f"phase r={r:g} F~={f:g}")
+            ev = setup.system.evaluate(res.t_stop, res.y_stop)
+            young_r2 = setup.system.young * setup.system.radius**2
+            out["occurred"][i, j] = float(res.stopped)
+            out["time"][i, j] = res.t_stop / setup.tau
+            out["theta_end"][i, j] = math.degrees(t1_angle(ev["x"]))
+            out["f_ab_end"][i, j] = ev["f_n"][0] / setup.f_v
+            out["f_v"][i, j] = setup.f_v / young_r2
+            out["f_h"][i, j] = setup.f_h / young_r2
+            out["tau"][i, j] = setup.tau
+            out["n_rhs"][i, j] = res.n_rhs
+    dims = ("fh_over_fv", "force")
+    ds = xr.Dataset({k: (dims, v) for k, v in out.items()},
+                    coords={"fh_over_fv": ratios, "force": force})
+    ds["predicted"] = (dims, np.repeat((ratios < 1 / SQRT3)[:, None], force.size, 1)
+                       .astype(float))
+    ds["occurred"].attrs["long_name"] = "1 if theta reached theta_end before t_end"
+    ds["predicted"].attrs["long_name"] = "1 if F_h < F_v/sqrt3 (AB in tension, Eq. 27)"
+    ds["time"].attrs["units"] = "tau (AB load)"
+    ds["f_ab_end"].attrs["units"] = "F_v"
+    ds["f_v"].attrs["units"] = "E R^2"
+    ds["f_h"].attrs["units"] = "E R^2"
+    ds.attrs.update({"theta_end_deg": scene.get("outputs.theta_end_deg"),
+                     "t_end": scene.get("outputs.t_end"), "h0": scene.get("particles.h0")})
+    return ds

@@ -1,0 +1,207 @@
+"""A Soft Dynamics system: particles, a fixed pair list, loads, parameters and the specialised
+right-hand side, with the diagnostics the runs and tests need.
+
+Units are the scene's (radius R, viscosity eta, Young modulus E); the force unit F and the Stokes
+time tau = eta R^2 / F are chosen by the scenario (:mod:`craquelure.softdyn.t1`,
+:mod:`craquelure.softdyn.pair`).
+
+Velocity solve: ``linear_solver: dense`` runs the whole right-hand side in one numba function
+(N d <= 64 with ``auto``); ``sparse`` computes the per-pair blocks in numba and solves the
+(N d)^2 system with SuperLU (``scipy.sparse.linalg.splu``; LSQR when ``lubrication_tangential``
+is absent and the system may be singular). The sparsity pattern is fixed by the pair list and
+built once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from craquelure.errors import SceneError
+from craquelure.softdyn.compile import Flags, kernels
+
+DENSE_MAX_UNKNOWNS = 64
+
+
+def flags_for(scene) -> Flags:
+    if not scene.has("lubrication_normal"):
+        raise SceneError(
+            "effects: softdyn needs 'lubrication_normal' (the film carries the normal force in "
+            "series with the elastic response; without it a pair has no normal coupling)")
+    rule = scene.get("numerics.deflection_rule")
+    literal = rule == "literal"
+    if literal and not (scene.has("hertz") and scene.has("lubrication_tangential")):
+        raise SceneError("numerics.deflection_rule: 'literal' only differs from 'corotating' "
+                         "with both 'hertz' and 'lubrication_tangential'")
+    return Flags(tangential=scene.has("lubrication_tangential"), hertz=scene.has("hertz"),
+                 literal=literal)
+
+
+@dataclass
+class System:
+    """Particles (N, d), pairs (P), nominal loads F0 (N, d) and parameters."""
+
+    x0: np.ndarray
+    pairs: np.ndarray
+    F0: np.ndarray
+    radius: float
+    viscosity: float
+    young: float
+    k_n: float
+    k_t: float
+    c_n: float
+    c_t: float
+    tau_baumgarte: float
+    ramp_time: float
+    flags: Flags
+    linear_solver: str = "auto"
+    pair_names: tuple[str, ...] = ()
+    particle_names: tuple[str, ...] = ()
+    n_rhs: int = field(default=0, init=False)
+
+    def __post_init__(self) -> None:
+        self.x0 = np.ascontiguousarray(self.x0, dtype=np.float64)
+        self.F0 = np.ascontiguousarray(self.F0, dtype=np.float64)
+        self.pairs = np.ascontiguousarray(self.pairs, dtype=np.int64)
+        self.pi = np.ascontiguousarray(self.pairs[:, 0])
+        self.pj = np.ascontiguousarray(self.pairs[:, 1])
+        net = np.abs(self.F0.sum(axis=0)).max()
+        if net > 1e-12 * max(np.abs(self.F0).max(), 1e-300):
+            raise SceneError(f"loads: the external forces must sum to zero (overdamped, no drag "
+                             f"on the particles), net force {self.F0.sum(axis=0)}")
+        self.p = np.array([self.radius, self.viscosity, self.young, self.k_n, self.k_t,
+                           self.c_n, self.c_t, 1.0 / self.tau_baumgarte, self.ramp_time])
+        self.k = kernels(self.flags)
+        solver = self.linear_solver
+        if solver == "auto":
+            solver = "dense" if self.n_unknowns <= DENSE_MAX_UNKNOWNS else "sparse"
+        self.solver = solver
+        if solver == "sparse":
+            self._build_pattern()
+
+    # ---- sizes and state -------------------------------------------------------------
+    @property
+    def n(self) -> int:
+        return self.x0.shape[0]
+
+    @property
+    def d(self) -> int:
+        return self.x0.shape[1]
+
+    @property
+    def n_pairs(self) -> int:
+        return self.pairs.shape[0]
+
+    @property
+    def n_unknowns(self) -> int:
+        return self.n * self.d
+
+    @property
+    def state_size(self) -> int:
+        size = self.n * self.d
+        if self.flags.hertz:
+            size += self.n_pairs
+            if self.flags.tangential:
+                size += self.n_pairs * self.d
+        return size
+
+    def initial_state(self) -> np.ndarray:
+        y = np.zeros(self.state_size)
+        y[: self.n * self.d] = self.x0.ravel()
+        return y
+
+    def unpack(self, y):
+        return self.k.unpack(np.ascontiguousarray(y, dtype=np.float64), self.n, self.n_pairs,
+                             self.d)
+
+    def atol_vector(self, atol_length: float) -> np.ndarray:
+        return np.full(self.state_size, atol_length * self.radius)
+
+    # ---- right-hand side -------------------------------------------------------------
+    def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
+        self.n_rhs += 1
+        y = np.ascontiguousarray(y, dtype=np.float64)
+        if self.solver == "dense":
+            return self.k.rhs_dense(float(t), y, self.pi, self.pj, self.F0, self.p)
+        return self._rhs_sparse(float(t), y)
+
+    def evaluate(self, t: float, y: np.ndarray) -> dict[str, np.ndarray]:
+        """Everything at one state: velocities, rates, pair quantities, blocks, residual."""
+        y = np.ascontiguousarray(y, dtype=np.float64)
+        x, s, q = self.unpack(y)
+        nv, r, h, a, zn, zt, f, A, b = self.k.pair_terms(x, s, q, self.pi, self.pj, self.p)
+        c, resid = self.k.particle_terms(float(t), self.pi, self.pj, self.F0, self.p, f, b)
+        v = self._solve(A, c)
+        ydot = self.k.rates(v, self.pi, self.pj, nv, r, a, zn, zt, s, q, self.p, self.n,
+                            self.d)
+        if not self.flags.hertz:
+            f = self.k.rigid_forces(v, self.pi, self.pj, A, self.d)
+            resid = resid.copy()
+            np.add.at(resid, self.pi, f)
+            np.subtract.at(resid, self.pj, f)
+        fn = np.einsum("kc,kc->k", f, nv)
+        ft = f - fn[:, None] * nv
+        return {"x": x, "s": s, "q": q, "n": nv, "r": r, "h": h, "a": a, "zeta_n": zn,
+                "zeta_t": zt, "f": f, "f_n": fn, "f_t": ft, "A": A, "b": b, "c": c,
+                "residual": resid, "v": v.reshape(self.n, self.d), "ydot": ydot,
+                "load": self.load(t)}
+
+    def load(self, t: float) -> np.ndarray:
+        ramp, _ = self.k.load_factors(float(t), self.ramp_time)
+        return ramp * self.F0
+
+    def min_gap(self, y: np.ndarray) -> float:
+        return float(self.k.min_gap(np.ascontiguousarray(y, dtype=np.float64), self.pi,
+                                    self.pj, self.n, self.d, self.radius))
+
+    # ---- sparse path -----------------------------------------------------------------
+    def _build_pattern(self) -> None:
+        d, m = self.d, self.n_unknowns
+        last = self.n - 1
+        rows, cols, src, sgn = [], [], [], []
+        for k, (i, j) in enumerate(self.pairs):
+            for bi, bj, sign in ((i, i, 1.0), (i, j, -1.0), (j, j, 1.0), (j, i, -1.0)):
+                if bi == last:
+                    continue
+                for e in range(d):
+                    for g in range(d):
+                        rows.append(bi * d + e)
+                        cols.append(bj * d + g)
+                        src.append(k * d * d + e * d + g)
+                        sgn.append(sign)
+        self._sp_rows = np.array(rows + [last * d + e for e in range(d) for _ in range(self.n)],
+                                 dtype=np.int64)
+        self._sp_cols = np.array(cols + [i * d + e for e in range(d) for i in range(self.n)],
+                                 dtype=np.int64)
+        self._sp_src = np.array(src, dtype=np.int64)
+        self._sp_sign = np.array(sgn)
+        self._sp_shape = (m, m)
+
+    def _solve(self, A: np.ndarray, c: np.ndarray) -> np.ndarray:
+        if self.solver == "dense":
+            M, rhs = self.k.assemble_dense(self.pi, self.pj, A, c)
+            return self.k.solve_dense(M, rhs)
+        return self._solve_sparse(A, c)
+
+    def _solve_sparse(self, A: np.ndarray, c: np.ndarray) -> np.ndarray:
+        d, m = self.d, self.n_unknowns
+        data = A.reshape(-1)[self._sp_src] * self._sp_sign
+        scale = float(np.abs(A).max()) or 1.0
+        data = np.concatenate([data, np.full(self.n * d, scale)])
+        M = sp.csc_matrix((data, (self._sp_rows, self._sp_cols)), shape=self._sp_shape)
+        rhs = c.reshape(-1).copy()
+        rhs[(self.n - 1) * d:] = 0.0
+        if self.flags.tangential:
+            return spla.splu(M).solve(rhs)
+        return spla.lsqr(M, rhs, atol=1e-15, btol=1e-15, iter_lim=50 * m)[0]
+
+    def _rhs_sparse(self, t: float, y: np.ndarray) -> np.ndarray:
+        x, s, q = self.unpack(y)
+        nv, r, h, a, zn, zt, f, A, b = self.k.pair_terms(x, s, q, self.pi, self.pj, self.p)
+        c, _ = self.k.particle_terms(t, self.pi, self.pj, self.F0, self.p, f, b)
+        v = self._solve_sparse(A, c)
+        return self.k.rates(v, self.pi, self.pj, nv, r, a, zn, zt, s, q, self.p, self.n,
+                            self.d)
