@@ -1,0 +1,51 @@
+r"""Beams: elastic bonds between particles with bond damping (lattice spec sections 3-5).
+
+Per bond, in the chord frame (:mod:`craquelure.lattice.beam`):
+:math:`e = \ell - L_0`, :math:`\varphi_k' = (\theta_k - \theta_{k,0}) - \Delta\alpha`,
+:math:`N = k_n e`, :math:`M_1 = a\varphi_1' + b\varphi_2'`, :math:`M_2 = b\varphi_1' + a\varphi_2'`,
+:math:`V = (M_1+M_2)/\ell`, energy :math:`U = \frac12 k_n e^2 + \frac12 a(\varphi_1'^2 +
+\varphi_2'^2) + b\varphi_1'\varphi_2'`. Force on node 2: :math:`-N\hat e + V\hat e_\perp`,
+on node 1 the opposite; torques :math:`-M_1`, :math:`-M_2`.
+
+Bond damping [D, departs from HiDEM's dashpot on the global relative displacement]: a
+stiffness-proportional dashpot on the deformation rates, :math:`N \mathrel{+}= \beta k_n \dot e`,
+:math:`M_1 \mathrel{+}= \beta(a\dot\varphi_1' + b\dot\varphi_2')` (and M2), rates by backward
+differences over one step; :math:`\beta = 2\zeta\sqrt{m/k_n}` for a damping ratio
+:math:`\zeta` of the critical :math:`2\sqrt{k_n m}`. It is frame-indifferent (no damping of
+rigid rotation) and conserves linear and angular momentum. Dissipated power
+:math:`\beta(k_n\dot e^2 + a\dot\varphi_1'^2 + 2b\dot\varphi_1'\dot\varphi_2' + a\dot\varphi_2'^2)`.
+"""
+
+import math
+
+from numba import njit
+
+from craquelure.registry import Effect
+
+EFFECT = Effect(
+    name="beams",
+    models=("lattice",),
+    description="elastic beams (Euler-Bernoulli or shear-beam) with bond damping",
+    requires={"lattice": ("material.bond_model",)},
+)
+
+
+@njit(inline="always", cache=True)
+def wrap_angle(a):
+    """Angle in (-pi, pi]."""
+    return a - 2.0 * math.pi * math.floor((a + math.pi) / (2.0 * math.pi))
+
+
+@njit(inline="always", cache=True)
+def deformation(dx, dy, thi, thj, l0, a0, t0i, t0j):
+    """(ell, cos alpha, sin alpha, e, phi1', phi2', alpha) of a bond with chord (dx, dy)."""
+    ell = math.sqrt(dx * dx + dy * dy)
+    alpha = math.atan2(dy, dx)
+    dalpha = wrap_angle(alpha - a0)
+    return (ell, dx / ell, dy / ell, ell - l0, (thi - t0i) - dalpha, (thj - t0j) - dalpha,
+            alpha)
+
+
+@njit(inline="always", cache=True)
+def elastic_energy(kn, ka, kb, e, p1, p2):
+    return 0.5 * kn * e * e + 0.5 * ka * (p1 * p1 + p2 * p2) + kb * p1 * p2

@@ -1,0 +1,50 @@
+r"""Fracture: elliptical criterion, per beam or node-averaged (lattice spec section 6).
+
+Per beam [C, Zhang & Eckert 2005]: remove the beam when
+:math:`(\sigma/\sigma_0)^2 + (\tau/\tau_0)^2 \ge 1`, :math:`\sigma = N/A` (tension > 0; in
+compression the first term is 0 [D]), :math:`\tau = |V|/A`; with ``bending`` [D]
+:math:`\sigma = N/A + \max(|M_1|,|M_2|)\,w/(2I)`. Stresses use the elastic forces (damping
+excluded) at the start of the step; a beam that fails carries no force in that step.
+
+Node-averaged [R]: :math:`\sigma_i = \frac{1}{2V_i}\sum_j \frac12(\ell_{ij} e_{ij}\otimes f_{ij} +
+f_{ij}\otimes \ell_{ij} e_{ij})`, :math:`V_i = \frac{\sqrt3}{2}L^2 b`, :math:`p = \mathrm{tr}\,
+\sigma_i/2`, :math:`\tau_i = \sqrt{\frac12 s:s}`; when :math:`(\max(p,0)/\sigma_0)^2 +
+(\tau_i/\tau_0)^2 \ge 1` the beam at i with the largest single-beam ratio breaks (one per node
+per step) [D].
+
+Each broken beam's stored energy is booked as fracture energy. Fracture is off before
+``fracture.start_time`` (settling) and never breaks beams flagged unbreakable (the pad).
+"""
+
+import math
+
+from numba import njit
+
+from craquelure.registry import Effect
+
+EFFECT = Effect(
+    name="fracture",
+    models=("lattice",),
+    description="remove beams on the elliptical (sigma/sigma0)^2 + (tau/tau0)^2 >= 1 criterion",
+    requires={"lattice": ("material.sigma0", "material.tau0")},
+)
+
+
+@njit(inline="always", cache=True)
+def beam_ratio(n, v, m1, m2, area, inertia, width, sigma0, tau0, bending):
+    """(sigma/sigma0)^2 + (tau/tau0)^2 of one beam (tension positive, compression -> 0)."""
+    sigma = n / area
+    if bending:
+        sigma += max(abs(m1), abs(m2)) * width / (2.0 * inertia)
+    sigma = max(sigma, 0.0)
+    tau = abs(v) / area
+    return (sigma / sigma0) ** 2 + (tau / tau0) ** 2
+
+
+@njit(inline="always", cache=True)
+def node_ratio(sxx, syy, sxy, sigma0, tau0):
+    """(max(p, 0)/sigma0)^2 + (tau_i/tau0)^2 of a node stress."""
+    p = 0.5 * (sxx + syy)
+    dxx, dyy = sxx - p, syy - p
+    tau = math.sqrt(0.5 * (dxx * dxx + dyy * dyy + 2.0 * sxy * sxy))
+    return (max(p, 0.0) / sigma0) ** 2 + (tau / tau0) ** 2

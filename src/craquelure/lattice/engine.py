@@ -1,0 +1,310 @@
+"""The lattice engine: a struct-of-arrays system and the time loop around the generated kernel.
+
+:class:`System` holds particles (positions x, y, rotation theta at t and t - dt, mass, moment
+of inertia, diameter, fixed / driven dof masks, loads) and bonds (end indices, rest state
+L0, alpha0, theta refs, stiffnesses k_n, a, b, state, unbreakable flag). :class:`Engine`
+compiles the kernel for the effect set, advances in chunks, rebuilds the contact list and
+re-freezes bonds (melting) between chunks, and raises :class:`SimulationDiverged` on NaN or
+runaway energy. Stable step (spec section 5): the quick estimate
+omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, k_s).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numba
+import numpy as np
+
+from craquelure.errors import SimulationDiverged
+from craquelure.lattice import codegen
+from craquelure.lattice.geometry import INTACT, find_bonds
+from craquelure.sph.neighbours import Box, neighbour_list
+
+# below this many bonds a serial kernel is faster (thread start-up per parallel region);
+# measured with benchmarks/lattice_engine.py on this 2-core machine
+PARALLEL_MIN_BONDS = 20000
+
+PARAM_NAMES = ("dt", "beta", "gamma", "area", "inertia", "width", "sigma0", "tau0",
+               "fracture_start", "melt_rate_factor", "E_b", "block", "frozen_rate",
+               "contact_stiffness", "friction", "friction_viscosity", "skin",
+               "g", "rho", "rho_w", "water_level", "drag_rate", "drag_everywhere",
+               "bed_level", "bed_stiffness", "bed_damping", "bed_friction",
+               "period_x", "drive_vx", "drive_vy", "drive_amplitude", "drive_period",
+               "drive_start", "load_ramp", "energy_tolerance", "energy_floor", "cell_area")
+
+
+@dataclass
+class System:
+    x: np.ndarray
+    y: np.ndarray
+    mass: np.ndarray
+    inertia: np.ndarray
+    diameter: np.ndarray
+    bi: np.ndarray
+    bj: np.ndarray
+    kn: np.ndarray
+    ka: np.ndarray
+    kb: np.ndarray
+    theta: np.ndarray | None = None
+    fix: np.ndarray | None = None      # (3, n) uint8: x, y, theta clamped
+    drive: np.ndarray | None = None    # (2, n) uint8: x, y prescribed by the drive
+    load: np.ndarray | None = None     # (2, n) external load
+    unbreakable: np.ndarray | None = None
+    state: np.ndarray | None = None
+    period_x: float = 0.0
+    L: float = 1.0
+
+    def __post_init__(self):
+        n, nb = self.x.size, self.bi.size
+        self.x = np.ascontiguousarray(self.x, np.float64)
+        self.y = np.ascontiguousarray(self.y, np.float64)
+        if self.theta is None:
+            self.theta = np.zeros(n)
+        if self.fix is None:
+            self.fix = np.zeros((3, n), np.uint8)
+        if self.drive is None:
+            self.drive = np.zeros((2, n), np.uint8)
+        if self.load is None:
+            self.load = np.zeros((2, n))
+        if self.unbreakable is None:
+            self.unbreakable = np.zeros(nb, np.uint8)
+        if self.state is None:
+            self.state = np.full(nb, INTACT, np.int8)
+
+    @property
+    def n(self) -> int:
+        return self.x.size
+
+
+def rest_state(x, y, theta, bi, bj, period_x: float = 0.0) -> np.ndarray:
+    """(4, nb): L0, alpha0, theta_i ref, theta_j ref of bonds made stress-free in this
+    configuration."""
+    dx = x[bj] - x[bi]
+    if period_x > 0:
+        dx = dx - period_x * np.rint(dx / period_x)
+    dy = y[bj] - y[bi]
+    return np.vstack([np.hypot(dx, dy), np.arctan2(dy, dx), theta[bi], theta[bj]])
+
+
+def csr_bonds(n: int, bi: np.ndarray, bj: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Particle -> bond CSR (bond ids of each particle, in bond order)."""
+    ends = np.concatenate([bi, bj])
+    ids = np.concatenate([np.arange(bi.size), np.arange(bj.size)])
+    order = np.lexsort((ids, ends))
+    counts = np.bincount(ends, minlength=n)
+    off = np.zeros(n + 1, np.int64)
+    np.cumsum(counts, out=off[1:])
+    return off, ids[order].astype(np.int64)
+
+
+def stable_step_estimate(system: System) -> float:
+    """2/omega_est with the spec's quick estimate (safe by 1.16-1.37 for the triangular
+    lattice)."""
+    ks = 2.0 * (system.ka + system.kb) / system.L**2
+    k = np.maximum(system.kn, ks)
+    kt = system.ka
+    live = system.state == INTACT
+    sk = np.bincount(system.bi[live], k[live], system.n) + np.bincount(system.bj[live], k[live],
+                                                                        system.n)
+    st = np.bincount(system.bi[live], kt[live], system.n) + np.bincount(system.bj[live],
+                                                                         kt[live], system.n)
+    w2 = max(float(np.max(2 * sk / system.mass)), float(np.max(2 * st / system.inertia)))
+    return 2.0 / math.sqrt(w2) if w2 > 0 else math.inf
+
+
+def default_params(**values) -> np.ndarray:
+    p = dict.fromkeys(PARAM_NAMES, 0.0)
+    p.update(energy_tolerance=0.05, energy_floor=1e-300, area=1.0, inertia=1.0 / 12,
+             width=1.0, sigma0=1.0, tau0=1.0, E_b=1.0, block=1.0, skin=0.2, rho=1.0,
+             cell_area=math.sqrt(3) / 2, friction_viscosity=1.0, water_level=-math.inf,
+             bed_level=-math.inf)
+    unknown = set(values) - set(p)
+    if unknown:
+        raise KeyError(f"unknown engine parameters {sorted(unknown)}")
+    p.update(values)
+    return np.array([float(p[k]) for k in PARAM_NAMES])
+
+
+@dataclass
+class Engine:
+    """Time integration of a :class:`System` with a given effect set (kernel flags)."""
+
+    system: System
+    effects: tuple[str, ...]
+    params: dict
+    seed: int = 0
+    series_every: int = 10
+    node_averaged: bool = False
+    bending: bool = False
+    freeze_every: int = 0
+    refreeze_radius: float = 1.1
+    step: int = 0
+    series: list = field(default_factory=list)
+
+    def __post_init__(self):
+        s = self.system
+        parallel = s.bi.size >= PARALLEL_MIN_BONDS and numba.get_num_threads() > 1
+        self.flags = codegen.flags_for(self.effects, s.period_x > 0, self.node_averaged,
+                                       self.bending, parallel)
+        self.kernel = codegen.kernel_module(self.flags)
+        self.p = default_params(**{**self.params, "period_x": s.period_x})
+        self.dt = float(self.p[0])
+        self.q = np.ascontiguousarray(np.vstack([s.x, s.y, s.theta]))
+        self.qm = self.q.copy()
+        self.qn = np.empty_like(self.q)
+        self.qref = self.q[:2].copy()
+        self.qbuild = self.q[:2].copy()
+        self.bref = rest_state(s.x, s.y, s.theta, s.bi, s.bj, s.period_x)
+        self.bk = np.ascontiguousarray(np.vstack([s.kn, s.ka, s.kb]))
+        self._alloc_bond_arrays()
+        self.acc = np.zeros(self.kernel.N_ACC)
+        self.fc = np.zeros((2, s.n))
+        self.cpi = np.zeros(0, np.int64)
+        self.cpj = np.zeros(0, np.int64)
+        if self.flags["HAS_CONTACT"]:
+            self.rebuild_contacts()
+
+    def _alloc_bond_arrays(self):
+        s = self.system
+        nb = s.bi.size
+        self.bprev = np.zeros((3, nb))
+        self.kernel.bond_deformations(self.qm, s.bi, s.bj, self.bref, s.state, s.period_x,
+                                      self.bprev)
+        self.bforce = np.zeros((4, nb))
+        self.benergy = np.zeros(nb)
+        self.bratio = np.zeros(nb)
+        self.tbreak = np.full(nb, -1.0)
+        self.poff, self.pidx = csr_bonds(s.n, s.bi, s.bj)
+
+    def set_velocity(self, vx, vy, omega=None):
+        """Set x(t - dt) so that the backward velocity is (vx, vy, omega)."""
+        self.qm[0] = self.q[0] - self.dt * np.asarray(vx)
+        self.qm[1] = self.q[1] - self.dt * np.asarray(vy)
+        if omega is not None:
+            self.qm[2] = self.q[2] - self.dt * np.asarray(omega)
+        s = self.system
+        self.kernel.bond_deformations(self.qm, s.bi, s.bj, self.bref, s.state, s.period_x,
+                                      self.bprev)
+
+    @property
+    def time(self) -> float:
+        return self.step * self.dt
+
+    def _box(self, radius):
+        s = self.system
+        x, y = self.q[0], self.q[1]
+        if s.period_x > 0:
+            pad = 3 * radius
+            xw = np.mod(x - x.min(), s.period_x) + x.min()
+            return Box(s.period_x, float(y.max() - y.min()) + 2 * pad, True, float(x.min()),
+                       float(y.min()) - pad), xw, y
+        return Box.around(x, y, radius), x, y
+
+    def rebuild_contacts(self):
+        """Verlet list of unbonded (or broken-bond) pairs within d_max + skin."""
+        s = self.system
+        radius = float(s.diameter.max()) + float(self.p[PARAM_NAMES.index("skin")])
+        box, x, y = self._box(radius)
+        off, idx = neighbour_list(x, y, radius, box)
+        i = np.repeat(np.arange(s.n), np.diff(off))
+        keep = i < idx
+        i, j = i[keep], idx[keep]
+        live = s.state == INTACT
+        bonded = set(zip(s.bi[live].tolist(), s.bj[live].tolist(), strict=True))
+        mask = np.array([(a, b) not in bonded for a, b in zip(i.tolist(), j.tolist(),
+                                                                strict=True)], bool)
+        self.cpi = np.ascontiguousarray(i[mask], np.int64)
+        self.cpj = np.ascontiguousarray(j[mask], np.int64)
+        self.qbuild = self.q[:2].copy()
+
+    def refreeze(self):
+        """New stress-free beams between unbonded pairs closer than r_f L (melting)."""
+        s = self.system
+        box, x, y = self._box(self.refreeze_radius * s.L)
+        off, idx = neighbour_list(x, y, self.refreeze_radius * s.L, box)
+        i = np.repeat(np.arange(s.n), np.diff(off))
+        keep = i < idx
+        i, j = i[keep], idx[keep]
+        known = set(zip(s.bi.tolist(), s.bj.tolist(), strict=True))
+        new = [(a, b) for a, b in zip(i.tolist(), j.tolist(), strict=True) if (a, b) not in known]
+        if not new:
+            return 0
+        ni = np.array([a for a, _ in new], np.int64)
+        nj = np.array([b for _, b in new], np.int64)
+        # stiffness of a new beam: that of the first beam (uniform lattices) [D]
+        s.bi, s.bj = np.concatenate([s.bi, ni]), np.concatenate([s.bj, nj])
+        for name in ("kn", "ka", "kb"):
+            arr = getattr(s, name)
+            setattr(s, name, np.concatenate([arr, np.full(ni.size, arr[0])]))
+        s.state = np.concatenate([s.state, np.full(ni.size, INTACT, np.int8)])
+        s.unbreakable = np.concatenate([s.unbreakable, np.zeros(ni.size, np.uint8)])
+        self.bref = np.ascontiguousarray(np.hstack([
+            self.bref, rest_state(self.q[0], self.q[1], self.q[2], ni, nj, s.period_x)]))
+        self.bk = np.ascontiguousarray(np.vstack([s.kn, s.ka, s.kb]))
+        tb = self.tbreak
+        self._alloc_bond_arrays()
+        self.tbreak[: tb.size] = tb
+        return ni.size
+
+    def run(self, n_steps: int) -> None:
+        """Advance n_steps; appends energy-series rows to ``self.series``."""
+        s = self.system
+        k = self.kernel
+        remaining = int(n_steps)
+        buf = np.zeros((remaining // self.series_every + 2, k.N_SERIES))
+        while remaining > 0:
+            chunk = remaining
+            if self.freeze_every and self.flags["HAS_MELTING"]:
+                chunk = min(chunk, self.freeze_every - self.step % self.freeze_every)
+            status, done, rows = k.advance(
+                self.qm, self.q, self.qn, self.qref, self.qbuild, s.mass, s.inertia,
+                s.diameter, s.fix, s.drive, s.load, s.bi, s.bj, self.bref, self.bk, s.state,
+                s.unbreakable, self.bprev, self.bforce, self.benergy, self.bratio, self.tbreak,
+                self.poff, self.pidx, self.cpi, self.cpj, self.fc, self.p, self.acc,
+                self.seed, self.step, chunk, self.series_every, buf)
+            self.series.extend(buf[:rows].copy())
+            self.step += done
+            remaining -= done
+            if status == k.NAN or status == k.RUNAWAY:
+                last = self.series[-1] if self.series else None
+                what = ("NaN/inf in the energy" if status == k.NAN else
+                        f"energy ran away: E_tot = {last[10]:.6g} vs E_0 = {self.acc[6]:.6g}")
+                raise SimulationDiverged(
+                    f"lattice run diverged at t = {self.time:.6g} (step {self.step}, "
+                    f"dt = {self.dt:.6g}): {what}; reduce numerics.dt_factor or check loads")
+            if status == k.REBUILD:
+                self.rebuild_contacts()
+            if (self.freeze_every and self.flags["HAS_MELTING"]
+                    and self.step % self.freeze_every == 0):
+                self.refreeze()
+                if self.flags["HAS_CONTACT"]:
+                    self.rebuild_contacts()
+
+    def series_array(self) -> np.ndarray:
+        return np.array(self.series).reshape(-1, self.kernel.N_SERIES)
+
+    def momentum(self) -> tuple[float, float, float]:
+        """Discrete linear (x, y) and angular momentum at t - dt/2:
+        m (x - x-)/dt and sum m r- x (r - r-)/dt + J (theta - theta-)/dt."""
+        s = self.system
+        v = (self.q - self.qm) / self.dt
+        px, py = float(np.sum(s.mass * v[0])), float(np.sum(s.mass * v[1]))
+        lz = float(np.sum(s.mass * (self.qm[0] * v[1] - self.qm[1] * v[0]))
+                   + np.sum(s.inertia * v[2]))
+        return px, py, lz
+
+
+def lattice_system(x, y, L=1.0, kn=1.0, ka=0.1, kb=0.0, rho=1.0, period_x=0.0,  # noqa: N803
+                   body=None) -> System:
+    """Discs of diameter L (mass rho pi L^2/4, J = m L^2/8) bonded to neighbours closer than
+    1.1 L with uniform stiffnesses."""
+    n = x.size
+    body = np.zeros(n, np.int64) if body is None else body
+    bi, bj = find_bonds(x, y, body, L, period_x)
+    m = rho * math.pi * L * L / 4.0
+    nb = bi.size
+    return System(x=x, y=y, mass=np.full(n, m), inertia=np.full(n, m * L * L / 8.0),
+                  diameter=np.full(n, L), bi=bi, bj=bj, kn=np.full(nb, kn),
+                  ka=np.full(nb, ka), kb=np.full(nb, kb), period_x=period_x, L=L)

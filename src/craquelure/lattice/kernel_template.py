@@ -1,0 +1,403 @@
+"""Source template of the lattice time-step kernel (lattice spec sections 5-8).
+
+:mod:`craquelure.lattice.codegen` copies this file with the ``HAS_*`` / ``PERIODIC_X`` /
+``NODE_AVERAGED`` / ``BENDING`` / ``PARALLEL`` constants set for one scene's effect set into
+a cache folder and imports it: numba freezes module globals as compile-time constants, so
+the branches of absent effects are removed by the compiler and cost nothing, and
+``cache=True`` keeps one compiled kernel per effect set. This file itself is never compiled.
+
+One call of :func:`advance` performs up to ``n_steps`` central-difference steps (section 5):
+
+1. bonds (parallel): deformation, elastic and damping forces, energy; per-beam fracture and
+   melting decisions (a bond that fails or melts carries no force in this step);
+2. node-averaged fracture (serial, optional);
+3. contacts (serial, optional): repulsion and friction over the Verlet pair list;
+4. particles (parallel): gather bond forces through the particle -> bond CSR, add gravity,
+   buoyancy, bed, loads; update each dof with
+   ``x+ = [2x - (1 - g dt/2) x- + dt^2 F/m] / (1 + g dt/2)`` (g: mass damping + drag + bed
+   damping rates, i.e. C = g M, implicit), clamp fixed dofs, prescribe driven ones;
+5. energy sample every ``series_every`` steps: E_tot = KE + KE_rot + U_beams + U_contact +
+   U_external - W_ext + E_damp + E_fract + E_melt (section 8), with KE = 1/2 m v- . v+ from
+   the two half-step velocities; with work and damping booked as trapezoidal sums
+   1/2 (f_k + f_k+1)(x_k+1 - x_k) this budget is exact for a linear system; the call
+   stops with status NAN or RUNAWAY when E_tot is not finite or |E_tot - E_0| exceeds
+   ``energy_tolerance`` times max(E_mech, |W_ext|, dissipated, floor).
+
+Status codes: OK, NAN, RUNAWAY, REBUILD (contact list must be rebuilt; the step is complete).
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from craquelure.lattice.effects.beams import deformation, elastic_energy
+from craquelure.lattice.effects.bed import bed
+from craquelure.lattice.effects.buoyancy import buoyancy
+from craquelure.lattice.effects.contact import friction, repulsion
+from craquelure.lattice.effects.drag import drag_rate
+from craquelure.lattice.effects.fracture import beam_ratio, node_ratio
+from craquelure.lattice.effects.gravity import gravity
+from craquelure.lattice.effects.melting import melt_rate, uniform01
+
+HAS_BEAMS = True
+HAS_FRACTURE = True
+HAS_MELTING = True
+HAS_CONTACT = True
+HAS_GRAVITY = True
+HAS_BUOYANCY = True
+HAS_DRAG = True
+HAS_BED = True
+PERIODIC_X = True
+NODE_AVERAGED = True
+BENDING = True
+PARALLEL = True
+
+# parameter vector indices
+DT, BETA, GAMMA, AREA, INERTIA, WIDTH, SIGMA0, TAU0, T_FRACTURE = 0, 1, 2, 3, 4, 5, 6, 7, 8
+MELT_A, E_B, BLOCK, FROZEN_RATE = 9, 10, 11, 12
+KC, MU_F, C_T, SKIN = 13, 14, 15, 16
+G, RHO, RHO_W, Y_WATER, C_DRAG, DRAG_ALL = 17, 18, 19, 20, 21, 22
+Y_BED, K_BED, C_BED, C_FRIC_BED = 23, 24, 25, 26
+LX, DRIVE_VX, DRIVE_VY, DRIVE_AMP, DRIVE_PERIOD, DRIVE_T0, LOAD_RAMP = 27, 28, 29, 30, 31, 32, 33
+ENERGY_TOL, ENERGY_FLOOR, CELL_AREA = 34, 35, 36
+N_PARAMS = 37
+# accumulator indices
+A_DAMP, A_FRACT, A_MELT, A_WORK, A_BROKEN, A_MELTED, A_E0, A_E0SET = 0, 1, 2, 3, 4, 5, 6, 7
+N_ACC = 8
+# series columns
+SERIES = ("time", "kinetic", "rotational", "elastic", "contact", "external", "work",
+          "damping", "fracture", "melting", "total", "broken", "melted", "load_ux", "load_uy",
+          "drive_fx", "drive_fy")
+N_SERIES = len(SERIES)
+OK, NAN, RUNAWAY, REBUILD = 0, 1, 2, 3
+
+
+@njit(inline="always", cache=True)
+def _drive(t, p):
+    s = t - p[DRIVE_T0]
+    if s <= 0.0:
+        return 0.0, 0.0
+    ux = p[DRIVE_VX] * s
+    if p[DRIVE_PERIOD] > 0.0:
+        ux += p[DRIVE_AMP] * math.sin(2.0 * math.pi * s / p[DRIVE_PERIOD])
+    return ux, p[DRIVE_VY] * s
+
+
+@njit(inline="always", cache=True)
+def _chord(q, i, j, lx):
+    dx = q[0, j] - q[0, i]
+    if PERIODIC_X:
+        dx -= lx * np.rint(dx / lx)
+    return dx, q[1, j] - q[1, i]
+
+
+@njit(cache=True, parallel=PARALLEL)
+def bond_deformations(q, bi, bj, bref, state, lx, out):
+    """(e, phi1', phi2') of every bond at configuration q (used to start bond damping)."""
+    for b in prange(bi.size):
+        if state[b] != 1:
+            continue
+        dx, dy = _chord(q, bi[b], bj[b], lx)
+        _, _, _, e, p1, p2, _ = deformation(dx, dy, q[2, bi[b]], q[2, bj[b]], bref[0, b],
+                                             bref[1, b], bref[2, b], bref[3, b])
+        out[0, b], out[1, b], out[2, b] = e, p1, p2
+
+
+@njit(cache=True, parallel=PARALLEL)
+def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
+            bi, bj, bref, bk, state, unbreak, bprev, bforce, benergy, bratio, tbreak,
+            poff, pidx, cpi, cpj, fc, p, acc, seed, step0, n_steps, series_every, series):
+    """Advance up to n_steps; returns (status, steps done, series rows written).
+
+    qm, q: configurations (x, y, theta rows) at t - dt and t on entry, at the new
+    (t - dt, t) on exit; qn is scratch. Bond and accumulator arrays are updated in place.
+    """
+    n, nb, ncp = q.shape[1], bi.size, cpi.size
+    dt = p[DT]
+    lx = p[LX]
+    rows = 0
+    moved2 = np.zeros(n if HAS_CONTACT else 1)
+    status = OK
+    done = 0
+    for k in range(n_steps):
+        gstep = step0 + k
+        t = gstep * dt
+        broken_before = acc[A_BROKEN]
+        # 1. bonds
+        u_beams = 0.0
+        e_damp = 0.0
+        e_fract = 0.0
+        e_melt = 0.0
+        n_broken = 0.0
+        n_melted = 0.0
+        if HAS_BEAMS:
+            for b in prange(nb):
+                if state[b] != 1:
+                    continue
+                i, j = bi[b], bj[b]
+                dx, dy = _chord(q, i, j, lx)
+                ell, c, s, e, p1, p2, alpha = deformation(dx, dy, q[2, i], q[2, j], bref[0, b],
+                                                          bref[1, b], bref[2, b], bref[3, b])
+                kn, ka, kb = bk[0, b], bk[1, b], bk[2, b]
+                nax = kn * e
+                m1 = ka * p1 + kb * p2
+                m2 = kb * p1 + ka * p2
+                u = elastic_energy(kn, ka, kb, e, p1, p2)
+                benergy[b] = u
+                if HAS_FRACTURE:
+                    r = beam_ratio(nax, (m1 + m2) / ell, m1, m2, p[AREA], p[INERTIA], p[WIDTH],
+                                   p[SIGMA0], p[TAU0], BENDING)
+                    bratio[b] = r
+                    if (not NODE_AVERAGED) and t >= p[T_FRACTURE] and unbreak[b] == 0 \
+                            and r >= 1.0:
+                        state[b] = 0
+                        tbreak[b] = t
+                        e_fract += u
+                        n_broken += 1.0
+                        continue
+                if HAS_MELTING:
+                    lam = melt_rate(u, p[MELT_A], p[E_B], p[BLOCK], p[FROZEN_RATE])
+                    if uniform01(seed, gstep, b) < -math.expm1(-lam * dt):
+                        bref[0, b] = ell
+                        bref[1, b] = alpha
+                        bref[2, b] = q[2, i]
+                        bref[3, b] = q[2, j]
+                        bprev[0, b] = 0.0
+                        bprev[1, b] = 0.0
+                        bprev[2, b] = 0.0
+                        bforce[0, b] = 0.0
+                        bforce[1, b] = 0.0
+                        bforce[2, b] = 0.0
+                        bforce[3, b] = 0.0
+                        benergy[b] = 0.0
+                        e_melt += u
+                        n_melted += 1.0
+                        continue
+                beta = p[BETA]
+                ed = (e - bprev[0, b]) / dt
+                p1d = (p1 - bprev[1, b]) / dt
+                p2d = (p2 - bprev[2, b]) / dt
+                bprev[0, b] = e
+                bprev[1, b] = p1
+                bprev[2, b] = p2
+                nax += beta * kn * ed
+                m1 += beta * (ka * p1d + kb * p2d)
+                m2 += beta * (kb * p1d + ka * p2d)
+                e_damp += beta * (kn * ed * ed + ka * (p1d * p1d + p2d * p2d)
+                                  + 2.0 * kb * p1d * p2d) * dt
+                v = (m1 + m2) / ell
+                bforce[0, b] = -nax * c - v * s
+                bforce[1, b] = -nax * s + v * c
+                bforce[2, b] = -m1
+                bforce[3, b] = -m2
+                u_beams += u
+        # 2. node-averaged fracture
+        if HAS_BEAMS and HAS_FRACTURE and NODE_AVERAGED and t >= p[T_FRACTURE]:
+            vol = 2.0 * p[CELL_AREA]
+            for i in range(n):
+                sxx = 0.0
+                syy = 0.0
+                sxy = 0.0
+                best = -1
+                best_r = -1.0
+                for kk in range(poff[i], poff[i + 1]):
+                    b = pidx[kk]
+                    if state[b] != 1:
+                        continue
+                    dx, dy = _chord(q, bi[b], bj[b], lx)
+                    fx, fy = bforce[0, b], bforce[1, b]  # on j; on i it is -f, r_i->j = -d
+                    if bi[b] == i:
+                        fx, fy = -fx, -fy
+                    else:
+                        dx, dy = -dx, -dy
+                    sxx += dx * fx
+                    syy += dy * fy
+                    sxy += 0.5 * (dx * fy + dy * fx)
+                    if unbreak[b] == 0 and bratio[b] > best_r:
+                        best_r = bratio[b]
+                        best = b
+                if best >= 0 and node_ratio(sxx / vol, syy / vol, sxy / vol, p[SIGMA0],
+                                            p[TAU0]) >= 1.0:
+                    state[best] = 0
+                    tbreak[best] = t
+                    e_fract += benergy[best]
+                    u_beams -= benergy[best]
+                    n_broken += 1.0
+        acc[A_DAMP] += e_damp
+        acc[A_FRACT] += e_fract
+        acc[A_MELT] += e_melt
+        acc[A_BROKEN] += n_broken
+        acc[A_MELTED] += n_melted
+        # 3. contacts
+        u_contact = 0.0
+        if HAS_CONTACT:
+            fc[:, :] = 0.0
+            for kk in range(ncp):
+                i, j = cpi[kk], cpj[kk]
+                dx, dy = _chord(q, i, j, lx)
+                r = math.sqrt(dx * dx + dy * dy)
+                f, uc = repulsion(r, 0.5 * (diam[i] + diam[j]), p[KC])
+                if f == 0.0:
+                    continue
+                nx, ny = dx / r, dy / r
+                fc[0, j] += f * nx
+                fc[1, j] += f * ny
+                fc[0, i] -= f * nx
+                fc[1, i] -= f * ny
+                u_contact += uc
+                if p[MU_F] > 0.0:
+                    vt = (((q[0, j] - qm[0, j]) - (q[0, i] - qm[0, i])) * (-ny)
+                          + ((q[1, j] - qm[1, j]) - (q[1, i] - qm[1, i])) * nx) / dt
+                    ft = friction(f, vt, p[MU_F], p[C_T])
+                    fc[0, j] -= ft * ny
+                    fc[1, j] += ft * nx
+                    fc[0, i] += ft * ny
+                    fc[1, i] -= ft * nx
+                    acc[A_DAMP] += abs(ft * vt) * dt
+        # 4. particles
+        ux_d, uy_d = _drive(t + dt, p)
+        ramp = min(1.0, t / p[LOAD_RAMP]) if p[LOAD_RAMP] > 0.0 else 1.0
+        kin = 0.0
+        rot = 0.0
+        u_ext = 0.0
+        work = 0.0
+        diss = 0.0
+        diss_fwd = 0.0
+        work_fwd = 0.0
+        lux = 0.0
+        luy = 0.0
+        nload = 0.0
+        dfx = 0.0
+        dfy = 0.0
+        for i in prange(n):
+            m = mass[i]
+            fx = 0.0
+            fy = 0.0
+            tq = 0.0
+            if HAS_BEAMS:
+                for kk in range(poff[i], poff[i + 1]):
+                    b = pidx[kk]
+                    if state[b] != 1:
+                        continue
+                    if bi[b] == i:
+                        fx -= bforce[0, b]
+                        fy -= bforce[1, b]
+                        tq += bforce[2, b]
+                    else:
+                        fx += bforce[0, b]
+                        fy += bforce[1, b]
+                        tq += bforce[3, b]
+            if HAS_CONTACT:
+                fx += fc[0, i]
+                fy += fc[1, i]
+            yi = q[1, i]
+            gx = p[GAMMA]
+            gy = p[GAMMA]
+            if HAS_GRAVITY:
+                fg, ug = gravity(m, p[G], yi, qref[1, i])
+                fy += fg
+                u_ext += ug
+            if HAS_BUOYANCY:
+                fb, ub = buoyancy(m, p[RHO], p[RHO_W], p[G], yi, qref[1, i], p[Y_WATER])
+                fy += fb
+                u_ext += ub
+            if HAS_DRAG:
+                cd = drag_rate(yi, p[Y_WATER], p[C_DRAG], p[DRAG_ALL] > 0.0)
+                gx += cd
+                gy += cd
+            if HAS_BED:
+                h, fbed, ubed = bed(yi, diam[i], p[Y_BED], p[K_BED])
+                if h > 0.0:
+                    fy += fbed
+                    u_ext += ubed
+                    gy += p[C_BED]
+                    gx += p[C_FRIC_BED]
+            lfx = load[0, i] * ramp
+            lfy = load[1, i] * ramp
+            fx += lfx
+            fy += lfy
+            # update each dof
+            fdof = (fx, fy, tq)
+            gdof = (gx, gy, p[GAMMA])
+            for a in range(3):
+                mm = m if a < 2 else inertia[i]
+                xa = q[a, i]
+                xm = qm[a, i]
+                if fix[a, i]:
+                    xn = xa
+                elif a < 2 and drive[a, i]:
+                    xn = qref[a, i] + (ux_d if a == 0 else uy_d)
+                else:
+                    h2 = 0.5 * gdof[a] * dt
+                    xn = (2.0 * xa - (1.0 - h2) * xm + dt * dt * fdof[a] / mm) / (1.0 + h2)
+                    vc = (xn - xm) / (2.0 * dt)
+                    diss += gdof[a] * mm * vc * vc * dt
+                    diss_fwd += gdof[a] * mm * vc * 0.5 * (xn - xa)
+                qn[a, i] = xn
+                ke = 0.5 * mm * (xa - xm) * (xn - xa) / (dt * dt)
+                if a < 2:
+                    kin += ke
+                else:
+                    rot += ke
+                if fix[a, i] or (a < 2 and drive[a, i]):
+                    fsup = mm * (xn - 2.0 * xa + xm) / (dt * dt) - fdof[a]
+                    work += fsup * 0.5 * (xn - xm)
+                    work_fwd += fsup * 0.5 * (xn - xa)
+                    if a < 2 and drive[a, i]:
+                        if a == 0:
+                            dfx += fsup
+                        else:
+                            dfy += fsup
+            work += lfx * 0.5 * (qn[0, i] - qm[0, i]) + lfy * 0.5 * (qn[1, i] - qm[1, i])
+            work_fwd += lfx * 0.5 * (qn[0, i] - q[0, i]) + lfy * 0.5 * (qn[1, i] - q[1, i])
+            if load[0, i] != 0.0 or load[1, i] != 0.0:
+                lux += q[0, i] - qref[0, i]
+                luy += q[1, i] - qref[1, i]
+                nload += 1.0
+            if HAS_CONTACT:
+                ddx = qn[0, i] - qbuild[0, i]
+                ddy = qn[1, i] - qbuild[1, i]
+                moved2[i] = ddx * ddx + ddy * ddy
+        acc[A_DAMP] += diss
+        acc[A_WORK] += work
+        moved = moved2.max() if HAS_CONTACT else 0.0
+        # rotate configurations: (qm, q) <- (q, qn)
+        for i in prange(n):
+            for a in range(3):
+                qm[a, i] = q[a, i]
+                q[a, i] = qn[a, i]
+        done = k + 1
+        # 5. energy sample and checks
+        if (gstep + 1) % series_every == 0 or k == n_steps - 1:
+            # work and dissipation up to t (the trapezoidal sums that make 1/2 m v- v+ + U
+            # exact): drop the forward half-steps booked in this step
+            w_t = acc[A_WORK] - work_fwd
+            d_t = acc[A_DAMP] - diss_fwd
+            total = kin + rot + u_beams + u_contact + u_ext - w_t + d_t + acc[A_FRACT] + acc[A_MELT]
+            if acc[A_E0SET] == 0.0:
+                acc[A_E0] = total
+                acc[A_E0SET] = 1.0
+            if rows < series.shape[0]:
+                row = series[rows]
+                row[0], row[1], row[2], row[3] = t, kin, rot, u_beams
+                row[4], row[5], row[6], row[7] = u_contact, u_ext, w_t, d_t
+                row[8], row[9], row[10] = acc[A_FRACT], acc[A_MELT], total
+                row[11], row[12] = acc[A_BROKEN], acc[A_MELTED]
+                row[13] = lux / nload if nload > 0 else 0.0
+                row[14] = luy / nload if nload > 0 else 0.0
+                row[15], row[16] = dfx, dfy
+                rows += 1
+            if not math.isfinite(total):
+                status = NAN
+                break
+            scale = max(abs(kin) + abs(rot) + u_beams + u_contact + abs(u_ext),
+                        abs(w_t), d_t + acc[A_FRACT] + acc[A_MELT],
+                        p[ENERGY_FLOOR])
+            if abs(total - acc[A_E0]) > p[ENERGY_TOL] * scale:
+                status = RUNAWAY
+                break
+        if HAS_CONTACT and (moved > 0.25 * p[SKIN] * p[SKIN] or acc[A_BROKEN] > broken_before):
+            status = REBUILD
+            break
+    return status, done, rows

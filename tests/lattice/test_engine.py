@@ -1,0 +1,124 @@
+"""Engine checks: spec section 12 items 2 (nonlinear kernel), 4, 5 and 6."""
+
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+from craquelure.errors import SimulationDiverged
+from craquelure.lattice import beam
+from craquelure.lattice.engine import Engine, System, lattice_system, stable_step_estimate
+from craquelure.lattice.geometry import triangular_block
+
+
+def small_block(nx=8, ny=8, model="shear_beam"):
+    x, y, _ = triangular_block(nx, ny)
+    c = beam.shear_beam(1.0, 0.2) if model == "shear_beam" else beam.euler_bernoulli(1.0, 0.7)
+    return lattice_system(x, y, kn=c.kn, ka=c.a, kb=c.b), c
+
+
+def true_critical_step(s: System) -> float:
+    """2/sqrt(lambda_max(M^-1 K)) from a dense eigen-solve at rest."""
+    K = beam.assemble_global(s.x, s.y, s.bi, s.bj, s.kn, s.ka, s.kb).toarray()  # noqa: N806
+    m = np.column_stack([s.mass, s.mass, s.inertia]).ravel()
+    w2 = scipy.linalg.eigvalsh(K / np.sqrt(np.outer(m, m)))[-1]
+    return 2.0 / math.sqrt(w2)
+
+
+@pytest.mark.parametrize("model", ["shear_beam", "euler_bernoulli"])
+def test_quick_step_estimate_is_safe(model):
+    s, _ = small_block(model=model)
+    ratio = true_critical_step(s) / stable_step_estimate(s)
+    assert 1.0 < ratio < 1.6  # spec: safe by 1.16-1.37 for the infinite lattice
+
+
+@pytest.mark.parametrize("model", ["shear_beam", "euler_bernoulli"])
+def test_energy_conserved_undamped_and_momentum_to_round_off(model):
+    s, _ = small_block(model=model)
+    dt = 0.2 * true_critical_step(s)
+    eng = Engine(s, ("beams",), dict(dt=dt), series_every=50)
+    rng = np.random.default_rng(3)
+    # large enough for geometric nonlinearity: rotations of order 0.05 rad
+    eng.set_velocity(*(0.02 * rng.normal(size=(3, s.n))))
+    p0 = np.array(eng.momentum())
+    eng.run(10_000)
+    e = eng.series_array()[:, 10]
+    drift = np.abs(e - e[0]) / e[0]
+    assert drift.max() < 1e-3
+    # no secular growth: last tenth not systematically above the first tenth
+    assert abs(e[-100:].mean() - e[:100].mean()) / e[0] < 2e-4
+    p1 = np.array(eng.momentum())
+    scale = np.abs(p0).max() + 1e-3
+    np.testing.assert_allclose(p1, p0, rtol=0, atol=1e-11 * scale * 1e3)
+
+
+def test_blow_up_above_critical_step_is_detected():
+    s, _ = small_block(5, 5)
+    dt = 1.1 * true_critical_step(s)
+    eng = Engine(s, ("beams",), dict(dt=dt), series_every=5)
+    eng.set_velocity(*(1e-6 * np.random.default_rng(0).normal(size=(3, s.n))))
+    with pytest.raises(SimulationDiverged, match="diverged at t ="):
+        eng.run(5000)
+    # and the same system just below the critical step stays bounded
+    eng = Engine(s, ("beams",), dict(dt=0.95 * true_critical_step(s)), series_every=5)
+    eng.set_velocity(*(1e-6 * np.random.default_rng(0).normal(size=(3, s.n))))
+    eng.run(2000)
+
+
+def test_rigid_rotation_gives_no_force():
+    s, _ = small_block(6, 6, model="euler_bernoulli")
+    eng = Engine(s, ("beams",), dict(dt=0.1), series_every=1)
+    phi = 0.9
+    c, sn = math.cos(phi), math.sin(phi)
+    rot = np.vstack([c * s.x - sn * s.y, sn * s.x + c * s.y, np.full(s.n, phi)])
+    eng.q[:] = rot
+    eng.qm[:] = rot
+    eng.set_velocity(0.0, 0.0, 0.0)
+    eng.run(3)
+    assert np.abs(eng.q - rot).max() < 1e-13
+    assert eng.series_array()[-1, 3] < 1e-28  # elastic energy
+
+
+def test_nonlinear_cantilever_matches_beam_theory():
+    """Kernel (co-rotational form) damped to rest under a small tip load: P l^3/(3 E I)."""
+    c = beam.euler_bernoulli(1.0, 0.7)
+    n = 10
+    s = lattice_system(np.arange(n, dtype=float), np.zeros(n), kn=c.kn, ka=c.a, kb=c.b)
+    s.fix[:, 0] = 1
+    p = 1e-5
+    s.load[1, -1] = p
+    ell = 9.0
+    rho_line = s.mass[0]
+    w1 = 3.516 * math.sqrt(c.inertia / (rho_line * ell**4))
+    eng = Engine(s, ("beams",), dict(dt=0.3 * stable_step_estimate(s), gamma=2 * w1),
+                 series_every=1000)
+    eng.run(int(12 / w1 / eng.dt))
+    want = p * ell**3 / (3 * c.inertia)
+    assert eng.q[1, -1] == pytest.approx(want, rel=1e-2)
+
+
+def test_p_wave_speed_within_5_percent():
+    nx, ny = 8, 150
+    x, y, row = triangular_block(nx, ny)
+    c = beam.shear_beam(1.0, 0.2)
+    s = lattice_system(x, y, kn=c.kn, ka=c.a, kb=c.b, period_x=float(nx))
+    v0 = 1e-4
+    s.drive[1, row == 0] = 1
+    s.fix[0, row == 0] = 1
+    eng = Engine(s, ("beams",), dict(dt=0.2 * stable_step_estimate(s), drive_vy=v0),
+                 series_every=1000)
+    rows = (40, 110)
+    arrival = {}
+    chunk = 2
+    while len(arrival) < 2:
+        eng.run(chunk)
+        vy = (eng.q[1] - eng.qm[1]) / eng.dt
+        for r in rows:
+            if r not in arrival and vy[row == r].mean() > 0.5 * v0:
+                arrival[r] = eng.time - 0.5 * eng.dt
+    m = beam.lattice_moduli(c.kn, c.ks)
+    rho2 = s.mass[0] / beam.cell_area()
+    want = math.sqrt(m["M"] / rho2)
+    speed = (rows[1] - rows[0]) * math.sqrt(3) / 2 / (arrival[rows[1]] - arrival[rows[0]])
+    assert speed == pytest.approx(want, rel=0.05)
