@@ -187,7 +187,8 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS) 
         value = scene.get(path, None)
         if value is not None:
             ds.attrs[key] = value
-    ds.attrs.update({"n_seeds": n_s, "seeds": ",".join(map(str, seeds)), "t_star": tstar,
+    ds.attrs.update({"scene_name": str(first.attrs.get("scene_name", scene.name)),
+                     "n_seeds": n_s, "seeds": ",".join(map(str, seeds)), "t_star": tstar,
                      "window_start": lo, "window_end": hi})
     return ds
 

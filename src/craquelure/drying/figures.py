@@ -1,0 +1,230 @@
+r"""Figures of the drying-paste campaign (paper Figs. 2-6), from analysis datasets only.
+
+- :func:`fig_snapshots` (Fig. 2): crack pattern of one sample, surviving particles coloured by
+  the mean stress :math:`\bar\sigma/\sigma_Y`, at four snapshot times after the initial stage.
+  Takes the run dataset of that sample (its recorded snapshots; nothing is simulated).
+- :func:`fig_inverse_mean_area` (Fig. 3): :math:`1/\langle S\rangle_t` with its standard error
+  over seeds, the linear fit over the window and :math:`t^*`.
+- :func:`fig_size_distribution` (Fig. 4): :math:`P(S;t)` at the window's snapshot times.
+- :func:`fig_scaled_distribution` (Figs. 5-6): :math:`\tilde P(X)`, X = S/<S>_t, (a) inside the
+  window (collapse expected), (b) before it (no collapse expected), with the KS metrics.
+
+Every figure carries a caption line with the profile, N, L, the number of seeds, the time unit
+(:math:`t^* = \sigma_Y/v_r`, and the profile's speed-up over the paper) and the fitted numbers
+from the summary (:func:`craquelure.drying.statistics.summarise`). Each is written as PNG and
+PDF.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from craquelure.drying.statistics import in_window, paper_t_star  # noqa: E402
+
+FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
+
+
+def _fmt(value: Any, spec: str = ".3g") -> str:
+    return "n/a" if value is None or (isinstance(value, float) and not np.isfinite(value)) \
+        else format(value, spec)
+
+
+def setup_line(campaign: xr.Dataset, profile: str) -> str:
+    """Profile, sizes, seeds and the time unit, for every caption."""
+    a = campaign.attrs
+    tstar = float(a["t_star"])
+    speed = paper_t_star() / tstar
+    pace = ("as the paper" if abs(speed - 1) < 1e-3
+            else f"{speed:.3g}x faster than the paper: windows rescaled by t*")
+    return (f"profile {profile}, scene {a.get('scene_name', '?')}: N = {int(a['n_particles'])}, "
+            f"L = {float(a['box_length']):g}, {campaign.sizes['seed']} seeds; "
+            f"t* = sigma_Y/v_r = {tstar:.3g} (drying {pace})")
+
+
+def fit_line(summary: dict[str, Any]) -> str:
+    fit = summary.get("fit", {})
+    ci = fit.get("alpha_ci95") or [None, None]
+    c14 = summary["checks"]["check14_inverse_mean_area_linear"]["pass"]
+    return (f"window t = [{summary['window'][0]:.3g}, {summary['window'][1]:.3g}]: "
+            f"alpha = {_fmt(fit.get('alpha'))} (95% CI {_fmt(ci[0])}-{_fmt(ci[1])}), "
+            f"1/<S> linear: R^2 = {_fmt(fit.get('r2'), '.4f')}, "
+            f"b = {_fmt(fit.get('slope_b'))} = {_fmt(summary.get('slope_over_b_star'))} b*, "
+            f"t0 = {_fmt(fit.get('x_intercept'))}; check 14 {'pass' if c14 else 'miss'}")
+
+
+def collapse_line(summary: dict[str, Any]) -> str:
+    col = summary["collapse"]
+    c15 = summary["checks"]["check15_scaling_collapse"]["pass"]
+    n_ok = sum(r["below_critical"] for r in col["per_time"])
+    return (f"KS(X_tk, window) below the 1% critical value at {n_ok}/{len(col['per_time'])} "
+            f"t_k; CV<X^2> = {_fmt(col['cv_mean_x2'])}; raw KS(S) first/last = "
+            f"{_fmt(col['raw_ks_first_last'])}; mean pairwise KS before/after = "
+            f"{_fmt(col['mean_pairwise_ks_before'])}/{_fmt(col['mean_pairwise_ks_after'])}; "
+            f"check 15 {'pass' if c15 else 'miss'}")
+
+
+def _caption(fig, lines: list[str]) -> None:
+    fig.text(0.01, 0.01, "\n".join(lines), fontsize=7, va="bottom", ha="left", wrap=True)
+
+
+def save_figure(fig, png: str | Path) -> tuple[Path, Path]:
+    """Write ``png`` and the PDF next to it (same stem)."""
+    png = Path(png)
+    png.parent.mkdir(parents=True, exist_ok=True)
+    pdf = png.with_suffix(".pdf")
+    fig.savefig(png, dpi=150)
+    fig.savefig(pdf)
+    plt.close(fig)
+    return png, pdf
+
+
+def _positive(values: np.ndarray) -> np.ndarray:
+    """Empty bins as gaps on a log axis."""
+    return np.where(values > 0, values, np.nan)
+
+
+def _colours(n: int):
+    return plt.cm.viridis(np.linspace(0.0, 0.9, max(n, 1)))
+
+
+def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any],
+                  profile: str, n_panels: int = 4):
+    """Fig. 2: crack patterns coloured by mean stress / sigma_Y (one sample)."""
+    a = campaign.attrs
+    sigma_y = float(a["yield_stress"])
+    tstar = float(a["t_star"])
+    times = run["time"].values
+    late = np.flatnonzero(times >= summary["initial_stage_end"])
+    if late.size == 0:
+        late = np.arange(times.size)
+    picks = np.unique(late[np.linspace(0, late.size - 1, min(n_panels, late.size)).astype(int)])
+    length = float(run.attrs["box_length"])
+    fig, axes = plt.subplots(1, picks.size, figsize=(3.2 * picks.size, 3.9), squeeze=False)
+    size = max(0.5, 2.0e4 / run.sizes["particle"])
+    image = None
+    for ax, k in zip(axes[0], picks, strict=True):
+        snap = run.isel(time=int(k))
+        alive = snap["alive"].values.astype(bool)
+        image = ax.scatter(snap["x"].values[alive], snap["y"].values[alive],
+                           c=snap["mean_stress"].values[alive] / sigma_y, s=size,
+                           cmap="coolwarm", vmin=-1.0, vmax=1.0, linewidths=0)
+        ax.set_xlim(0, length)
+        ax.set_ylim(0, length)
+        ax.set_aspect("equal")
+        ax.set_xticks([])
+        ax.set_yticks([])
+        ax.set_title(f"t = {times[k]:.3g} ({times[k] / tstar:.2f} t*), "
+                     f"{int((~alive).sum())} removed", fontsize=8)
+    fig.suptitle(f"Crack pattern of seed {run.attrs.get('seed', '?')} (cf. paper Fig. 2)")
+    fig.subplots_adjust(bottom=0.2, top=0.85, left=0.02, right=0.9, wspace=0.08)
+    fig.colorbar(image, cax=fig.add_axes([0.92, 0.25, 0.012, 0.55]),
+                 label="mean stress / sigma_Y")
+    _caption(fig, [setup_line(campaign, profile), fit_line(summary)])
+    return fig
+
+
+def fig_inverse_mean_area(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
+    """Fig. 3: 1/<S>_t vs t with the linear fit over the window."""
+    t = campaign["time"].values
+    inv = campaign["inverse_mean_area"].values
+    err = campaign["inverse_mean_area_se"].values
+    fig, ax = plt.subplots(figsize=(6.4, 5.2))
+    ax.errorbar(t, inv, yerr=np.where(np.isfinite(err), err, 0.0), fmt="o", ms=4,
+                capsize=2, label="1/<S>_t (pooled over seeds, +- 1 SE)")
+    fit = summary.get("fit", {})
+    if "slope_b" in fit:
+        tt = np.linspace(summary["window"][0], summary["window"][1], 50)
+        ax.plot(tt, fit["intercept_a"] + fit["slope_b"] * tt, "k-",
+                label=f"linear fit, R^2 = {fit['r2']:.4f}")
+        t0 = fit["x_intercept"]
+        if np.isfinite(t0):
+            ext = np.linspace(min(t0, tt[0]), tt[0], 20)
+            ax.plot(ext, fit["intercept_a"] + fit["slope_b"] * ext, "k:", lw=0.8)
+    ax.axvspan(*summary["window"], color="0.9", zorder=0, label="fit window")
+    ax.axvline(float(campaign.attrs["t_star"]), color="C3", ls="--", lw=1,
+               label="t* = sigma_Y / v_r")
+    ax.set_xlabel("t [eta/lambda]")
+    ax.set_ylabel("1/<S>_t [1/length^2]")
+    ax.set_ylim(bottom=0)
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_title("Inverse mean fragment area (cf. paper Fig. 3)")
+    fig.subplots_adjust(bottom=0.22)
+    _caption(fig, [setup_line(campaign, profile), fit_line(summary)])
+    return fig
+
+
+def _window_times(campaign: xr.Dataset) -> np.ndarray:
+    t = campaign["time"].values
+    return t[in_window(t, float(campaign.attrs["t_star"]))]
+
+
+def fig_size_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
+    """Fig. 4: P(S;t) at (up to 7) snapshot times of the window."""
+    times = _window_times(campaign)
+    if times.size > 7:
+        times = times[np.linspace(0, times.size - 1, 7).astype(int)]
+    centre = 0.5 * (campaign["area_lo"] + campaign["area_hi"]).values
+    fig, ax = plt.subplots(figsize=(6.4, 5.2))
+    for colour, t in zip(_colours(times.size), times, strict=True):
+        sel = campaign.sel(time=t)
+        n = int(sel["n_fragments"].sum())
+        ax.plot(centre, _positive(sel["size_density"].values), "o-", ms=3, color=colour,
+                label=f"t = {t:.3g} ({n} fragments)")
+    ax.set_xlabel("S [length^2]")
+    ax.set_ylabel("P(S; t)")
+    ax.set_yscale("log")
+    ax.legend(fontsize=7)
+    ax.set_title("Fragment-size distribution (cf. paper Fig. 4)")
+    fig.subplots_adjust(bottom=0.22)
+    _caption(fig, [setup_line(campaign, profile), fit_line(summary)])
+    return fig
+
+
+def fig_scaled_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
+    """Figs. 5-6: scaled distributions inside and before the window."""
+    t_all = campaign["time"].values
+    window = in_window(t_all, float(campaign.attrs["t_star"]))
+    start = int(np.argmax(window)) if window.any() else t_all.size
+    groups = [("inside the window (collapse expected)", t_all[window]),
+              ("before the window (no collapse expected)", t_all[:start])]
+    centre = 0.5 * (campaign["x_lo"] + campaign["x_hi"]).values
+    fig, axes = plt.subplots(1, 2, figsize=(11, 5.0), sharey=True)
+    for ax, (title, times) in zip(axes, groups, strict=True):
+        if times.size > 7:
+            times = times[np.linspace(0, times.size - 1, 7).astype(int)]
+        for colour, t in zip(_colours(times.size), times, strict=True):
+            ax.plot(centre, _positive(campaign["scaled_density"].sel(time=t).values), "o-", ms=3,
+                    color=colour, label=f"t = {t:.3g}")
+        ax.set_xlabel("X = S / <S>_t")
+        ax.set_yscale("log")
+        ax.set_title(title, fontsize=9)
+        if times.size:
+            ax.legend(fontsize=7)
+    axes[0].set_ylabel("<S>_t P(X <S>_t; t)")
+    fig.suptitle("Scaled fragment-size distribution (cf. paper Figs. 5-6)")
+    fig.subplots_adjust(bottom=0.24, top=0.88)
+    _caption(fig, [setup_line(campaign, profile), fit_line(summary), collapse_line(summary)])
+    return fig
+
+
+def make_figures(campaign: xr.Dataset, summary: dict[str, Any], run: xr.Dataset,
+                 outputs: dict[str, str | Path], profile: str) -> list[Path]:
+    """All four figures; ``outputs`` maps each name of :data:`FIGURES` to its PNG path."""
+    makers = {
+        "snapshots": lambda: fig_snapshots(run, campaign, summary, profile),
+        "inverse_mean_area": lambda: fig_inverse_mean_area(campaign, summary, profile),
+        "size_distribution": lambda: fig_size_distribution(campaign, summary, profile),
+        "scaled_distribution": lambda: fig_scaled_distribution(campaign, summary, profile),
+    }
+    written = []
+    for name in FIGURES:
+        written.extend(save_figure(makers[name](), outputs[name]))
+    return written

@@ -1,0 +1,132 @@
+"""Statistics of a campaign (drying spec section 10; section 13, checks 14-15), on synthetic
+campaigns whose laws are known."""
+
+import json
+
+import numpy as np
+import pytest
+from scipy import stats
+from synthetic_run import fragment_dataset
+
+from craquelure.drying.campaign import build_campaign
+from craquelure.drying.statistics import (
+    analysis_window,
+    collapse_times,
+    ks_critical,
+    paper_t_star,
+    summarise,
+)
+
+T_STAR = 5e-3 / 2.2e-4  # default scene: 22.7
+TIMES = np.arange(9.0, 31.0)
+
+
+def campaign_of(b, t0, shape=2.0, n_seeds=30):
+    mean = 1.0 / (b * np.maximum(TIMES - t0, 0.5))
+    frags = []
+    for s in range(n_seeds):
+        n = np.maximum(1, np.round(16.0 / mean)).astype(int)  # box area 16 (L = 4)
+        n[TIMES < t0 + 1] = 1 + (s % 2) * (n[TIMES < t0 + 1] - 1)  # half still unbroken
+        frags.append(fragment_dataset(s + 1, TIMES, mean, n, shape=shape,
+                                      first_removal=t0 - 1.0 + 0.1 * s))
+    return build_campaign(frags, n_bins=20)
+
+
+def test_windows_scale_with_t_star():
+    assert paper_t_star() == pytest.approx(227.2727, rel=1e-5)
+    assert analysis_window(paper_t_star()) == pytest.approx((180.0, 300.0))
+    assert analysis_window(T_STAR) == pytest.approx((18.0, 30.0))
+    paper_times = np.arange(90.0, 301.0, 10.0)
+    assert collapse_times(paper_times, paper_t_star()).tolist() == list(range(180, 301, 20))
+    assert collapse_times(TIMES, T_STAR).tolist() == list(range(18, 31, 2))
+    # Snapshots taken a fraction of a step after the requested time still match.
+    assert collapse_times(TIMES + 0.002, T_STAR).size == 7
+
+
+def test_ks_critical_is_the_kolmogorov_quantile():
+    n, m = 300, 700
+    assert ks_critical(n, m) * np.sqrt(n * m / (n + m)) == pytest.approx(
+        stats.kstwobign.isf(0.01), rel=1e-6)
+
+
+@pytest.fixture(scope="module")
+def linear_summary():
+    return summarise(campaign_of(b=0.05, t0=9.0), profile="test", n_boot=400)
+
+
+def test_recovers_linear_law_and_passes_check14(linear_summary):
+    fit = linear_summary["fit"]
+    # 30 seeds x ~10-20 fragments of shape-2 gamma sizes: <S>_t to ~3 %, slope to ~5 %.
+    assert fit["slope_b"] == pytest.approx(0.05, rel=0.1)
+    assert fit["x_intercept"] == pytest.approx(9.0, abs=0.1 * T_STAR)
+    assert fit["r2"] > 0.95
+    lo, hi = fit["slope_b_ci95"]
+    assert lo < fit["slope_b"] < hi
+    c14 = linear_summary["checks"]["check14_inverse_mean_area_linear"]
+    assert c14["pass"] and c14["x_intercept_range"] == pytest.approx([5.0, 23.0])
+    assert linear_summary["window"] == pytest.approx([18.0, 30.0])
+    assert fit["window_times"] == list(range(18, 31))
+    # b* = mu v_r / ((lambda + 2 mu) H^2 sigma_Y) for the default scene.
+    assert linear_summary["b_star"] == pytest.approx(0.1 * 2.2e-4 / (1.2 * 0.316**2 * 5e-3))
+
+
+def test_collapse_of_a_fixed_shape_passes_check15(linear_summary):
+    col = linear_summary["collapse"]
+    assert col["collapse_times"] == list(range(18, 31, 2))
+    assert all(r["below_critical"] for r in col["per_time"])
+    # Gamma shape 2: <X^2> = 1 + 1/2 at every time.
+    for r in col["per_time"]:
+        assert r["mean_x2"] == pytest.approx(1.5, rel=0.15)
+    assert col["cv_mean_x2"] < 0.10
+    assert col["raw_ks_first_last"] > 0.3
+    assert linear_summary["checks"]["check15_scaling_collapse"]["pass"]
+    assert not linear_summary["checks"]["sample_size_meets_spec"]  # N = 6400, 30 seeds
+
+
+def test_onset_numbers(linear_summary):
+    onset = linear_summary["onset"]
+    # Half of the samples are one fragment at t = 9, and <S>_10 = 20 > L^2 = 16 makes every
+    # sample one fragment at t = 10; from t = 11 (<S> = 10) all have >= 2 fragments.
+    assert onset["all_samples_broken_time"] == 11.0
+    assert onset["median_first_removal_time"] == pytest.approx(8.0 + 0.1 * 14.5)
+    assert onset["median_first_removal_over_t_star"] == pytest.approx(9.45 / T_STAR)
+    assert onset["collapse_onset_time"] is not None and onset["collapse_onset_time"] <= 18.0
+
+
+def test_power_law_exponent_and_bootstrap_interval():
+    s = summarise(campaign_of(b=0.05, t0=0.0), n_boot=400)
+    fit = s["fit"]
+    assert fit["alpha"] == pytest.approx(1.0, abs=0.1)
+    lo, hi = fit["alpha_ci95"]
+    assert lo < fit["alpha"] < hi and hi - lo < 0.5
+    # x-intercept at 0 lies outside [0.22, 1.01] t*: check 14 says so.
+    assert not s["checks"]["check14_inverse_mean_area_linear"]["x_intercept_in_range"]
+
+
+def test_changing_shape_fails_check15():
+    shape = np.geomspace(0.3, 12.0, TIMES.size)  # from exponential-like to narrow
+    s = summarise(campaign_of(b=0.05, t0=9.0, shape=shape), n_boot=50)
+    col = s["collapse"]
+    assert not all(r["below_critical"] for r in col["per_time"])
+    assert col["cv_mean_x2"] > 0.10
+    assert not s["checks"]["check15_scaling_collapse"]["pass"]
+    # The fit itself is unaffected: the means follow the same law.
+    assert s["checks"]["check14_inverse_mean_area_linear"]["pass"]
+
+
+def test_quadratic_curvature_fails_check14():
+    # 1/<S> saturating across the window (not linear in t).
+    mean = 1.0 / (0.5 * (1.0 - np.exp(-np.maximum(TIMES - 17.0, 0.05) / 3.0)))
+    frags = [fragment_dataset(s, TIMES, mean, np.maximum(1, np.round(16 / mean)).astype(int))
+             for s in range(1, 21)]
+    s = summarise(build_campaign(frags), n_boot=50)
+    c14 = s["checks"]["check14_inverse_mean_area_linear"]
+    assert not c14["quadratic_change_below_20_percent"]
+    assert not c14["pass"]
+
+
+def test_summary_is_json_serialisable(linear_summary):
+    text = json.dumps(linear_summary)
+    assert json.loads(text)["profile"] == "test"
+    assert "rescaled" in linear_summary["time_units"]
+    assert linear_summary["sensitivity_s_min"]["s_min"] == pytest.approx(np.pi * 0.04)
