@@ -46,7 +46,11 @@ EFFECT_PACKAGES: dict[str, tuple[str, ...]] = {
 def _effects_in_package(package: str) -> dict[str, Effect]:
     try:
         pkg = importlib.import_module(package)
-    except ModuleNotFoundError:
+    except ModuleNotFoundError as exc:
+        # Only a model without an effects package yet has no effects; a missing import
+        # *inside* an effects package is a bug that must not empty the registry silently.
+        if exc.name is None or not package.startswith(exc.name):
+            raise
         return {}
     found: dict[str, Effect] = {}
     for info in pkgutil.iter_modules(pkg.__path__):

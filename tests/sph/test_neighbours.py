@@ -139,6 +139,15 @@ def test_open_box_with_particles_outside_the_bounds():
     check_against_brute_force(x, y, 0.2, box)
 
 
+def test_periodic_box_with_unwrapped_positions():
+    # Positions outside [0, L) (a particle that moved before being wrapped) are binned by
+    # their periodic image and paired by minimum image.
+    rng = np.random.default_rng(12)
+    x, y = rng.uniform(-0.5, 2.5, 1200), rng.uniform(-3.0, 5.0, 1200)
+    x[:4] = [-1e-17, 2.0 + 1e-15, -2.0, 4.0]
+    check_against_brute_force(x, y, 0.2, Box.square(2.0))
+
+
 def test_periodic_box_too_small_is_rejected():
     with pytest.raises(ValueError, match="minimum image is ambiguous"):
         neighbour_list(np.zeros(3), np.zeros(3), 0.6, Box.square(1.0))

@@ -1,0 +1,80 @@
+"""Effect registry: declarations are complete and consistent with the models' schemas."""
+
+from __future__ import annotations
+
+import sys
+import textwrap
+
+import pytest
+
+from craquelure import registry
+from craquelure.errors import SceneError
+from craquelure.registry import Effect, get_effect, known_effects
+from craquelure.scene import MODELS, model_schema
+
+
+def schema_node(schema: dict, dotted: str) -> dict | None:
+    node = schema
+    for key in dotted.split("."):
+        props = node.get("properties", {})
+        if key not in props:
+            return None
+        node = props[key]
+    return node
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_effect_declarations(model):
+    effects = known_effects(model)
+    if not effects:
+        pytest.skip(f"model {model} declares no effects yet")
+    schema = model_schema(model)
+    for name, effect in effects.items():
+        assert effect.name == name and model in effect.models
+        assert effect.description and "\n" not in effect.description
+        for dotted in effect.required_paths(model):
+            node = schema_node(schema, dotted)
+            # The parameter exists in the schema (a typo here would make the effect
+            # impossible to use). Without a schema default, a scene listing the effect must
+            # set it; with one (e.g. the paper's XSPH epsilon) the default is the value used.
+            assert node is not None, f"{model}/{name} needs {dotted}: not in the schema"
+        for other in effect.conflicts:
+            assert other in effects, f"{model}/{name} conflicts with unknown {other!r}"
+
+
+def test_get_effect_lists_known_effects():
+    assert get_effect("drying", "viscosity").required_paths("drying") == ("material.eta",)
+    with pytest.raises(SceneError, match="known effects: continuity, drying, elasticity"):
+        get_effect("drying", "gravity")
+
+
+def test_broken_effect_module_is_not_silently_ignored(tmp_path, monkeypatch):
+    pkg = tmp_path / "fake_effects_pkg"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "good.py").write_text(textwrap.dedent("""
+        from craquelure.registry import Effect
+        EFFECT = Effect(name="good", models=("drying",), description="fine")
+    """))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setitem(registry.EFFECT_PACKAGES, "drying", ("fake_effects_pkg",))
+    registry._effects_in_package.cache_clear()
+    try:
+        assert list(known_effects("drying")) == ["good"]
+        (pkg / "bad.py").write_text("import no_such_module_xyz\n")
+        registry._effects_in_package.cache_clear()
+        with pytest.raises(ModuleNotFoundError, match="no_such_module_xyz"):
+            known_effects("drying")
+        # A model whose effects package does not exist yet simply has none.
+        monkeypatch.setitem(registry.EFFECT_PACKAGES, "drying", ("fake_effects_pkg.absent",))
+        assert known_effects("drying") == {}
+    finally:
+        registry._effects_in_package.cache_clear()
+        for mod in [m for m in sys.modules if m.startswith("fake_effects_pkg")]:
+            del sys.modules[mod]
+
+
+def test_effect_is_frozen():
+    effect = Effect(name="x", models=("drying",), description="d")
+    with pytest.raises(AttributeError):
+        effect.name = "y"
