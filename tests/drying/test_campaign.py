@@ -98,3 +98,23 @@ def test_campaign_command(tmp_path):
     assert ds.sizes["seed"] == 3 and ds.sizes["bin"] == 12
     assert ds.attrs["seeds"] == "100,101,102"
     assert "git_commit" in ds.attrs and "scene" in ds.attrs
+
+
+def test_paper_profile_plans_one_analysis_per_seed_and_one_campaign():
+    """`snakemake -n --configfile config/paper.yaml`: 100 fragment analyses, one campaign
+    aggregate, one summary, one figure job."""
+    import re
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    out = subprocess.run([sys.executable, "-m", "snakemake", "-n", "--configfile",
+                          "config/paper.yaml"], cwd=root, capture_output=True, text=True,
+                         timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    counts = dict(re.findall(r"^(drying_\w+)\s+(\d+)$", out.stdout, re.MULTILINE))
+    assert counts["drying_fragments"] == "100"
+    assert counts["drying_campaign"] == "1"
+    assert counts["drying_summary"] == "1"
+    assert counts["drying_figures"] == "1"

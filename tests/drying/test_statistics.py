@@ -130,3 +130,24 @@ def test_summary_is_json_serialisable(linear_summary):
     assert json.loads(text)["profile"] == "test"
     assert "rescaled" in linear_summary["time_units"]
     assert linear_summary["sensitivity_s_min"]["s_min"] == pytest.approx(np.pi * 0.04)
+
+
+def test_unbroken_campaign_is_summarised_without_error(tmp_path):
+    """Every sample one fragment at every time (no crack): numbers are defined or null, and
+    the checks say no, instead of crashing."""
+    from craquelure.drying.statistics import write_summary
+    from craquelure.io import write_dataset
+
+    frags = [fragment_dataset(s, TIMES, np.full(TIMES.size, 16.0), np.ones(TIMES.size),
+                              shape=1e6) for s in (1, 2)]
+    write_dataset(build_campaign(frags), tmp_path / "c.nc")
+    s = write_summary(tmp_path / "c.nc", tmp_path / "s.json", profile="ci", n_boot=20)
+    assert json.loads((tmp_path / "s.json").read_text())["profile"] == "ci"
+    assert not s["checks"]["check14_inverse_mean_area_linear"]["pass"]
+    # Two fragments per time: the KS numbers exist (without any power, the critical value is
+    # above 1).
+    assert all(r["critical"] > 1 for r in s["collapse"]["per_time"])
+    assert not s["checks"]["check15_scaling_collapse"]["ks_test_can_reject_at_all_t_k"]
+    assert not s["checks"]["check15_scaling_collapse"]["pass"]
+    assert s["onset"]["all_samples_broken_time"] is None
+    assert "git_commit" in s["provenance"]

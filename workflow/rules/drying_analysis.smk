@@ -1,0 +1,116 @@
+# Drying paste analysis: fragments per seed, campaign aggregate over seeds, summary of the
+# paper's claims (results/drying/summary.json) and the paper's figures 2-6.
+
+DRYING_FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
+DRYING_CAMPAIGN = f"results/drying/{config['drying']['scene']}/campaign.nc"
+# Run dataset of the first seed, drawn in the crack-pattern figure.
+DRYING_SNAPSHOT_RUN = (
+    f"results/drying/{config['drying']['scene']}/run/seed{seeds('drying')[0]}.nc"
+)
+DRYING_PNG = {name: f"results/drying/figures/drying_{name}.png" for name in DRYING_FIGURES}
+DRYING_PDF = [f"results/drying/figures/drying_{name}.pdf" for name in DRYING_FIGURES]
+
+
+rule drying_fragments:
+    input:
+        "results/drying/{scene}/run/seed{seed}.nc",
+    output:
+        "results/drying/{scene}/fragments/seed{seed}.nc",
+    params:
+        cli=CRAQUELURE,
+    log:
+        "logs/drying_fragments/{scene}/seed{seed}.log",
+    benchmark:
+        "benchmarks/results/drying_fragments/{scene}/seed{seed}.tsv"
+    threads: config["drying"]["threads"]
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    shell:
+        "{params.cli} fragments {input} --out {output} --threads {threads} > {log} 2>&1"
+
+
+rule drying_campaign:
+    input:
+        expand("results/drying/{{scene}}/fragments/seed{seed}.nc", seed=seeds("drying")),
+    output:
+        "results/drying/{scene}/campaign.nc",
+    params:
+        cli=CRAQUELURE,
+    log:
+        "logs/drying_campaign/{scene}.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    shell:
+        "{params.cli} campaign {input} --out {output} > {log} 2>&1"
+
+
+rule drying_summary:
+    input:
+        DRYING_CAMPAIGN,
+    output:
+        "results/drying/summary.json",
+    params:
+        profile=config["profile"],
+        scene=config["drying"]["scene"],
+    log:
+        "logs/drying_summary.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_summary.py"
+
+
+rule drying_figures:
+    input:
+        campaign=DRYING_CAMPAIGN,
+        summary="results/drying/summary.json",
+        run=DRYING_SNAPSHOT_RUN,
+    output:
+        snapshots=report(
+            DRYING_PNG["snapshots"],
+            caption="../report/drying_snapshots.rst",
+            category="Drying paste",
+            labels={"figure": "Fig. 2 crack patterns"},
+        ),
+        inverse_mean_area=report(
+            DRYING_PNG["inverse_mean_area"],
+            caption="../report/drying_inverse_mean_area.rst",
+            category="Drying paste",
+            labels={"figure": "Fig. 3 inverse mean area"},
+        ),
+        size_distribution=report(
+            DRYING_PNG["size_distribution"],
+            caption="../report/drying_size_distribution.rst",
+            category="Drying paste",
+            labels={"figure": "Fig. 4 size distribution"},
+        ),
+        scaled_distribution=report(
+            DRYING_PNG["scaled_distribution"],
+            caption="../report/drying_scaled_distribution.rst",
+            category="Drying paste",
+            labels={"figure": "Figs. 5-6 scaled distribution"},
+        ),
+        pdfs=DRYING_PDF,
+    params:
+        profile=config["profile"],
+    log:
+        "logs/drying_figures.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_figures.py"
+
+
+TARGETS["drying_analysis"] = [
+    DRYING_CAMPAIGN,
+    "results/drying/summary.json",
+    *DRYING_PNG.values(),
+    *DRYING_PDF,
+]
