@@ -93,9 +93,21 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     }
 
 
-def _field_vars(prefix: str, st: State) -> dict:
+def softening(kap: np.ndarray, mat: Concrete) -> np.ndarray:
+    """s = (kappa - kappa0)/(kappa_f - kappa0) in [0, 1]: 1 - residual strength / f_t."""
+    return np.clip((kap - mat.kappa0) / (mat.kappa_f - mat.kappa0), 0.0, 1.0)
+
+
+def crack_indicator(scene: Scene, dmg: np.ndarray, kap: np.ndarray) -> np.ndarray:
+    if scene.get("material.cracked_measure") == "damage":
+        return dmg
+    return softening(kap, concrete(scene))
+
+
+def _field_vars(prefix: str, st: State, mat: Concrete) -> dict:
     return {f"{prefix}x": st.x.copy(), f"{prefix}y": st.y.copy(),
-            f"{prefix}damage": st.dmg.copy(), f"{prefix}plastic_strain": st.epsp.copy()}
+            f"{prefix}damage": st.dmg.copy(), f"{prefix}softening": softening(st.kap, mat),
+            f"{prefix}plastic_strain": st.epsp.copy()}
 
 
 def simulate(scene: Scene, seed: int, progress: bool = True):
@@ -125,7 +137,8 @@ def simulate(scene: Scene, seed: int, progress: bool = True):
         py = eng.momentum()[1]
         series["momentum_y"].append(py)
         series["vcm_y"].append(py / mass_total)
-        series["cracked_fraction"].append(float(np.mean(eng.state.dmg >= cracked)))
+        crack = crack_indicator(scene, eng.state.dmg, eng.state.kap)
+        series["cracked_fraction"].append(float(np.mean(crack >= cracked)))
         series["impulse"].append(eng.impulse)
         last["t"], last["impulse"] = eng.t, eng.impulse
 
@@ -140,7 +153,7 @@ def simulate(scene: Scene, seed: int, progress: bool = True):
         if eng.step_count % 50 == 0:
             eng.check()
         if snap_times and eng.t >= snap_times[0]:
-            snapshots.append((eng.t, _field_vars("", eng.state)))
+            snapshots.append((eng.t, _field_vars("", eng.state, eng.s.material)))
             snap_times.pop(0)
         if eng.t >= next_sample * (1 - 1e-9) or eng.t >= t_end * (1 - 1e-12):
             eng.check()
@@ -151,7 +164,7 @@ def simulate(scene: Scene, seed: int, progress: bool = True):
     if bar is not None:
         bar.close()
     eng.check()
-    snapshots.append((eng.t, _field_vars("", eng.state)))
+    snapshots.append((eng.t, _field_vars("", eng.state, eng.s.material)))
     return sp, eng, {k: np.asarray(v) for k, v in series.items()}, snapshots
 
 
@@ -173,13 +186,14 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         "precrack": ("particle", sp.precrack.astype(np.int8)),
         "x": ("particle", st.x), "y": ("particle", st.y), "vx": ("particle", st.vx),
         "vy": ("particle", st.vy), "damage": ("particle", st.dmg),
+        "softening": ("particle", softening(st.kap, eng.s.material)),
         "plastic_strain": ("particle", st.epsp), "h": ("particle", st.h),
         "rho": ("particle", st.rho),
     }
     for key, arr in series.items():
         if key != "time":
             data[f"series_{key}"] = ("time", arr)
-    for key in ("x", "y", "damage", "plastic_strain"):
+    for key in ("x", "y", "damage", "softening", "plastic_strain"):
         data[f"snap_{key}"] = (("snapshot_time", "particle"),
                                np.stack([f[key] for _, f in snapshots]))
     ds = xr.Dataset(data, coords={"time": series["time"],
@@ -187,8 +201,11 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
     ds["series_contact_force"].attrs.update(units="N/m", long_name="base contact force per "
                                             "metre (interval average of the impulse)")
     g = scene.get
-    metrics = run_metrics(sp.x, sp.y, st.dmg, st.epsp, sp.precrack, sp.spacing, sp.radius,
+    crack = crack_indicator(scene, st.dmg, st.kap)
+    metrics = run_metrics(sp.x, sp.y, crack, st.epsp, sp.precrack, sp.spacing, sp.radius,
                           g("material.cracked_threshold"), g("material.crushed_strain"))
+    metrics["cracked_fraction_damage"] = float(np.mean(st.dmg >= g("material.cracked_threshold")))
+    metrics["cracked_measure"] = g("material.cracked_measure")
     metrics.update(contact_metrics(series["time"], series["contact_force"], series["vcm_y"]))
     metrics.update({
         "contact_force_peak_step": eng.force_peak,

@@ -1,6 +1,13 @@
 """Measurements of an impact run (spec section 6), from reference (grid) positions and fields.
 
-- Cracked fraction φ_c = Σ V0 [D_t ≥ 0.9] / Σ V0 (equal V0: a particle count ratio).
+- Cracked fraction φ_c = Σ V0 [c ≥ 0.9] / Σ V0 (equal V0: a particle count ratio), where the
+  crack indicator c is, by ``material.cracked_measure``, the softening
+  s = (κ − κ0)/(κ_f − κ0) clipped to [0, 1] (default) or D_t (the spec's label).
+  Decision [D]: with ℓ_c = h(0) = 4.8 mm ≪ l_ch, κ_f ≈ 100 κ0 and D_t = 0.9 is reached at
+  κ ≈ 9 κ0, where the point still carries 92 % of f_t: D_t ≥ 0.9 marks nearly the whole disc
+  after the first stress wave and is no crack indicator. s ≥ 0.9 means the residual tensile
+  strength is ≤ 0.1 f_t (an open crack), which is what the source's black "failed" maps show.
+  Both fractions are reported (``cracked_fraction``, ``cracked_fraction_damage``).
 - Main cracks: clusters of cracked, not crushed particles, adjacent if their reference distance
   is ≤ 1.5Δ; a cluster counts if its reference extent along its principal axis is ≥ R. Angle θ to
   the vertical in (−90°, 90°], length = extent along the axis + Δ.
