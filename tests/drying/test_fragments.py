@@ -187,3 +187,13 @@ def test_fragments_command_rejects_bad_input(tmp_path):
     assert cli_main(["fragments", str(tmp_path / "bad.nc"), "--out",
                      str(tmp_path / "o.nc")]) == 2
     assert not (tmp_path / "o.nc").exists()
+
+
+def test_labels_numbered_in_raster_order_of_first_pixel():
+    rng = np.random.default_rng(2)
+    image = rng.random((120, 120)) > 0.45  # near the percolation threshold: many clusters
+    labels, n = label_periodic(image)
+    assert n > 10
+    values, first = np.unique(labels.ravel(), return_index=True)
+    assert values.tolist() == list(range(n + 1))
+    assert np.all(np.diff(first[1:]) > 0)
