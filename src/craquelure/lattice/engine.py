@@ -169,7 +169,7 @@ class Engine:
     def _alloc_bond_arrays(self):
         s = self.system
         nb = s.bi.size
-        self.bprev = np.zeros((3, nb))
+        self.bprev = np.zeros((6, nb))
         self.kernel.bond_deformations(self.qm, s.bi, s.bj, self.bref, s.state, s.period_x,
                                       self.bprev)
         self.bforce = np.zeros((4, nb))

@@ -163,9 +163,8 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
                         bref[1, b] = alpha
                         bref[2, b] = q[2, i]
                         bref[3, b] = q[2, j]
-                        bprev[0, b] = 0.0
-                        bprev[1, b] = 0.0
-                        bprev[2, b] = 0.0
+                        for r in range(6):
+                            bprev[r, b] = 0.0
                         bforce[0, b] = 0.0
                         bforce[1, b] = 0.0
                         bforce[2, b] = 0.0
@@ -174,18 +173,26 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
                         e_melt += u
                         n_melted += 1.0
                         continue
-                beta = p[BETA]
-                ed = (e - bprev[0, b]) / dt
-                p1d = (p1 - bprev[1, b]) / dt
-                p2d = (p2 - bprev[2, b]) / dt
+                # bond damping on the backward deformation rates; dissipation booked as the
+                # trapezoidal sum 1/2 (f_d(t - dt) + f_d(t)) . (d(t) - d(t - dt))
+                bd = p[BETA] / dt
+                de = e - bprev[0, b]
+                dp1 = p1 - bprev[1, b]
+                dp2 = p2 - bprev[2, b]
+                nd = bd * kn * de
+                m1d = bd * (ka * dp1 + kb * dp2)
+                m2d = bd * (kb * dp1 + ka * dp2)
+                e_damp += 0.5 * ((bprev[3, b] + nd) * de + (bprev[4, b] + m1d) * dp1
+                                 + (bprev[5, b] + m2d) * dp2)
                 bprev[0, b] = e
                 bprev[1, b] = p1
                 bprev[2, b] = p2
-                nax += beta * kn * ed
-                m1 += beta * (ka * p1d + kb * p2d)
-                m2 += beta * (kb * p1d + ka * p2d)
-                e_damp += beta * (kn * ed * ed + ka * (p1d * p1d + p2d * p2d)
-                                  + 2.0 * kb * p1d * p2d) * dt
+                bprev[3, b] = nd
+                bprev[4, b] = m1d
+                bprev[5, b] = m2d
+                nax += nd
+                m1 += m1d
+                m2 += m2d
                 v = (m1 + m2) / ell
                 bforce[0, b] = -nax * c - v * s
                 bforce[1, b] = -nax * s + v * c

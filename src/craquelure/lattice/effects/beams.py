@@ -12,8 +12,9 @@ stiffness-proportional dashpot on the deformation rates, :math:`N \mathrel{+}= \
 :math:`M_1 \mathrel{+}= \beta(a\dot\varphi_1' + b\dot\varphi_2')` (and M2), rates by backward
 differences over one step; :math:`\beta = 2\zeta\sqrt{m/k_n}` for a damping ratio
 :math:`\zeta` of the critical :math:`2\sqrt{k_n m}`. It is frame-indifferent (no damping of
-rigid rotation) and conserves linear and angular momentum. Dissipated power
-:math:`\beta(k_n\dot e^2 + a\dot\varphi_1'^2 + 2b\dot\varphi_1'\dot\varphi_2' + a\dot\varphi_2'^2)`.
+rigid rotation) and conserves linear and angular momentum. The dissipated energy is booked
+as the trapezoidal sum of the damping forces times the deformation increments (the form that
+closes the central-difference energy budget).
 """
 
 import math

@@ -1,0 +1,180 @@
+"""From a validated lattice scene to an :class:`~craquelure.lattice.engine.Engine`.
+
+Geometry (spec sections 2 and 10): an nx x ny triangular block with its bottom row at y = 0
+(or resting on the bed: bottom at ``domain.bed_level``), optionally periodic in x; the
+fretting pad is a lower half-disc of radius R (its own body, unbreakable beams) whose lowest
+row sits one diameter plus ``pad.gap`` above the block's top row; its top row is driven:
+x = x_0 + delta sin(2 pi (t - t_p)/T) after the press time t_p, rotation fixed, y free and
+loaded with P spread over the row. Loads on the top row of the block: tau_app L (x) and
+-p L (y) per particle (Glen test). Stiffness: E-B (E_b, w) or shear-beam (k_n, k_s), or both
+from macroscopic (E, nu) through the inverse mapping of section 4.
+
+Time step: dt = dt_factor 2/omega with omega^2 = omega_est^2 (quick beam estimate) +
+k_bed/m + k_c/m (bed spring and contact, linearised at an overlap of 0.1 L) [D].
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from craquelure.errors import SceneError
+from craquelure.lattice import beam
+from craquelure.lattice.engine import Engine, System, stable_step_estimate
+from craquelure.lattice.geometry import (
+    REMOVED,
+    ROW,
+    find_bonds,
+    half_disc,
+    remove_fraction,
+    triangular_block,
+)
+from craquelure.scene import Scene
+
+
+def beam_constants(scene: Scene) -> beam.BeamConstants:
+    L = scene.get("particles.spacing")  # noqa: N806
+    model = scene.get("material.bond_model", "euler_bernoulli")
+    E = scene.get("material.youngs_modulus", None)  # noqa: N806
+    if E is not None:
+        nu = scene.get("material.poisson_ratio", None)
+        if nu is None:
+            raise SceneError("material.youngs_modulus needs material.poisson_ratio")
+        kn, ks = beam.stiffness_from_moduli(E, nu)
+        if model == "shear_beam":
+            return beam.shear_beam(kn, ks, L)
+        w = L * math.sqrt(ks / kn)
+        return beam.euler_bernoulli(kn * L / w, w, L)
+    if model == "shear_beam":
+        kn = scene.get("material.kn")
+        return beam.shear_beam(kn, kn * scene.get("material.ks_over_kn"), L)
+    return beam.euler_bernoulli(scene.get("material.E_b"), scene.get("material.width") * L, L)
+
+
+def particle_mass(scene: Scene) -> float:
+    L = scene.get("particles.spacing")  # noqa: N806
+    return scene.get("particles.density") * math.pi * L * L / 4.0
+
+
+def build_system(scene: Scene, seed: int) -> tuple[System, dict[str, np.ndarray]]:
+    """The particle/bond system of a scene and per-particle labels (body, row, col)."""
+    L = scene.get("particles.spacing")  # noqa: N806
+    nx, ny = scene.get("domain.nx"), scene.get("domain.ny")
+    periodic = scene.get("domain.periodic_x")
+    y0 = scene.get("domain.bed_level") + 0.5 * L if scene.has("bed") else 0.0
+    x, y, row = triangular_block(nx, ny, L, 0.0, y0)
+    col = np.arange(x.size) % nx
+    body = np.zeros(x.size, np.int64)
+    pad = scene.get("domain.pad", None)
+    if pad is not None:
+        if periodic:
+            raise SceneError("domain.pad cannot be used with domain.periodic_x")
+        px, py = half_disc(pad["radius"], 0.0, 0.0, L)
+        px = px + 0.5 * (x.min() + x.max())
+        py = py - py.min() + y.max() + L + pad["gap"]
+        x, y = np.concatenate([x, px]), np.concatenate([y, py])
+        row = np.concatenate([row, np.full(px.size, -1)])
+        col = np.concatenate([col, np.full(px.size, -1)])
+        body = np.concatenate([body, np.ones(px.size, np.int64)])
+    period = nx * L if periodic else 0.0
+    bi, bj = find_bonds(x, y, body, L, period)
+    c = beam_constants(scene)
+    m = particle_mass(scene)
+    n, nb = x.size, bi.size
+    system = System(x=x, y=y, mass=np.full(n, m), inertia=np.full(n, m * L * L / 8.0),
+                    diameter=np.full(n, L), bi=bi, bj=bj, kn=np.full(nb, c.kn),
+                    ka=np.full(nb, c.a), kb=np.full(nb, c.b), period_x=period, L=L)
+    system.unbreakable[(body[bi] == 1)] = 1
+    removal = scene.get("particles.bond_removal")
+    if removal > 0:
+        rng = np.random.default_rng(seed)
+        candidates = np.flatnonzero(body[bi] == 0)
+        gone = candidates[remove_fraction(candidates.size, removal, rng)]
+        system.state[gone] = REMOVED
+    if scene.get("domain.clamp_bottom"):
+        system.fix[:, row == 0] = 1
+    if scene.get("domain.fix_back_x"):
+        system.fix[0, (col == 0) & (body == 0)] = 1
+    top = (row == ny - 1) & (body == 0)
+    system.load[0, top] = scene.get("loads.top_shear_stress") * L
+    system.load[1, top] = -scene.get("loads.top_normal_stress") * L
+    if pad is not None:
+        ptop = (body == 1) & (y > y[body == 1].max() - 0.1 * L)
+        system.drive[0, ptop] = 1
+        system.fix[2, ptop] = 1
+        system.load[1, ptop] = -pad["load"] / ptop.sum()
+    return system, {"body": body, "row": row, "col": col}
+
+
+def time_step(scene: Scene, system: System) -> float:
+    dt_beam = stable_step_estimate(system)
+    w2 = (2.0 / dt_beam) ** 2 if math.isfinite(dt_beam) else 0.0
+    m = float(system.mass.min())
+    if scene.has("bed"):
+        w2 += scene.get("bed.stiffness") / m
+    if scene.has("contact"):
+        w2 += 1.5 * scene.get("contact.stiffness") * math.sqrt(0.1 * system.L) / m
+    if w2 <= 0:
+        raise SceneError("no stiffness in the scene: cannot choose a time step")
+    return scene.get("numerics.dt_factor") * 2.0 / math.sqrt(w2)
+
+
+def engine_params(scene: Scene, system: System) -> dict[str, float]:
+    c = beam_constants(scene)
+    m = float(system.mass[0])
+    g = scene.get
+    p = dict(
+        dt=time_step(scene, system),
+        beta=2.0 * g("numerics.bond_damping") * math.sqrt(m / c.kn),
+        gamma=g("numerics.mass_damping"),
+        area=c.area, inertia=c.inertia, width=c.width, E_b=c.E_b, block=system.L,
+        cell_area=beam.cell_area(system.L),
+        load_ramp=g("loads.ramp_time"),
+        energy_tolerance=g("numerics.energy_tolerance"),
+        energy_floor=1e-12 * system.n * c.kn * system.L**2,
+        rho=g("material.rho", g("particles.density")),
+    )
+    if scene.has("fracture"):
+        p.update(sigma0=g("material.sigma0"), tau0=g("material.tau0"),
+                 fracture_start=g("fracture.start_time"))
+    if scene.has("melting"):
+        p.update(melt_rate_factor=g("melting.rate_factor"), frozen_rate=g("melting.frozen_rate"))
+    if scene.has("contact"):
+        p.update(contact_stiffness=g("contact.stiffness"), friction=g("contact.friction"),
+                 friction_viscosity=g("contact.friction_viscosity"), skin=g("contact.skin"))
+    if scene.has("gravity") or scene.has("buoyancy"):
+        p.update(g=g("material.g"))
+    if scene.has("buoyancy") or scene.has("drag"):
+        p.update(water_level=g("domain.water_level", -math.inf), rho_w=g("material.rho_w", 1.0))
+    if scene.has("drag"):
+        p.update(drag_rate=g("drag.rate"), drag_everywhere=float(g("drag.everywhere")))
+    if scene.has("bed"):
+        kb = g("bed.stiffness")
+        p.update(bed_level=g("domain.bed_level"), bed_stiffness=kb,
+                 bed_damping=g("bed.damping_ratio") * 2.0 * math.sqrt(kb / m),
+                 bed_friction=g("bed.friction_rate"))
+    pad = g("domain.pad", None)
+    if pad is not None:
+        p.update(drive_amplitude=pad["amplitude"], drive_period=pad["period"],
+                 drive_start=pad["press_time"])
+    return p
+
+
+def make_engine(scene: Scene, seed: int) -> tuple[Engine, dict[str, np.ndarray]]:
+    system, labels = build_system(scene, seed)
+    if not scene.has("beams"):
+        system.state[:] = REMOVED
+    engine = Engine(
+        system, tuple(e for e in scene.effects), engine_params(scene, system), seed=seed,
+        series_every=scene.get("numerics.series_every"),
+        node_averaged=scene.get("fracture.variant") == "node_averaged",
+        bending=scene.get("fracture.bending"),
+        freeze_every=scene.get("melting.freeze_every", 0) if scene.has("melting") else 0,
+        refreeze_radius=scene.get("melting.refreeze_radius", 1.1))
+    return engine, labels
+
+
+def block_height(scene: Scene) -> float:
+    """Height of the block between the bottom and top rows' centres."""
+    return (scene.get("domain.ny") - 1) * ROW * scene.get("particles.spacing")
