@@ -52,6 +52,7 @@ def parameters(scene: Scene) -> np.ndarray:
     p[template.P_EPS] = scene.get("numerics.xsph_epsilon", 0.0)
     p[template.P_SUPPORT] = scene.get("numerics.h")
     p[template.P_BOX] = scene.get("domain.box_length")
+    p[template.P_DRYCAP] = scene.get("material.drying_stress_cap", math.inf)
     return p
 
 
@@ -210,6 +211,8 @@ class DryingEngine:
 
     def control_time_step(self) -> float | None:
         """Halve dt while it exceeds 0.6 of the stability limit; returns the new dt if changed."""
+        if not self.scene.get("numerics.adapt_dt"):
+            return None
         radius = self.viscous_spectral_radius()
         if radius <= 0:
             return None

@@ -38,8 +38,8 @@ XSPH = True
 
 X, Y, VX, VY, RHO, SXX, SYY, SXY = 0, 1, 2, 3, 4, 5, 6, 7
 NVAR = 8
-P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX = 0, 1, 2, 3, 4, 5, 6, 7
-NPARAM = 8
+P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = 0, 1, 2, 3, 4, 5, 6, 7, 8
+NPARAM = 9
 
 
 @njit(parallel=True, cache=True)
@@ -100,7 +100,7 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
             syy += vyy
             sxy += vxy
         if DRYING:
-            dry = drying_stress(t, p[P_VR])
+            dry = drying_stress(t, p[P_VR], p[P_DRYCAP])
             sxx += dry
             syy += dry
         stress[0, i] = sxx

@@ -1,6 +1,7 @@
 r"""Drying stress (drying spec section 2): :math:`\sigma_{dry} = v_r\, t\, \mathbf 1`, isotropic
 and linear in time; in 2D it adds :math:`v_r t` to :math:`\sigma_{xx}` and :math:`\sigma_{yy}`.
-Tension is positive."""
+Tension is positive. An optional cap holds the stress at F = ``material.drying_stress_cap`` once
+:math:`v_r t` reaches it (used for the quasi-static strip check, spec 13.10)."""
 
 from numba import njit
 
@@ -15,5 +16,5 @@ EFFECT = Effect(
 
 
 @njit(inline="always", cache=True)
-def drying_stress(t, v_r):
-    return v_r * t
+def drying_stress(t, v_r, cap):
+    return min(v_r * t, cap)

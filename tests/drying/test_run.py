@@ -1,0 +1,82 @@
+"""`craquelure run` for the drying paste: the run dataset, resume after a kill, guards."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from craquelure.drying.initial_state import build_initial_state
+from craquelure.drying.run import checkpoint_path, run
+from craquelure.errors import SimulationDiverged
+from craquelure.io import write_dataset
+
+
+@pytest.fixture
+def small_scene(make_scene):
+    return make_scene(particles={"placement": "rsa"}, material={"drying_rate": 2e-3,
+                                                                  "initial_stress_amplitude": 0.01},
+                        numerics={"integrator": "abm4", "checkpoint_every": 100},
+                        outputs={"t_end": 3.2, "times": [1.0, 2.0, 3.2], "series_every": 20})
+
+
+def _init(tmp_path, scene, seed=4):
+    path = tmp_path / "state.nc"
+    ds = build_initial_state(scene, seed)
+    ds.attrs["seed"] = seed
+    write_dataset(ds, path)
+    return path
+
+
+def test_run_dataset_layout_and_cracking(tmp_path, small_scene):
+    """Dims time x particle, the issue's variables with units, effects listed exactly, and the
+    paste cracks (sigma_dry passes sigma_Y at t = 2.5) while staying finite."""
+    out = run(small_scene, tmp_path / "run.nc", init=_init(tmp_path, small_scene))
+    ds = xr.open_dataset(out)
+    for name in ("x", "y", "vx", "vy", "alive", "mass", "rho", "mean_stress"):
+        assert ds[name].dims == ("time", "particle") and "units" in ds[name].attrs
+    for name in ("n_removed", "kinetic_energy", "elastic_energy", "momentum_x", "momentum_y"):
+        assert ds[name].dims == ("step_time",)
+    np.testing.assert_allclose(ds.time.values, [1.0, 2.0, 3.2], atol=1e-9)
+    assert ds.attrs["effects"].split(",") == list(small_scene.effects)
+    assert ds.attrs["h"] == 0.2 and ds.attrs["box_length"] == 1.0 and ds.attrs["seed"] == 4
+    assert int(ds.n_removed[-1]) > 0
+    alive = ds.alive.isel(time=-1).values.astype(bool)
+    assert (ds.mass.isel(time=-1).values[~alive] == 0).all()
+    assert np.isfinite(ds.mean_stress.values).all()
+    assert not checkpoint_path(out).exists()
+
+
+def test_resume_is_bit_identical(tmp_path, small_scene):
+    """A run stopped after a checkpoint and resumed equals an uninterrupted run bit for bit."""
+    init = _init(tmp_path, small_scene)
+    full = xr.open_dataset(run(small_scene, tmp_path / "full.nc", init=init))
+    part = tmp_path / "part.nc"
+    ck = run(small_scene, part, init=init, stop_after_steps=300)
+    assert ck == checkpoint_path(part) and ck.exists() and not part.exists()
+    resumed = xr.open_dataset(run(small_scene, part, init=init, resume=True))
+    for name in ("x", "y", "vx", "vy", "alive", "mass", "rho", "mean_stress", "n_removed",
+                 "kinetic_energy"):
+        np.testing.assert_array_equal(full[name].values, resumed[name].values)
+
+
+def test_stale_checkpoint_is_ignored(tmp_path, small_scene):
+    """A checkpoint made from another scene is not resumed."""
+    init = _init(tmp_path, small_scene)
+    out = tmp_path / "run.nc"
+    run(small_scene, out, init=init, stop_after_steps=100)
+    other = small_scene.with_overrides(["material.drying_rate=1e-3"])
+    resumed = xr.open_dataset(run(other, out, init=init, resume=True))
+    fresh = xr.open_dataset(run(other, tmp_path / "fresh.nc", init=init))
+    np.testing.assert_array_equal(resumed.x.values, fresh.x.values)
+
+
+def test_divergence_leaves_no_finished_file(tmp_path, small_scene):
+    """With dt control off, dt = 0.2 (12x the RK4 viscous limit) blows up: the run stops with
+    SimulationDiverged and neither the run file nor a checkpoint claims to be finished."""
+    bad = small_scene.with_overrides(["numerics.dt=0.2", "numerics.integrator=rk4",
+                                      "numerics.adapt_dt=false"])
+    out = tmp_path / "run.nc"
+    with pytest.raises(SimulationDiverged):
+        run(bad, out, init=_init(tmp_path, small_scene))
+    assert not out.exists()
