@@ -1,0 +1,120 @@
+# Concrete impact (SPH): one run per variant (masses x kappa x pre-crack x seed), a summary of
+# the source's findings (results/impact/summary.json) and the report figures.
+
+from craquelure.impact import workflow as impact_workflow
+
+IMPACT = config["impact"]
+IMPACT_SCENE = IMPACT["scene"]
+IMPACT_FIGURES = ("masses", "damage_homogeneous", "damage_heterogeneous_kappa1",
+                  "damage_heterogeneous_kappa_low_high", "precracks", "contact_force")
+IMPACT_PNG = {name: f"results/impact/figures/impact_{name}.png" for name in IMPACT_FIGURES}
+IMPACT_FIGURE_RUNS = impact_workflow.figure_runs(IMPACT)
+
+
+wildcard_constraints:
+    masses="homogeneous|uniform|normal|poisson",
+    precrack="[a-z0-9]+",
+    kappa="[0-9.]+",
+
+
+rule impact_run:
+    input:
+        scene="config/scenes/impact/{scene}.yaml",
+    output:
+        "results/impact/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.nc",
+    params:
+        cli=CRAQUELURE,
+        variant=impact_workflow.variant_overrides,
+        overrides=scene_overrides("impact"),
+    log:
+        "logs/impact_run/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.log",
+    benchmark:
+        "benchmarks/results/impact_run/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.tsv"
+    threads: IMPACT["threads"]
+    resources:
+        mem_mb=IMPACT["mem_mb"],
+        runtime=IMPACT["runtime_run"],
+    shell:
+        "{params.cli} run {input.scene} --seed {wildcards.seed} --out {output} "
+        "--threads {threads} {params.variant} {params.overrides} > {log} 2>&1"
+
+
+rule impact_summary:
+    input:
+        impact_workflow.campaign_runs(IMPACT),
+    output:
+        "results/impact/summary.json",
+    params:
+        profile=config["profile"],
+        scene=IMPACT_SCENE,
+        distribution=IMPACT["distribution"],
+    log:
+        "logs/impact_summary.log",
+    threads: 1
+    resources:
+        mem_mb=IMPACT["mem_mb"],
+        runtime=10,
+    script:
+        "../scripts/impact_summary.py"
+
+
+rule impact_figures:
+    input:
+        summary="results/impact/summary.json",
+        specimen=IMPACT_FIGURE_RUNS["specimen"],
+        homogeneous=IMPACT_FIGURE_RUNS["homogeneous"],
+        hetero_kappa1=IMPACT_FIGURE_RUNS["hetero_kappa1"],
+        hetero_low_high=IMPACT_FIGURE_RUNS["hetero_low_high"],
+        precracks=IMPACT_FIGURE_RUNS["precracks"],
+        contact=IMPACT_FIGURE_RUNS["contact"],
+    output:
+        masses=report(
+            IMPACT_PNG["masses"],
+            caption="../report/impact_masses.rst",
+            category="Concrete impact",
+            labels={"figure": "Figs. 5-6 masses"},
+        ),
+        damage_homogeneous=report(
+            IMPACT_PNG["damage_homogeneous"],
+            caption="../report/impact_damage_homogeneous.rst",
+            category="Concrete impact",
+            labels={"figure": "Fig. 7 homogeneous disc"},
+        ),
+        damage_heterogeneous_kappa1=report(
+            IMPACT_PNG["damage_heterogeneous_kappa1"],
+            caption="../report/impact_damage_heterogeneous.rst",
+            category="Concrete impact",
+            labels={"figure": "Fig. 8 heterogeneous, kappa = 1"},
+        ),
+        damage_heterogeneous_kappa_low_high=report(
+            IMPACT_PNG["damage_heterogeneous_kappa_low_high"],
+            caption="../report/impact_damage_kappa.rst",
+            category="Concrete impact",
+            labels={"figure": "Figs. 9-10 kappa = 1.5, 0.7"},
+        ),
+        precracks=report(
+            IMPACT_PNG["precracks"],
+            caption="../report/impact_precracks.rst",
+            category="Concrete impact",
+            labels={"figure": "Figs. 11-13 pre-cracks"},
+        ),
+        contact_force=report(
+            IMPACT_PNG["contact_force"],
+            caption="../report/impact_contact_force.rst",
+            category="Concrete impact",
+            labels={"figure": "contact force"},
+        ),
+    params:
+        profile=config["profile"],
+        scene=IMPACT_SCENE,
+    log:
+        "logs/impact_figures.log",
+    threads: 1
+    resources:
+        mem_mb=IMPACT["mem_mb"],
+        runtime=10,
+    script:
+        "../scripts/impact_figures.py"
+
+
+TARGETS["impact"] = ["results/impact/summary.json", *IMPACT_PNG.values()]
