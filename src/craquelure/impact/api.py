@@ -52,7 +52,8 @@ def settings(scene: Scene) -> Settings:
         h_min=g("numerics.h_min"), h_max=g("numerics.h_max"), base_y=g("domain.base_y"),
         contact_radius=g("numerics.contact_radius"), contact_a=g("numerics.contact_a", 0.1),
         kinematic_ratio=g("numerics.kinematic_ratio"),
-        energy_runaway_factor=g("numerics.energy_runaway_factor"))
+        energy_runaway_factor=g("numerics.energy_runaway_factor"),
+        neighbour_skin=g("numerics.neighbour_skin"))
 
 
 def initial_state(scene: Scene, specimen: Specimen) -> State:

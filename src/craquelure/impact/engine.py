@@ -127,6 +127,7 @@ class Settings:
     contact_a: float = 0.1
     kinematic_ratio: float = 0.5
     energy_runaway_factor: float = 1.5
+    neighbour_skin: float = 0.2  # units of max h
     periodic_box: tuple[float, float] | None = None
 
     @property
@@ -227,15 +228,27 @@ class Engine:
         self.e0 = self.total_energy()
 
     # --- pieces of a step -------------------------------------------------------------
-    def _neighbours(self):
+    def _neighbours(self, force: bool = True):
+        """Verlet list with a skin (open boxes): rebuilt when a particle has moved more than
+        half the skin, or a support 2 h_ij could exceed the listed radius; the kernels check
+        r < 2 h_ij, so the skin changes which pairs are visited, never the result."""
         st = self.state
-        radius = 2.0 * float(st.h.max()) * (1.0 + 1e-9)
-        if self.s.periodic_box is not None:
+        periodic = self.s.periodic_box is not None
+        if not force and not periodic:
+            moved = np.max((st.x - self._x_built) ** 2 + (st.y - self._y_built) ** 2)
+            if (math.sqrt(moved) < 0.5 * self._skin
+                    and 2.0 * float(st.h.max()) + math.sqrt(moved) * 2.0 < self._radius):
+                return
+        skin = 0.0 if periodic else self.s.neighbour_skin * float(st.h.max())
+        radius = 2.0 * float(st.h.max()) * (1.0 + 1e-9) + skin
+        if periodic:
             lx, ly = self.s.periodic_box
             box = Box(lx, ly, True, 0.0, 0.0)
         else:
             box = Box.around(st.x, st.y, radius)
         self.offsets, self.index = neighbour_list(st.x, st.y, radius, box)
+        self._x_built, self._y_built = st.x.copy(), st.y.copy()
+        self._skin, self._radius = skin, radius
 
     def _forces(self, dt):
         st, k = self.state, self.k
@@ -274,7 +287,7 @@ class Engine:
         st.y += dt * st.vy
         self._wrap()
         k.kinematic_position(st.y, self.kinematic, self.prm)
-        self._neighbours()
+        self._neighbours(force=False)
         self._forces(dt)
         st.vx += 0.5 * dt * self.ax
         st.vy += 0.5 * dt * self.ay

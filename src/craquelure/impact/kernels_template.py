@@ -166,7 +166,14 @@ def force_pass(x, y, vx, vy, m, rho, h, nom, rst, offsets, index, prm, ax, ay, p
                     mu_max = -mu
             if ARTIFICIAL_STRESS:
                 wd = kernel_w(KIND, prm[P_SPACING], s, DIM)
-                fn = (kernel_w(KIND, r, s, DIM) / wd) ** prm[P_AS_N] if wd > 0.0 else 0.0
+                fn = 0.0
+                if wd > 0.0:
+                    f = kernel_w(KIND, r, s, DIM) / wd
+                    if prm[P_AS_N] == 4.0:
+                        f2 = f * f
+                        fn = f2 * f2
+                    else:
+                        fn = f ** prm[P_AS_N]
                 cxx = fn * (rst[i, 0] + rst[j, 0])
                 cyy = fn * (rst[i, 1] + rst[j, 1])
                 cxy = fn * (rst[i, 2] + rst[j, 2])

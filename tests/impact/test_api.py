@@ -1,0 +1,52 @@
+"""Run datasets (provenance, determinism, divergence) and the workflow helpers."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from craquelure.errors import SimulationDiverged
+from craquelure.impact import workflow
+from craquelure.impact.api import run
+from craquelure.io import open_dataset
+from craquelure.scene import load_scene, project_root
+
+CI = ["outputs.t_end=1.0e-4", "outputs.snapshot_times=[5.0e-5]"]
+
+
+def test_run_dataset_is_complete_and_deterministic(tmp_path):
+    scene = load_scene("impact/ci", [*CI, "particles.masses.distribution=uniform"])
+    a = open_dataset(run(scene, tmp_path / "a.nc", seed=3))
+    b = open_dataset(run(scene, tmp_path / "b.nc", seed=3))
+    for key in ("x", "y", "damage", "plastic_strain", "mass", "series_contact_force",
+                "snap_softening"):
+        assert np.array_equal(a[key].values, b[key].values), key
+    assert a.attrs["seed"] == 3 and a.attrs["model"] == "impact"
+    assert "elasticity" in a.attrs["effects"] and "numerics:" in a.attrs["scene"]
+    assert a.sizes["snapshot_time"] == 2  # 50 us and the end
+    assert a["mass"].sum() == pytest.approx(a.sizes["particle"] * 2400.0 * 0.01**2, rel=1e-12)
+    assert abs(a.attrs["metric_energy_balance_error_max"]) < 0.02
+    c = open_dataset(run(scene, tmp_path / "c.nc", seed=4))
+    assert not np.array_equal(a["mass"].values, c["mass"].values)
+
+
+def test_divergence_stops_without_output(tmp_path):
+    # mass-based penalty with a = 10: sqrt(a) > 2, the contact oscillator is unstable
+    scene = load_scene("impact/ci", [*CI, "numerics.contact_a=10.0", "particles.gap=0.0",
+                                     "effects=[elasticity, contact_mass]"])
+    out = tmp_path / "run.nc"
+    with pytest.raises(SimulationDiverged, match=r"t = .* step \d+: total energy"):
+        run(scene, out, seed=1)
+    assert not out.exists()
+    assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("profile,expected", [("config.yaml", 36), ("ci.yaml", 18),
+                                              ("paper.yaml", 132)])
+def test_campaign_sizes(profile, expected):
+    section = yaml.safe_load(Path(project_root() / "config" / profile).read_text())["impact"]
+    runs = workflow.campaign_runs(section)
+    assert len(runs) == len(set(runs)) == expected
+    figs = workflow.figure_runs(section)
+    assert set(p for v in figs.values() for p in ([v] if isinstance(v, str) else v)) <= set(runs)
