@@ -4,6 +4,8 @@ and the dataset written by ``craquelure init`` on the drying CI scene."""
 from __future__ import annotations
 
 import os
+import subprocess
+import sys
 from pathlib import Path
 
 import netCDF4
@@ -188,6 +190,22 @@ def test_init_same_seed_same_arrays(init_datasets):
     order_cells = np.floor(a["y"].values / 0.2).astype(int) * 10 + np.floor(
         a["x"].values / 0.2).astype(int)
     assert np.all(np.diff(order_cells) >= 0)
+
+
+def test_init_console_script_in_a_new_process_gives_the_same_dataset(init_datasets, tmp_path):
+    # The installed `craquelure` entry point, another process and another thread count:
+    # same scene + seed -> same arrays.
+    script = Path(sys.executable).parent / "craquelure"
+    out = tmp_path / "sub.nc"
+    proc = subprocess.run([str(script), "init", "drying/ci", "--seed", "1", "--out", str(out),
+                           "--threads", "2"], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert "wrote" in proc.stdout and "1600 particles" in proc.stdout
+    a, b = open_dataset(init_datasets["a"]), open_dataset(out)
+    for name in a.data_vars:
+        np.testing.assert_array_equal(a[name].values, b[name].values)
+    for key in ("cg_iterations", "cg_residual", "scene", "seed", "effects"):
+        assert a.attrs[key] == b.attrs[key]
 
 
 def test_init_errors_exit_nonzero(tmp_path, capsys):
