@@ -12,6 +12,7 @@ report: "workflow/report/workflow.rst"
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/drying.smk"
+include: "workflow/rules/lattice.smk"
 include: "workflow/rules/drying_analysis.smk"
 include: "workflow/rules/impact.smk"
 

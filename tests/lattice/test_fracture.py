@@ -35,7 +35,7 @@ def pull_single_beam(psi, speed=2e-6):
         if s.state[0] == 1:
             previous = eng.bratio[0]
     ell, cs, sn, e, p1, p2, _ = deformation(q[0, 1] - q[0, 0], q[1, 1] - q[1, 0], q[2, 0],
-                                            q[2, 1], *eng.bref[:, 0])
+                                            q[2, 1], *eng.bref[:, 0], 0.0)
     n = c.kn * e
     v = (c.a + c.b) * (p1 + p2) / ell
     return (max(n, 0) / c.area / SIGMA0, abs(v) / c.area / TAU0), previous, eng

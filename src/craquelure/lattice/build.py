@@ -128,6 +128,7 @@ def engine_params(scene: Scene, system: System) -> dict[str, float]:
         dt=time_step(scene, system),
         beta=2.0 * g("numerics.bond_damping") * math.sqrt(m / c.kn),
         gamma=g("numerics.mass_damping"),
+        mass_damping_until=g("numerics.mass_damping_until", math.inf),
         area=c.area, inertia=c.inertia, width=c.width, E_b=c.E_b, block=system.L,
         cell_area=beam.cell_area(system.L),
         load_ramp=g("loads.ramp_time"),

@@ -32,7 +32,8 @@ PARAM_NAMES = ("dt", "beta", "gamma", "area", "inertia", "width", "sigma0", "tau
                "g", "rho", "rho_w", "water_level", "drag_rate", "drag_everywhere",
                "bed_level", "bed_stiffness", "bed_damping", "bed_friction",
                "period_x", "drive_vx", "drive_vy", "drive_amplitude", "drive_period",
-               "drive_start", "load_ramp", "energy_tolerance", "energy_floor", "cell_area")
+               "drive_start", "load_ramp", "energy_tolerance", "energy_floor", "cell_area",
+               "mass_damping_until")
 
 
 @dataclass
@@ -119,7 +120,7 @@ def default_params(**values) -> np.ndarray:
     p.update(energy_tolerance=0.05, energy_floor=1e-300, area=1.0, inertia=1.0 / 12,
              width=1.0, sigma0=1.0, tau0=1.0, E_b=1.0, block=1.0, skin=0.2, rho=1.0,
              cell_area=math.sqrt(3) / 2, friction_viscosity=1.0, water_level=-math.inf,
-             bed_level=-math.inf)
+             bed_level=-math.inf, mass_damping_until=math.inf)
     unknown = set(values) - set(p)
     if unknown:
         raise KeyError(f"unknown engine parameters {sorted(unknown)}")

@@ -14,8 +14,9 @@ One call of :func:`advance` performs up to ``n_steps`` central-difference steps 
 3. contacts (serial, optional): repulsion and friction over the Verlet pair list;
 4. particles (parallel): gather bond forces through the particle -> bond CSR, add gravity,
    buoyancy, bed, loads; update each dof with
-   ``x+ = [2x - (1 - g dt/2) x- + dt^2 F/m] / (1 + g dt/2)`` (g: mass damping + drag + bed
-   damping rates, i.e. C = g M, implicit), clamp fixed dofs, prescribe driven ones;
+   ``x+ = [2x - (1 - g dt/2) x- + dt^2 F/m] / (1 + g dt/2)`` (g: mass damping (until
+   ``GAMMA_UNTIL``) + drag + bed damping rates, i.e. C = g M, implicit), clamp fixed dofs,
+   prescribe driven ones;
 5. energy sample every ``series_every`` steps: E_tot = KE + KE_rot + U_beams + U_contact +
    U_external - W_ext + E_damp + E_fract + E_melt (section 8), with KE = 1/2 m v- . v+ from
    the two half-step velocities; with work and damping booked as trapezoidal sums
@@ -60,8 +61,8 @@ KC, MU_F, C_T, SKIN = 13, 14, 15, 16
 G, RHO, RHO_W, Y_WATER, C_DRAG, DRAG_ALL = 17, 18, 19, 20, 21, 22
 Y_BED, K_BED, C_BED, C_FRIC_BED = 23, 24, 25, 26
 LX, DRIVE_VX, DRIVE_VY, DRIVE_AMP, DRIVE_PERIOD, DRIVE_T0, LOAD_RAMP = 27, 28, 29, 30, 31, 32, 33
-ENERGY_TOL, ENERGY_FLOOR, CELL_AREA = 34, 35, 36
-N_PARAMS = 37
+ENERGY_TOL, ENERGY_FLOOR, CELL_AREA, GAMMA_UNTIL = 34, 35, 36, 37
+N_PARAMS = 38
 # accumulator indices
 A_DAMP, A_FRACT, A_MELT, A_WORK, A_BROKEN, A_MELTED, A_E0, A_E0SET = 0, 1, 2, 3, 4, 5, 6, 7
 N_ACC = 8
@@ -100,7 +101,7 @@ def bond_deformations(q, bi, bj, bref, state, lx, out):
             continue
         dx, dy = _chord(q, bi[b], bj[b], lx)
         _, _, _, e, p1, p2, _ = deformation(dx, dy, q[2, bi[b]], q[2, bj[b]], bref[0, b],
-                                             bref[1, b], bref[2, b], bref[3, b])
+                                             bref[1, b], bref[2, b], bref[3, b], 0.0)
         out[0, b], out[1, b], out[2, b] = e, p1, p2
 
 
@@ -137,8 +138,10 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
                     continue
                 i, j = bi[b], bj[b]
                 dx, dy = _chord(q, i, j, lx)
+                dref = (qm[2, i] - bref[2, b]) - bprev[1, b]  # chord rotation at t - dt
                 ell, c, s, e, p1, p2, alpha = deformation(dx, dy, q[2, i], q[2, j], bref[0, b],
-                                                          bref[1, b], bref[2, b], bref[3, b])
+                                                          bref[1, b], bref[2, b], bref[3, b],
+                                                          dref)
                 kn, ka, kb = bk[0, b], bk[1, b], bk[2, b]
                 nax = kn * e
                 m1 = ka * p1 + kb * p2
@@ -265,6 +268,7 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
         # 4. particles
         ux_d, uy_d = _drive(t + dt, p)
         ramp = min(1.0, t / p[LOAD_RAMP]) if p[LOAD_RAMP] > 0.0 else 1.0
+        gam = p[GAMMA] if t < p[GAMMA_UNTIL] else 0.0
         kin = 0.0
         rot = 0.0
         u_ext = 0.0
@@ -299,8 +303,8 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
                 fx += fc[0, i]
                 fy += fc[1, i]
             yi = q[1, i]
-            gx = p[GAMMA]
-            gy = p[GAMMA]
+            gx = gam
+            gy = gam
             if HAS_GRAVITY:
                 fg, ug = gravity(m, p[G], yi, qref[1, i])
                 fy += fg
@@ -326,7 +330,7 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
             fy += lfy
             # update each dof
             fdof = (fx, fy, tq)
-            gdof = (gx, gy, p[GAMMA])
+            gdof = (gx, gy, gam)
             for a in range(3):
                 mm = m if a < 2 else inertia[i]
                 xa = q[a, i]

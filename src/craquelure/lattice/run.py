@@ -67,7 +67,9 @@ def to_dataset(scene: Scene, seed: int, engine: Engine, labels: dict, frames: di
         "dt": engine.dt, "steps": engine.step, "kn": c.kn, "ks": c.ks, "E_b": c.E_b,
         "beam_width": c.width, "E": moduli["E"], "nu": moduli["nu"], "P_modulus": moduli["M"],
         "rho2": float(s.mass[0] / beam.cell_area(s.L)), "L": s.L, "period_x": s.period_x,
-        "n_particles": s.n, "n_bonds_final": int(s.bi.size)})
+        "n_particles": s.n, "n_bonds_final": int(s.bi.size),
+        "water_level": float(scene.get("domain.water_level", np.nan)),
+        "bed_level": float(scene.get("domain.bed_level", np.nan))})
     ds.attrs.update(provenance_attrs(scene, seed, clock))
     return ds
 

@@ -38,11 +38,15 @@ def wrap_angle(a):
 
 
 @njit(inline="always", cache=True)
-def deformation(dx, dy, thi, thj, l0, a0, t0i, t0j):
-    """(ell, cos alpha, sin alpha, e, phi1', phi2', alpha) of a bond with chord (dx, dy)."""
+def deformation(dx, dy, thi, thj, l0, a0, t0i, t0j, dref):
+    """(ell, cos alpha, sin alpha, e, phi1', phi2', alpha) of a bond with chord (dx, dy).
+
+    The chord rotation is unwrapped against ``dref`` (its value one step earlier):
+    Delta alpha = dref + wrap(alpha - alpha0 - dref), so a tumbling fragment whose bonds turn
+    by more than pi keeps continuous end rotations (no 2 pi jump in phi')."""
     ell = math.sqrt(dx * dx + dy * dy)
     alpha = math.atan2(dy, dx)
-    dalpha = wrap_angle(alpha - a0)
+    dalpha = dref + wrap_angle(alpha - a0 - dref)
     return (ell, dx / ell, dy / ell, ell - l0, (thi - t0i) - dalpha, (thj - t0j) - dalpha,
             alpha)
 

@@ -1,0 +1,56 @@
+"""Throughput measurements of the lattice kernel (benchmarks and the scaling figure).
+
+A square-ish free block of about N particles with shear-beam bonds (beams only, or with
+fracture/contact), a small random velocity field, and the wall time of ``steps`` steps after
+a warm-up call (compilation excluded); the best of ``repeats`` is kept. The spec's scaling
+figure (section 9) is a weak-scaling plot of an MPI code; this shared-memory port reports the
+serial form of it: time per step per particle versus N (constant = ideal), plus bond updates
+per second.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from craquelure.lattice import beam
+from craquelure.lattice.engine import Engine, lattice_system, stable_step_estimate
+from craquelure.lattice.geometry import triangular_block
+
+
+def block_engine(n_particles: int, effects=("beams",), seed: int = 0) -> Engine:
+    nx = max(2, int(round(math.sqrt(n_particles * 2 / math.sqrt(3)))))
+    ny = max(2, int(round(n_particles / nx)))
+    x, y, _ = triangular_block(nx, ny)
+    c = beam.shear_beam(1.0, 0.2)
+    s = lattice_system(x, y, kn=c.kn, ka=c.a, kb=c.b)
+    params = dict(dt=0.2 * stable_step_estimate(s), area=c.area, inertia=c.inertia,
+                  width=c.width, sigma0=1.0, tau0=1.0, contact_stiffness=1.0)
+    eng = Engine(s, tuple(effects), params, series_every=100, seed=seed)
+    rng = np.random.default_rng(seed)
+    eng.set_velocity(*(1e-4 * rng.normal(size=(3, s.n))))
+    return eng
+
+
+def time_per_step(engine: Engine, steps: int, repeats: int = 3) -> float:
+    engine.run(2)  # compile / load the cached kernel
+    best = math.inf
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        engine.run(steps)
+        best = min(best, time.perf_counter() - t0)
+    return best / steps
+
+
+def scaling(particles, steps: int, effects=("beams",)) -> list[dict]:
+    rows = []
+    for n in particles:
+        eng = block_engine(int(n), effects)
+        t = time_per_step(eng, steps)
+        nb = int(eng.system.bi.size)
+        rows.append({"particles": eng.system.n, "bonds": nb, "time_per_step": t,
+                     "time_per_step_per_particle": t / eng.system.n,
+                     "bond_updates_per_s": nb / t, "parallel": bool(eng.flags["PARALLEL"])})
+    return rows

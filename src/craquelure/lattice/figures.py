@@ -1,0 +1,158 @@
+"""Figures of the lattice model (matplotlib, Agg). Each takes datasets or tables and a title
+that states the profile, scene and sizes."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from craquelure.lattice import fragments  # noqa: E402
+
+
+def _broken_midpoints(ds, frame=0):
+    broken = ds.bond_state.values == 0
+    i, j = ds.bond_i.values[broken], ds.bond_j.values[broken]
+    x, y = ds.x.values[frame], ds.y.values[frame]
+    return 0.5 * (x[i] + x[j]), 0.5 * (y[i] + y[j]), ds.bond_break_time.values[broken]
+
+
+def fragment_labels(ds):
+    body = ds.body.values == 0
+    return fragments.label(ds.sizes["particle"], ds.bond_i.values, ds.bond_j.values,
+                           ds.bond_state.values == 1, include=body)
+
+
+def calving(ds, out, title):
+    labels = fragment_labels(ds)
+    sz = fragments.sizes(labels)
+    fig, ax = plt.subplots(2, 2, figsize=(11, 7), gridspec_kw={"height_ratios": [1.2, 1]})
+    ax = ax.ravel()
+    gs = ax[0].get_gridspec()
+    ax[0].remove()
+    ax[1].remove()
+    big = fig.add_subplot(gs[0, :])
+    x, y = ds.x.values[-1], ds.y.values[-1]
+    counts = np.bincount(labels[labels >= 0])
+    main = np.argmax(counts)
+    colour = np.where(labels == main, 0.0, (labels * 0.618) % 1 + 0.1)
+    big.scatter(x, y, c=colour, s=4, cmap="tab20b", vmin=0, vmax=1.1)
+    wl = ds.attrs.get("water_level")
+    if wl is not None and np.isfinite(wl):
+        big.axhline(wl, color="tab:blue", lw=0.8)
+    big.set_aspect("equal")
+    big.set_title(f"t = {float(ds.frame_time[-1]):.0f}: fragments (main body dark)")
+    ax[2].plot(ds.time, ds.broken, color="k")
+    ax[2].set_xlabel("t")
+    ax[2].set_ylabel("broken beams")
+    c, d, n = fragments.size_distribution(sz)
+    slope, decades = fragments.fit_slope(c, d, n)
+    sel = n > 0
+    ax[3].loglog(c[sel], d[sel], "o", color="k", label="n(s)")
+    if np.isfinite(slope):
+        ref = d[sel][0] * (c[sel] / c[sel][0]) ** -1.5
+        ax[3].loglog(c[sel], ref, "--", color="tab:red", label="s^-3/2")
+    ax[3].set_xlabel("fragment size s (particles)")
+    ax[3].set_ylabel("n(s)")
+    ax[3].set_title(f"{sz.size - 1} fragments, fitted slope {slope:.2f} over {decades:.1f} dec.")
+    ax[3].legend()
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return {"fragments": int(sz.size - 1), "slope": slope, "decades": decades,
+            "broken": int(ds.broken.values[-1]),
+            "calved_particles": int(sz[1:].sum())}
+
+
+def fretting(ds, out, title, per_cycle):
+    fig, ax = plt.subplots(3, 1, figsize=(10, 9), gridspec_kw={"height_ratios": [1, 1, 0.8]})
+    body = ds.body.values == 0
+    x0, y0 = ds.x.values[0], ds.y.values[0]
+    mx, my, tb = _broken_midpoints(ds, 0)
+    ax[0].scatter(x0[body], y0[body], s=1, color="0.8")
+    sc = ax[0].scatter(mx, my, c=tb, s=6, cmap="viridis")
+    fig.colorbar(sc, ax=ax[0], label="break time")
+    ax[0].set_aspect("equal")
+    ax[0].set_title("broken beams in the reference configuration")
+    labels = fragment_labels(ds)
+    counts = np.bincount(labels[labels >= 0])
+    main = np.argmax(counts)
+    x, y = ds.x.values[-1], ds.y.values[-1]
+    ax[1].scatter(x[~body], y[~body], s=3, color="tab:gray")
+    ax[1].scatter(x[body], y[body], s=3, c=np.where(labels[body] == main, 0.0, 1.0),
+                  cmap="coolwarm", vmin=0, vmax=1)
+    ax[1].set_aspect("equal")
+    ax[1].set_title(f"t = {float(ds.frame_time[-1]):.0f}: pad, body and detached platelets (red)")
+    ax[2].bar(np.arange(1, len(per_cycle) + 1) - 0.2, [p["platelets"] for p in per_cycle],
+              width=0.4, label="platelets")
+    ax[2].bar(np.arange(1, len(per_cycle) + 1) + 0.2, [p["mean_size"] for p in per_cycle],
+              width=0.4, label="mean size (particles)")
+    ax[2].set_xlabel("cycle")
+    ax[2].legend()
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def glen(table, fit, frozen_fit, out, title):
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4.2))
+    for kind, marker, f in (("glen", "o", fit), ("frozen", "s", frozen_fit)):
+        rows = [r for r in table if r["kind"] == kind]
+        tau = np.array([r["tau"] for r in rows])
+        mu = np.array([r["mu"] for r in rows])
+        rate = np.array([r["gamma_dot"] for r in rows])
+        lab = "melting-freezing" if kind == "glen" else "lambda frozen (Newtonian)"
+        ax[0].loglog(tau, mu, marker, label=f"{lab}: slope {f[0]:.2f}")
+        ax[0].loglog(tau, f[1] * tau ** f[0], "-", lw=0.8, color="0.4")
+        ax[1].loglog(tau, rate, marker, label=lab)
+    ax[0].set_xlabel("applied shear stress tau_app")
+    ax[0].set_ylabel("viscosity mu = 2 tau / gamma_dot")
+    ax[0].legend(fontsize=8)
+    ax[1].set_xlabel("tau_app")
+    ax[1].set_ylabel("strain rate gamma_dot")
+    ax[1].legend(fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def gravity(ds, predicted, out, title):
+    row = ds.row.values
+    top = row == row.max()
+    x0 = ds.x.values[0][top]
+    dy = ds.y.values[0][top] - ds.y.values[-1][top]
+    fig, ax = plt.subplots(figsize=(8, 4))
+    ax.plot(x0, dy, ".", label="top row settlement")
+    ax.axhline(predicted, color="tab:red", label="rho_2 g H^2 / (2M)")
+    ax.set_xlabel("x")
+    ax.set_ylabel("settlement")
+    ax.legend()
+    ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def scaling(rows, out, title):
+    n = np.array([r["particles"] for r in rows])
+    t = np.array([r["time_per_step_per_particle"] for r in rows])
+    rate = np.array([r["bond_updates_per_s"] for r in rows])
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    ax[0].loglog(n, t * 1e9, "o-")
+    ax[0].set_xlabel("particles N")
+    ax[0].set_ylabel("time per step per particle [ns]")
+    ax[0].set_ylim(t.min() * 1e9 / 3, t.max() * 1e9 * 3)
+    ax[1].semilogx(n, rate / 1e6, "o-")
+    ax[1].axhline(20, color="tab:red", ls="--", label="target 2e7/s")
+    ax[1].set_xlabel("particles N")
+    ax[1].set_ylabel("bond updates per second [1e6]")
+    ax[1].legend()
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)

@@ -1,0 +1,136 @@
+# Beam lattice (NUMFRAC style): Glen's-law sweep, gravity settlement, calving, fretting and a
+# weak-scaling benchmark, each with a report figure and a JSON summary of measured numbers.
+
+from craquelure.lattice import workflow as lattice_workflow
+
+LATTICE = config["lattice"]
+LATTICE_JOBS = lattice_workflow.Jobs(LATTICE, config["profile"])
+
+
+wildcard_constraints:
+    kind="glen|frozen",
+    k="[0-9]+",
+
+
+rule lattice_glen_point:
+    input:
+        scene=LATTICE_JOBS.glen_scene_file,
+    output:
+        "results/lattice/glen/{kind}/tau{k}.nc",
+    params:
+        cli=CRAQUELURE,
+        overrides=LATTICE_JOBS.glen_set,
+        seed=LATTICE["seed"],
+    log:
+        "logs/lattice_glen/{kind}/tau{k}.log",
+    benchmark:
+        "benchmarks/results/lattice_glen/{kind}/tau{k}.tsv"
+    threads: LATTICE["threads"]
+    resources:
+        mem_mb=LATTICE["mem_mb"],
+        runtime=LATTICE["runtime"],
+    shell:
+        "{params.cli} run {input.scene} --seed {params.seed} --out {output} "
+        "--threads {threads} {params.overrides} > {log} 2>&1"
+
+
+rule lattice_glen_figure:
+    input:
+        glen=LATTICE_JOBS.glen_points("glen"),
+        frozen=LATTICE_JOBS.glen_points("frozen"),
+    output:
+        figure=report(
+            "results/lattice/glen/glen.png",
+            caption="../report/lattice_glen.rst",
+            category="Beam lattice",
+            labels={"figure": "Glen's law (Fig. 1)"},
+        ),
+        summary="results/lattice/glen/summary.json",
+        table="results/lattice/glen/glen.tsv",
+    params:
+        title=LATTICE_JOBS.title(LATTICE["glen"]["scene"]),
+    log:
+        "logs/lattice_glen_figure.log",
+    threads: 1
+    resources:
+        mem_mb=LATTICE["mem_mb"],
+        runtime=10,
+    script:
+        "../scripts/lattice_glen.py"
+
+
+rule lattice_run:
+    input:
+        scene="config/scenes/lattice/{scene}.yaml",
+    output:
+        "results/lattice/{scene}/run.nc",
+    params:
+        cli=CRAQUELURE,
+        overrides=LATTICE_JOBS.run_set,
+        seed=LATTICE["seed"],
+    log:
+        "logs/lattice_run/{scene}.log",
+    benchmark:
+        "benchmarks/results/lattice_run/{scene}.tsv"
+    threads: LATTICE["threads"]
+    resources:
+        mem_mb=LATTICE["mem_mb"],
+        runtime=LATTICE["runtime"],
+    wildcard_constraints:
+        scene="gravity_block|calving|fretting",
+    shell:
+        "{params.cli} run {input.scene} --seed {params.seed} --out {output} "
+        "--threads {threads} {params.overrides} > {log} 2>&1"
+
+
+rule lattice_scene_figure:
+    input:
+        "results/lattice/{scene}/run.nc",
+    output:
+        figure=report(
+            "results/lattice/{scene}/{scene}.png",
+            caption="../report/lattice_{scene}.rst",
+            category="Beam lattice",
+            labels={"figure": "{scene}"},
+        ),
+        summary="results/lattice/{scene}/summary.json",
+    params:
+        title=LATTICE_JOBS.scene_title,
+    log:
+        "logs/lattice_figure/{scene}.log",
+    threads: 1
+    resources:
+        mem_mb=LATTICE["mem_mb"],
+        runtime=10,
+    wildcard_constraints:
+        scene="gravity_block|calving|fretting",
+    script:
+        "../scripts/lattice_figures.py"
+
+
+rule lattice_scaling:
+    output:
+        figure=report(
+            "results/lattice/scaling/scaling.png",
+            caption="../report/lattice_scaling.rst",
+            category="Beam lattice",
+            labels={"figure": "weak scaling (Fig. 4)"},
+        ),
+        table="results/lattice/scaling/scaling.tsv",
+    params:
+        particles=LATTICE["scaling"]["particles"],
+        steps=LATTICE["scaling"]["steps"],
+        title=LATTICE_JOBS.title("benchmark block (beams only)"),
+    log:
+        "logs/lattice_scaling.log",
+    benchmark:
+        "benchmarks/results/lattice_scaling.tsv"
+    threads: LATTICE["threads"]
+    resources:
+        mem_mb=LATTICE["mem_mb"],
+        runtime=LATTICE["runtime"],
+    script:
+        "../scripts/lattice_scaling.py"
+
+
+TARGETS["lattice"] = LATTICE_JOBS.targets()

@@ -1,0 +1,23 @@
+"""Weak-scaling figure of the lattice kernel: time per step per particle versus N."""
+
+import sys
+
+import numba
+
+from craquelure.io import write_text_atomic
+from craquelure.lattice import bench, figures
+
+if "snakemake" in globals():
+    smk = snakemake  # noqa: F821
+    sys.stderr = sys.stdout = open(smk.log[0], "w")  # noqa: SIM115
+    numba.set_num_threads(smk.threads)
+    rows = bench.scaling(smk.params.particles, smk.params.steps)
+    lines = ["particles\tbonds\ttime_per_step_s\ttime_per_step_per_particle_s\t"
+             "bond_updates_per_s\tparallel"]
+    lines += [f"{r['particles']}\t{r['bonds']}\t{r['time_per_step']:.6g}\t"
+              f"{r['time_per_step_per_particle']:.6g}\t{r['bond_updates_per_s']:.6g}\t"
+              f"{int(r['parallel'])}" for r in rows]
+    write_text_atomic(smk.output.table, "\n".join(lines) + "\n")
+    figures.scaling(rows, smk.output.figure,
+                    f"{smk.params.title}, {smk.threads} thread(s), {smk.params.steps} steps")
+    print("\n".join(lines))
