@@ -5,7 +5,9 @@ the scene's effect set and imports the copy (numba ``cache=True``): numba freeze
 as compile-time constants, so the branches of absent effects are removed from the machine code
 and cost nothing. Do not import this module directly for runs; ask ``compile.kernels(flags)``.
 
-State ``y = (x (N,d), s (P) [hertz], q (P,d) [hertz + lubrication_tangential])``; pairs ``(i, j)``
+State ``y = (x - x0 (N,d), s (P) [hertz], q (P,d) [hertz + lubrication_tangential])``: the
+centres are stored as displacements from the initial positions x0, so the solver's relative
+tolerance acts on the motion (small on a blocked plateau), not on |x| ~ R; pairs ``(i, j)``
 from ``pi, pj``; ``F0`` the nominal external forces (N,d) ramped as ``F0 min(t/t_r, 1)``;
 ``p = [R, eta, E, k_n, k_t, c_n, c_t, 1/tau_B, t_r]``.
 
@@ -37,9 +39,10 @@ LITERAL_DEFLECTION = False
 
 
 @njit(cache=True)
-def unpack(y, n_part, n_pair, d):
-    """Views of the state as (x (N,d), s (P), q (P,d)); absent parts are zeros."""
-    x = y[: n_part * d].copy().reshape((n_part, d))
+def unpack(y, x0, n_pair):
+    """The state as (x (N,d), s (P), q (P,d)); absent parts are zeros."""
+    n_part, d = x0.shape
+    x = y[: n_part * d].copy().reshape((n_part, d)) + x0
     s = np.zeros(n_pair)
     q = np.zeros((n_pair, d))
     off = n_part * d
@@ -262,11 +265,11 @@ def rigid_forces(v, pi, pj, A, d):
 
 
 @njit(cache=True)
-def rhs_dense(t, y, pi, pj, F0, p):
+def rhs_dense(t, y, x0, pi, pj, F0, p):
     """dy/dt with the dense velocity solve (small N)."""
     n_part, d = F0.shape
     n_pair = pi.shape[0]
-    x, s, q = unpack(y, n_part, n_pair, d)
+    x, s, q = unpack(y, x0, n_pair)
     nv, r, h, a, zn, zt, f, A, b = pair_terms(x, s, q, pi, pj, p)
     c, resid = particle_terms(t, pi, pj, F0, p, f, b)
     M, rhs = assemble_dense(pi, pj, A, c)
@@ -275,15 +278,16 @@ def rhs_dense(t, y, pi, pj, F0, p):
 
 
 @njit(cache=True)
-def min_gap(y, pi, pj, n_part, d, radius):
+def min_gap(y, x0, pi, pj, radius):
     """Smallest surface gap h = r - 2R + s over the pairs (cheap guard)."""
+    n_part, d = x0.shape
     out = np.inf
     off = n_part * d
     for k in range(pi.shape[0]):
         i, j = pi[k], pj[k]
         r2 = 0.0
         for e in range(d):
-            dx = y[i * d + e] - y[j * d + e]
+            dx = y[i * d + e] + x0[i, e] - y[j * d + e] - x0[j, e]
             r2 += dx * dx
         hk = math.sqrt(r2) - 2.0 * radius
         if HAS_HERTZ:

@@ -177,7 +177,12 @@ def _adaptive(system, cls, t_end, rtol, atol, event, rec, guard, max_steps, prog
         solver = cls(system.rhs, t, y, t_bound, rtol=rtol, atol=atol_v)
         while t < t_bound:
             t_old, y_old = t, y.copy()
-            message = solver.step()
+            try:
+                message = solver.step()
+            except (np.linalg.LinAlgError, ValueError, ZeroDivisionError, FloatingPointError) \
+                    as exc:
+                raise SimulationDiverged(f"{cls.__name__} step failed "
+                                         f"{guard.where(t_old, n_steps)}: {exc}") from exc
             if solver.status == "failed":
                 raise SimulationDiverged(f"{cls.__name__} failed {guard.where(t_old, n_steps)}: "
                                          f"{message}")

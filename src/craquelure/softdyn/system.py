@@ -109,13 +109,10 @@ class System:
         return size
 
     def initial_state(self) -> np.ndarray:
-        y = np.zeros(self.state_size)
-        y[: self.n * self.d] = self.x0.ravel()
-        return y
+        return np.zeros(self.state_size)  # displacements, deflections: all zero
 
     def unpack(self, y):
-        return self.k.unpack(np.ascontiguousarray(y, dtype=np.float64), self.n, self.n_pairs,
-                             self.d)
+        return self.k.unpack(np.ascontiguousarray(y, dtype=np.float64), self.x0, self.n_pairs)
 
     def atol_vector(self, atol_length: float) -> np.ndarray:
         return np.full(self.state_size, atol_length * self.radius)
@@ -125,7 +122,7 @@ class System:
         self.n_rhs += 1
         y = np.ascontiguousarray(y, dtype=np.float64)
         if self.solver == "dense":
-            return self.k.rhs_dense(float(t), y, self.pi, self.pj, self.F0, self.p)
+            return self.k.rhs_dense(float(t), y, self.x0, self.pi, self.pj, self.F0, self.p)
         return self._rhs_sparse(float(t), y)
 
     def evaluate(self, t: float, y: np.ndarray) -> dict[str, np.ndarray]:
@@ -154,8 +151,8 @@ class System:
         return ramp * self.F0
 
     def min_gap(self, y: np.ndarray) -> float:
-        return float(self.k.min_gap(np.ascontiguousarray(y, dtype=np.float64), self.pi,
-                                    self.pj, self.n, self.d, self.radius))
+        return float(self.k.min_gap(np.ascontiguousarray(y, dtype=np.float64), self.x0,
+                                    self.pi, self.pj, self.radius))
 
     # ---- sparse path -----------------------------------------------------------------
     def _build_pattern(self) -> None:
