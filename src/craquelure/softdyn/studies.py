@@ -144,7 +144,7 @@ def run_phase(scene) -> xr.Dataset:
     for i, r in enumerate(ratios):
         for j, f in enumerate(force):
             sc = point_scene(scene, scene.get("particles.h0"), float(f),
-                             (f"loads.fh_over_fv={r!r}", "outputs.stop=angle"))
+                             (f"loads.fh_over_fv={float(r)!r}", "outputs.stop=angle"))
             setup = build(sc)
             res = setup.run(sample_times_tau=np.array([]), desc=f"phase r={r:g} F~={f:g}")
             ev = setup.system.evaluate(res.t_stop, res.y_stop)

@@ -1,0 +1,111 @@
+"""Figures of the Soft Dynamics model: Fig. 4 (one T1 in time), Fig. 5 (duration map), Fig. 3
+(T1 occurrence in the (F_h, F_v) plane) and the two-sphere gap history."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def _save(fig, path) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def fig4(ds, path, profile: str, scene: str):
+    t = ds.time.values
+    keep = t > 0
+    fig, ax = plt.subplots(4, 1, figsize=(6.5, 9), sharex=True)
+    ax[0].semilogx(t[keep], ds.theta.values[keep])
+    ax[0].set_ylabel("theta [deg]")
+    ax[1].loglog(t[keep], ds.gap.sel(pair="AB").values[keep])
+    ax[1].set_ylabel("h_AB / R")
+    ax[2].loglog(t[keep], ds.zeta_n.sel(pair="AB").values[keep])
+    ax[2].set_ylabel("zeta_n,AB / (eta R)")
+    for pair in ("AB", "AC", "CD"):
+        ax[3].semilogx(t[keep], ds.force_normal.sel(pair=pair).values[keep], label=pair)
+    ax[3].set_ylabel("f_n / F_v")
+    ax[3].set_xlabel("t / tau")
+    ax[3].legend()
+    if ds.attrs.get("stopped"):
+        for a in ax:
+            a.axvline(ds.attrs["duration"], color="grey", lw=0.8, ls="--")
+    fig.suptitle(f"T1 in time ({profile} profile, scene {scene}): h0 = {ds.attrs['h0']:g} R, "
+                 f"F~ = {ds.attrs['reduced_force']:g}, T = {ds.attrs['duration']:.4g} tau",
+                 fontsize=9)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def fig5(ds, path, profile: str, scene: str):
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for j, force in enumerate(ds.force.values):
+        col = ds.sel(force=force)
+        ok = np.isfinite(col.duration.values)
+        c = colors[j % len(colors)]
+        h0 = col.h0.values
+        ax[0].loglog(h0[ok], col.duration.values[ok], "o-", color=c, label=f"F~ = {force:g}")
+        ax[0].loglog(h0, col.T_P.values, ":", color=c, lw=0.8)
+        ax[0].loglog(h0, col.T_H.values, "--", color=c, lw=0.8)
+        ax[1].loglog(col.h0_over_h_star.values[ok], col.duration.values[ok], "o-", color=c,
+                     label=f"F~ = {force:g}")
+    ax[0].set_ylim(5, None)
+    ax[0].set_xlabel("h0 / R")
+    ax[0].set_ylabel("T / tau")
+    ax[0].set_title("dotted: T_P (Eq. 33), dashed: T_H (Eq. 34)", fontsize=8)
+    ax[0].legend(fontsize=8)
+    ax[1].axvline(1.0, color="grey", lw=0.8)
+    ax[1].set_xlabel("h0 / h*")
+    ax[1].set_ylabel("T / tau")
+    ax[1].legend(fontsize=8)
+    fig.suptitle(f"T1 duration ({profile} profile, scene {scene}): "
+                 f"{int(ds.attrs['n_points'])} runs, {int(ds.attrs['n_finished'])} finished",
+                 fontsize=9)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def fig3(ds, path, profile: str, scene: str):
+    fig, ax = plt.subplots(figsize=(5.5, 5))
+    fh, fv, occ = ds.f_h.values.ravel(), ds.f_v.values.ravel(), ds.occurred.values.ravel()
+    ax.scatter(fh[occ == 1], fv[occ == 1], marker="o", facecolor="white", edgecolor="k",
+               label="T1")
+    ax.scatter(fh[occ == 0], fv[occ == 0], marker="s", color="grey", label="no T1")
+    top = max(fh.max(), fv.max() / math.sqrt(3)) * 1.1
+    x = np.linspace(0, top, 2)
+    ax.plot(x, math.sqrt(3) * x, "k-", lw=0.8, label="F_v = sqrt3 F_h")
+    ax.set_xscale("symlog", linthresh=1e-4)
+    ax.set_yscale("log")
+    ax.set_xlabel("F_h / (E R^2)")
+    ax.set_ylabel("F_v / (E R^2)")
+    ax.legend(fontsize=8)
+    ax.set_title(f"T1 occurrence ({profile} profile, scene {scene}), h0 = {ds.attrs['h0']:g} R,"
+                 f"\ntheta <= {ds.attrs['theta_end_deg']:g} deg within {ds.attrs['t_end']:g} "
+                 f"tau", fontsize=9)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def two_sphere(ds, path, profile: str, scene: str):
+    t = ds.time.values
+    keep = t > 0
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    ax.loglog(t[keep], ds.gap.values[keep, 0], label="h / R")
+    ax.loglog(t[keep], np.abs(ds.deflection_normal.values[keep, 0]), label="|s| / R")
+    ax.axhline(ds.attrs["h_star"], color="grey", lw=0.8, ls="--", label="h*")
+    ax.set_xlabel("t / tau")
+    ax.legend(fontsize=8)
+    ax.set_title(f"two spheres ({profile} profile, scene {scene}): h0 = {ds.attrs['h0']:g} R, "
+                 f"F~ = {ds.attrs['reduced_force']:g}", fontsize=9)
+    fig.tight_layout()
+    return _save(fig, path)

@@ -1,0 +1,135 @@
+# Soft Dynamics: T1 time series (Fig. 4), duration sweep (Fig. 5, one job per grid point),
+# T1 occurrence (Fig. 3) and two-sphere runs.
+from craquelure.softdyn import workflow as softdyn_workflow
+
+softdyn_workflow.configure(config["softdyn"])
+
+
+wildcard_constraints:
+    scene="[A-Za-z0-9_]+",
+    i="[0-9]+",
+    j="[0-9]+",
+
+
+rule softdyn_run:
+    input:
+        scene=softdyn_workflow.scene_path,
+    output:
+        "results/softdyn/{scene}/run.nc",
+    params:
+        cli=CRAQUELURE,
+        overrides=scene_overrides("softdyn"),
+    log:
+        "logs/softdyn/{scene}/run.log",
+    benchmark:
+        "benchmarks/results/softdyn/{scene}/run.tsv"
+    threads: config["softdyn"]["threads"]
+    resources:
+        mem_mb=config["softdyn"]["mem_mb"],
+        runtime=config["softdyn"]["runtime"],
+    shell:
+        "{params.cli} run {input.scene} --out {output} {params.overrides} > {log} 2>&1"
+
+
+rule softdyn_sweep_point:
+    input:
+        scene=softdyn_workflow.scene_path,
+    output:
+        "results/softdyn/{scene}/points/p{i}_{j}.nc",
+    params:
+        overrides=softdyn_workflow.overrides(),
+    log:
+        "logs/softdyn/{scene}/p{i}_{j}.log",
+    benchmark:
+        "benchmarks/results/softdyn/{scene}/p{i}_{j}.tsv"
+    threads: 1
+    resources:
+        mem_mb=config["softdyn"]["mem_mb"],
+        runtime=config["softdyn"]["runtime"],
+    script:
+        "../scripts/softdyn_sweep_point.py"
+
+
+rule softdyn_sweep:
+    input:
+        scene=softdyn_workflow.scene_path,
+        points=softdyn_workflow.sweep_point_files,
+    output:
+        data="results/softdyn/{scene}/sweep.nc",
+        figure=report("results/softdyn/{scene}/fig5.png", caption="../report/softdyn_fig5.rst",
+                      category="Soft Dynamics", subcategory="T1 duration"),
+    params:
+        overrides=softdyn_workflow.overrides(),
+    log:
+        "logs/softdyn/{scene}/sweep.log",
+    threads: 1
+    resources:
+        mem_mb=config["softdyn"]["mem_mb"],
+        runtime=10,
+    script:
+        "../scripts/softdyn_sweep_aggregate.py"
+
+
+rule softdyn_fig4:
+    input:
+        "results/softdyn/{scene}/run.nc",
+    output:
+        report("results/softdyn/{scene}/fig4.png", caption="../report/softdyn_fig4.rst",
+               category="Soft Dynamics", subcategory="T1 in time"),
+    params:
+        kind="fig4",
+        scene="{scene}",
+    log:
+        "logs/softdyn/{scene}/fig4.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    script:
+        "../scripts/softdyn_figure.py"
+
+
+rule softdyn_fig3:
+    input:
+        "results/softdyn/{scene}/run.nc",
+    output:
+        report("results/softdyn/{scene}/fig3.png", caption="../report/softdyn_fig3.rst",
+               category="Soft Dynamics", subcategory="T1 occurrence"),
+    params:
+        kind="fig3",
+        scene="{scene}",
+    log:
+        "logs/softdyn/{scene}/fig3.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    script:
+        "../scripts/softdyn_figure.py"
+
+
+rule softdyn_pair_figure:
+    input:
+        "results/softdyn/{scene}/run.nc",
+    output:
+        report("results/softdyn/{scene}/gaps.png", caption="../report/softdyn_pair.rst",
+               category="Soft Dynamics", subcategory="two spheres"),
+    params:
+        kind="pair",
+        scene="{scene}",
+    log:
+        "logs/softdyn/{scene}/gaps.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    script:
+        "../scripts/softdyn_figure.py"
+
+
+TARGETS["softdyn"] = (
+    expand("results/softdyn/{scene}/fig4.png", scene=config["softdyn"]["single"])
+    + expand("results/softdyn/{scene}/gaps.png", scene=config["softdyn"]["pairs"])
+    + expand("results/softdyn/{scene}/fig5.png", scene=config["softdyn"]["sweep"])
+    + expand("results/softdyn/{scene}/fig3.png", scene=config["softdyn"]["phase"])
+)
