@@ -15,6 +15,7 @@ include: "workflow/rules/drying.smk"
 include: "workflow/rules/lattice.smk"
 include: "workflow/rules/drying_analysis.smk"
 include: "workflow/rules/impact.smk"
+include: "workflow/rules/softdyn.smk"
 
 
 rule all:
