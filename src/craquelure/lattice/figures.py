@@ -86,12 +86,15 @@ def fretting(ds, out, title, per_cycle):
                   cmap="coolwarm", vmin=0, vmax=1)
     ax[1].set_aspect("equal")
     ax[1].set_title(f"t = {float(ds.frame_time[-1]):.0f}: pad, body and detached platelets (red)")
-    ax[2].bar(np.arange(1, len(per_cycle) + 1) - 0.2, [p["platelets"] for p in per_cycle],
-              width=0.4, label="platelets")
-    ax[2].bar(np.arange(1, len(per_cycle) + 1) + 0.2, [p["mean_size"] for p in per_cycle],
-              width=0.4, label="mean size (particles)")
+    cyc = np.arange(1, len(per_cycle) + 1)
+    ax[2].bar(cyc, [p["platelets"] for p in per_cycle], width=0.5, color="tab:red")
+    for k, p in zip(cyc, per_cycle, strict=True):
+        ax[2].annotate(f"mean size {p['mean_size']:.1f}, max depth {p['max_depth']:.1f} L, "
+                       f"{p['broken']} broken beams", (k, p["platelets"]), ha="center",
+                       va="bottom", fontsize=8)
+    ax[2].set_xticks(cyc)
     ax[2].set_xlabel("cycle")
-    ax[2].legend()
+    ax[2].set_ylabel("detached platelets")
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
