@@ -9,6 +9,7 @@ import yaml
 from craquelure.errors import SimulationDiverged
 from craquelure.impact import workflow
 from craquelure.impact.api import run
+from craquelure.impact.specimen import build_specimen
 from craquelure.io import open_dataset
 from craquelure.scene import load_scene, project_root
 
@@ -25,6 +26,9 @@ def test_run_dataset_is_complete_and_deterministic(tmp_path):
     assert a.attrs["seed"] == 3 and a.attrs["model"] == "impact"
     assert "elasticity" in a.attrs["effects"] and "numerics:" in a.attrs["scene"]
     assert a.sizes["snapshot_time"] == 2  # 50 us and the end
+    sp = build_specimen(scene, 3)  # reference positions are the untouched grid
+    assert np.array_equal(a["x0"].values, sp.x) and np.array_equal(a["y0"].values, sp.y)
+    assert not np.array_equal(a["y"].values, sp.y)
     assert a["mass"].sum() == pytest.approx(a.sizes["particle"] * 2400.0 * 0.01**2, rel=1e-12)
     assert abs(a.attrs["metric_energy_balance_error_max"]) < 0.02
     c = open_dataset(run(scene, tmp_path / "c.nc", seed=4))

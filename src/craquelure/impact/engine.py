@@ -180,7 +180,8 @@ class State:
     def __post_init__(self):
         n = self.x.size
         for name in ("x", "y", "vx", "vy", "m", "rho", "h", "h0"):
-            setattr(self, name, np.ascontiguousarray(getattr(self, name), dtype=np.float64))
+            # always a private copy: the engine updates these arrays in place
+            setattr(self, name, np.array(getattr(self, name), dtype=np.float64, copy=True))
         for name, shape in (("sig", (n, 4)), ("nom", (n, 4)), ("kap", n), ("dmg", n),
                             ("epsp", n), ("wp", n), ("eint", n), ("eel", n)):
             if getattr(self, name) is None:
