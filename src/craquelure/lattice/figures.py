@@ -89,9 +89,9 @@ def fretting(ds, out, title, per_cycle):
     cyc = np.arange(1, len(per_cycle) + 1)
     ax[2].bar(cyc, [p["platelets"] for p in per_cycle], width=0.5, color="tab:red")
     for k, p in zip(cyc, per_cycle, strict=True):
-        ax[2].annotate(f"mean size {p['mean_size']:.1f}, max depth {p['max_depth']:.1f} L, "
+        ax[2].annotate(f"mean size {p['mean_size']:.1f}\nmax depth {p['max_depth']:.1f} L\n"
                        f"{p['broken']} broken beams", (k, p["platelets"]), ha="center",
-                       va="bottom", fontsize=8)
+                       va="bottom", fontsize=7)
     ax[2].set_xticks(cyc)
     ax[2].set_xlabel("cycle")
     ax[2].set_ylabel("detached platelets")

@@ -105,7 +105,8 @@ def calving_summary(path, out_png, out_json, title) -> dict:
 
 
 def platelets_per_cycle(ds) -> list[dict]:
-    """Detached body fragments at the end of each tangential cycle (frames at cycle ends)."""
+    """Detached body fragments at the end of each tangential cycle (from the break times of
+    the beams, so no frame is needed at the cycle ends)."""
     scene = load_scene_text(ds.attrs["scene"])
     pad = scene.get("domain.pad")
     times = ds.frame_time.values
@@ -115,8 +116,7 @@ def platelets_per_cycle(ds) -> list[dict]:
     k = 1
     while pad["press_time"] + k * pad["period"] <= times[-1] + 1e-9:
         t_k = pad["press_time"] + k * pad["period"]
-        f = int(np.argmin(np.abs(times - t_k)))
-        broken_by = (ds.bond_state.values == 0) & (ds.bond_break_time.values <= times[f])
+        broken_by = (ds.bond_state.values == 0) & (ds.bond_break_time.values <= t_k)
         intact = ~broken_by & (ds.bond_state.values != 2)
         labels = fragments.label(ds.sizes["particle"], ds.bond_i.values, ds.bond_j.values,
                                  intact, include=body)
@@ -124,7 +124,7 @@ def platelets_per_cycle(ds) -> list[dict]:
         main = np.argmax(sz)
         det = [lab for lab in range(sz.size) if lab != main]
         depth = [float(top - ds.y.values[0][labels == lab].mean()) for lab in det]
-        out.append({"cycle": k, "time": float(times[f]), "platelets": len(det),
+        out.append({"cycle": k, "time": float(t_k), "platelets": len(det),
                     "mean_size": float(np.mean(sz[det])) if det else 0.0,
                     "max_depth": max(depth) if depth else 0.0,
                     "broken": int(broken_by.sum())})
