@@ -39,7 +39,7 @@ def main(argv: list[str] | None = None) -> int:
     except CraquelureError as exc:
         print(f"craquelure {args.command}: error: {exc}", file=sys.stderr)
         return 2
-    except (ValueError, KeyError) as exc:
+    except (ValueError, KeyError, OSError) as exc:
         print(f"craquelure {args.command}: error: {exc}", file=sys.stderr)
         return 2
 
