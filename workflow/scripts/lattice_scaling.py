@@ -13,9 +13,10 @@ if "snakemake" in globals():
     numba.set_num_threads(smk.threads)
     rows = bench.scaling(smk.params.particles, smk.params.steps)
     lines = ["particles\tbonds\ttime_per_step_s\ttime_per_step_per_particle_s\t"
-             "bond_updates_per_s\tparallel"]
+             "bond_updates_per_s\tbond_updates_per_cpu_s\tparallel"]
     lines += [f"{r['particles']}\t{r['bonds']}\t{r['time_per_step']:.6g}\t"
               f"{r['time_per_step_per_particle']:.6g}\t{r['bond_updates_per_s']:.6g}\t"
+              f"{r['bond_updates_per_cpu_s']:.6g}\t"
               f"{int(r['parallel'])}" for r in rows]
     write_text_atomic(smk.output.table, "\n".join(lines) + "\n")
     figures.scaling(rows, smk.output.figure,

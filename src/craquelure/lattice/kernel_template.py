@@ -85,6 +85,26 @@ def _drive(t, p):
     return ux, p[DRIVE_VY] * s
 
 
+@njit(cache=True)
+def _dof(xa, xm, f, g, mm, dt, fixed, driven, target):
+    """One dof of the central-difference update with implicit damping rate g; returns
+    (x+, kinetic 1/2 m v- v+, dissipation, its forward half, support work, its forward half,
+    support force)."""
+    if fixed:
+        xn = xa
+    elif driven:
+        xn = target
+    else:
+        h2 = 0.5 * g * dt
+        xn = (2.0 * xa - (1.0 - h2) * xm + dt * dt * f / mm) / (1.0 + h2)
+    ke = 0.5 * mm * (xa - xm) * (xn - xa) / (dt * dt)
+    if fixed or driven:
+        fsup = mm * (xn - 2.0 * xa + xm) / (dt * dt) - f
+        return xn, ke, 0.0, 0.0, fsup * 0.5 * (xn - xm), fsup * 0.5 * (xn - xa), fsup
+    vc = (xn - xm) / (2.0 * dt)
+    return xn, ke, g * mm * vc * vc * dt, g * mm * vc * 0.5 * (xn - xa), 0.0, 0.0, 0.0
+
+
 @njit(inline="always", cache=True)
 def _chord(q, i, j, lx):
     dx = q[0, j] - q[0, i]
@@ -328,40 +348,26 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
             lfy = load[1, i] * ramp
             fx += lfx
             fy += lfy
-            # update each dof
-            fdof = (fx, fy, tq)
-            gdof = (gx, gy, gam)
-            for a in range(3):
-                mm = m if a < 2 else inertia[i]
-                xa = q[a, i]
-                xm = qm[a, i]
-                if fix[a, i]:
-                    xn = xa
-                elif a < 2 and drive[a, i]:
-                    xn = qref[a, i] + (ux_d if a == 0 else uy_d)
-                else:
-                    h2 = 0.5 * gdof[a] * dt
-                    xn = (2.0 * xa - (1.0 - h2) * xm + dt * dt * fdof[a] / mm) / (1.0 + h2)
-                    vc = (xn - xm) / (2.0 * dt)
-                    diss += gdof[a] * mm * vc * vc * dt
-                    diss_fwd += gdof[a] * mm * vc * 0.5 * (xn - xa)
-                qn[a, i] = xn
-                ke = 0.5 * mm * (xa - xm) * (xn - xa) / (dt * dt)
-                if a < 2:
-                    kin += ke
-                else:
-                    rot += ke
-                if fix[a, i] or (a < 2 and drive[a, i]):
-                    fsup = mm * (xn - 2.0 * xa + xm) / (dt * dt) - fdof[a]
-                    work += fsup * 0.5 * (xn - xm)
-                    work_fwd += fsup * 0.5 * (xn - xa)
-                    if a < 2 and drive[a, i]:
-                        if a == 0:
-                            dfx += fsup
-                        else:
-                            dfy += fsup
-            work += lfx * 0.5 * (qn[0, i] - qm[0, i]) + lfy * 0.5 * (qn[1, i] - qm[1, i])
-            work_fwd += lfx * 0.5 * (qn[0, i] - q[0, i]) + lfy * 0.5 * (qn[1, i] - q[1, i])
+            # update each dof (x, y with the mass, theta with J); one += per reduction
+            xn, kx, dx1, dx2, wx1, wx2, fsx = _dof(q[0, i], qm[0, i], fx, gx, m, dt, fix[0, i],
+                                                   drive[0, i], qref[0, i] + ux_d)
+            yn, ky, dy1, dy2, wy1, wy2, fsy = _dof(q[1, i], qm[1, i], fy, gy, m, dt, fix[1, i],
+                                                   drive[1, i], qref[1, i] + uy_d)
+            tn, kt, dt1, dt2, wt1, wt2, _ = _dof(q[2, i], qm[2, i], tq, gam, inertia[i], dt,
+                                                 fix[2, i], 0, 0.0)
+            qn[0, i] = xn
+            qn[1, i] = yn
+            qn[2, i] = tn
+            kin += kx + ky
+            rot += kt
+            diss += dx1 + dy1 + dt1
+            diss_fwd += dx2 + dy2 + dt2
+            work += (wx1 + wy1 + wt1 + lfx * 0.5 * (xn - qm[0, i])
+                     + lfy * 0.5 * (yn - qm[1, i]))
+            work_fwd += (wx2 + wy2 + wt2 + lfx * 0.5 * (xn - q[0, i])
+                         + lfy * 0.5 * (yn - q[1, i]))
+            dfx += fsx if drive[0, i] else 0.0
+            dfy += fsy if drive[1, i] else 0.0
             if load[0, i] != 0.0 or load[1, i] != 0.0:
                 lux += q[0, i] - qref[0, i]
                 luy += q[1, i] - qref[1, i]
