@@ -2,11 +2,12 @@
 
 import numpy as np
 import pytest
-from synthetic_run import lattice_run
 
 from craquelure.drying.binarise import binarise, edge_depth, phi_field, snapshot_image
 from craquelure.drying.fragments import fragment_areas, label_periodic
 from craquelure.sph.field import mesh_field
+
+from .synthetic_run import lattice_run
 
 L, N_SIDE, H = 2.0, 40, 0.2
 DELTA = L / N_SIDE  # particle spacing h/4

@@ -2,12 +2,13 @@
 
 import numpy as np
 import pytest
-from synthetic_run import fragment_dataset
 
 from craquelure.cli import main as cli_main
 from craquelure.drying.campaign import build_campaign, pooled_mean
 from craquelure.errors import CraquelureError
 from craquelure.io import open_dataset, write_dataset
+
+from .synthetic_run import fragment_dataset
 
 TIMES = np.arange(9.0, 31.0)  # default profile snapshots; t* = 22.7, window [18, 30]
 

@@ -4,7 +4,6 @@ with drawn content, and the captions carry the profile, sizes and fitted numbers
 import numpy as np
 import pytest
 from matplotlib.image import imread
-from synthetic_run import fragment_dataset, lattice_run
 
 from craquelure.drying.campaign import build_campaign
 from craquelure.drying.figures import (
@@ -15,6 +14,8 @@ from craquelure.drying.figures import (
     setup_line,
 )
 from craquelure.drying.statistics import summarise
+
+from .synthetic_run import fragment_dataset, lattice_run
 
 TIMES = np.arange(9.0, 31.0)
 

@@ -4,11 +4,12 @@ fragment dataset / `craquelure fragments` command."""
 import numpy as np
 import pytest
 from skimage.measure import label as sk_label
-from synthetic_run import lattice_run
 
 from craquelure.cli import main as cli_main
 from craquelure.drying.fragments import analyse_run, fragment_areas, label_periodic
 from craquelure.io import open_dataset, write_dataset
+
+from .synthetic_run import lattice_run
 
 M = 40  # synthetic image side (pixels)
 DX = 0.25  # pixel spacing, so L = 10

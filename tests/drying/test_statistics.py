@@ -6,7 +6,6 @@ import json
 import numpy as np
 import pytest
 from scipy import stats
-from synthetic_run import fragment_dataset
 
 from craquelure.drying.campaign import build_campaign
 from craquelure.drying.statistics import (
@@ -16,6 +15,8 @@ from craquelure.drying.statistics import (
     paper_t_star,
     summarise,
 )
+
+from .synthetic_run import fragment_dataset
 
 T_STAR = 5e-3 / 2.2e-4  # default scene: 22.7
 TIMES = np.arange(9.0, 31.0)
