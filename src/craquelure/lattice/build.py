@@ -145,7 +145,7 @@ def engine_params(scene: Scene, system: System) -> dict[str, float]:
         p.update(contact_stiffness=g("contact.stiffness"), friction=g("contact.friction"),
                  friction_viscosity=g("contact.friction_viscosity"), skin=g("contact.skin"))
     if scene.has("gravity") or scene.has("buoyancy"):
-        p.update(g=g("material.g"))
+        p.update(g=g("material.g"), slope_angle=math.radians(g("material.slope_angle")))
     if scene.has("buoyancy") or scene.has("drag"):
         p.update(water_level=g("domain.water_level", -math.inf), rho_w=g("material.rho_w", 1.0))
     if scene.has("drag"):

@@ -33,7 +33,7 @@ PARAM_NAMES = ("dt", "beta", "gamma", "area", "inertia", "width", "sigma0", "tau
                "bed_level", "bed_stiffness", "bed_damping", "bed_friction",
                "period_x", "drive_vx", "drive_vy", "drive_amplitude", "drive_period",
                "drive_start", "load_ramp", "energy_tolerance", "energy_floor", "cell_area",
-               "mass_damping_until")
+               "mass_damping_until", "slope_angle")
 
 
 @dataclass

@@ -61,8 +61,8 @@ KC, MU_F, C_T, SKIN = 13, 14, 15, 16
 G, RHO, RHO_W, Y_WATER, C_DRAG, DRAG_ALL = 17, 18, 19, 20, 21, 22
 Y_BED, K_BED, C_BED, C_FRIC_BED = 23, 24, 25, 26
 LX, DRIVE_VX, DRIVE_VY, DRIVE_AMP, DRIVE_PERIOD, DRIVE_T0, LOAD_RAMP = 27, 28, 29, 30, 31, 32, 33
-ENERGY_TOL, ENERGY_FLOOR, CELL_AREA, GAMMA_UNTIL = 34, 35, 36, 37
-N_PARAMS = 38
+ENERGY_TOL, ENERGY_FLOOR, CELL_AREA, GAMMA_UNTIL, SLOPE = 34, 35, 36, 37, 38
+N_PARAMS = 39
 # accumulator indices
 A_DAMP, A_FRACT, A_MELT, A_WORK, A_BROKEN, A_MELTED, A_E0, A_E0SET = 0, 1, 2, 3, 4, 5, 6, 7
 N_ACC = 8
@@ -289,6 +289,8 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
         ux_d, uy_d = _drive(t + dt, p)
         ramp = min(1.0, t / p[LOAD_RAMP]) if p[LOAD_RAMP] > 0.0 else 1.0
         gam = p[GAMMA] if t < p[GAMMA_UNTIL] else 0.0
+        g_x = p[G] * math.sin(p[SLOPE])
+        g_y = -p[G] * math.cos(p[SLOPE])
         kin = 0.0
         rot = 0.0
         u_ext = 0.0
@@ -326,8 +328,9 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
             gx = gam
             gy = gam
             if HAS_GRAVITY:
-                fg, ug = gravity(m, p[G], yi, qref[1, i])
-                fy += fg
+                fgx, fgy, ug = gravity(m, g_x, g_y, q[0, i], yi, qref[0, i], qref[1, i])
+                fx += fgx
+                fy += fgy
                 u_ext += ug
             if HAS_BUOYANCY:
                 fb, ub = buoyancy(m, p[RHO], p[RHO_W], p[G], yi, qref[1, i], p[Y_WATER])

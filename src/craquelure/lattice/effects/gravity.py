@@ -1,5 +1,10 @@
-r"""Gravity: :math:`F_y = -m g` on every particle, energy :math:`m g (y - y_{ref})` with the
-initial positions as reference (lattice spec sections 5 and 10)."""
+r"""Gravity, optionally along a slope (lattice spec sections 5 and 10).
+
+:math:`F = m g (\sin\beta, -\cos\beta)` on every particle (:math:`\beta` =
+``material.slope_angle`` in degrees, 0: vertical gravity; a slab on an inclined bed is
+simulated in the frame of the bed, x along the slope), energy
+:math:`-F\cdot(r - r_{ref})` with the initial positions as reference.
+"""
 
 from numba import njit
 
@@ -8,12 +13,14 @@ from craquelure.registry import Effect
 EFFECT = Effect(
     name="gravity",
     models=("lattice",),
-    description="uniform gravity -m g along y",
+    description="uniform gravity m g, vertical or along a slope (material.slope_angle)",
     requires={"lattice": ("material.g",)},
 )
 
 
 @njit(inline="always", cache=True)
-def gravity(m, g, y, y_ref):
-    """(force y, energy relative to y_ref)."""
-    return -m * g, m * g * (y - y_ref)
+def gravity(m, gx, gy, x, y, x_ref, y_ref):
+    """(force x, force y, energy relative to the reference position); (gx, gy) = g (sin b,
+    -cos b)."""
+    fx, fy = m * gx, m * gy
+    return fx, fy, -(fx * (x - x_ref) + fy * (y - y_ref))
