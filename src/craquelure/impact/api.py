@@ -27,7 +27,7 @@ from craquelure.scene import Scene
 
 # Steps per second of the 1264-particle disc on one thread of this machine (measured with
 # benchmarks/impact_engine.py); only for the wall-time estimate of `craquelure check`.
-STEPS_PER_S = 180.0
+STEPS_PER_S = 300.0
 
 
 def concrete(scene: Scene) -> Concrete:
