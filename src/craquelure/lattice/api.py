@@ -14,9 +14,9 @@ from craquelure.lattice.run import run as _run
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 
-# bond updates per second of the serial kernel (benchmarks/lattice_engine.py, this machine);
-# used only for wall-time estimates
-BOND_UPDATES_PER_S = 3.0e7
+# bond updates per second of the serial kernel (benchmarks/lattice_engine.py on this shared
+# 2-core machine, 2026-11-22: 1.1e7 wall); used only for wall-time estimates
+BOND_UPDATES_PER_S = 1.0e7
 
 __all__ = ["build_initial_state", "derived_numbers", "run"]
 
