@@ -28,16 +28,15 @@ as damage (+ residual) dissipation. NaN/inf or E > factor·E(0) raises
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import inspect
 import math
 import os
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from craquelure.codegen import import_generated
 from craquelure.errors import SimulationDiverged
 from craquelure.impact import kernels_template
 from craquelure.impact.effects import (
@@ -68,7 +67,6 @@ FLAG_OF_EFFECT = {
 _FRAGMENTS = (kernels_template, artificial_stress, artificial_viscosity, contact_bulk,
               contact_mass, damage, elasticity, plasticity, variable_smoothing_length,
               sph_kernels)
-_LOADED: dict[str, object] = {}
 
 
 def cache_dir() -> Path:
@@ -89,20 +87,8 @@ def kernels_for(effects, periodic: bool = False):
     for mod in _FRAGMENTS:
         digest.update(inspect.getsource(mod).encode())
     name = f"k_{digest.hexdigest()[:16]}"
-    if name in _LOADED:
-        return _LOADED[name]
-    folder = cache_dir()
-    folder.mkdir(parents=True, exist_ok=True)
-    path = folder / f"{name}.py"
-    if not path.exists() or path.read_text() != source:
-        tmp = path.with_name(f".{name}.{os.getpid()}.tmp")
-        tmp.write_text(source)
-        os.replace(tmp, path)
-    spec = importlib.util.spec_from_file_location(f"craquelure_impact_kernels_{name}", path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    _LOADED[name] = module
+    module = import_generated(source, f"craquelure_impact_kernels_{name}",
+                              cache_dir() / f"{name}.py")
     return module
 
 

@@ -10,13 +10,13 @@ constants: absent effects are compiled out.
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import os
 import re
-import sys
 from functools import cache
 from pathlib import Path
 from types import ModuleType
+
+from craquelure.codegen import import_generated
 
 FLAGS = ("HAS_BEAMS", "HAS_FRACTURE", "HAS_MELTING", "HAS_CONTACT", "HAS_GRAVITY",
          "HAS_BUOYANCY", "HAS_DRAG", "HAS_BED", "PERIODIC_X", "NODE_AVERAGED", "BENDING",
@@ -68,16 +68,7 @@ def _load(key: tuple[tuple[str, bool], ...]) -> ModuleType:
     flags = dict(key)
     tag = "".join("1" if flags[name] else "0" for name in FLAGS)
     name = f"craquelure_lattice_kernel_{tag}_{_source_hash()}"
-    path = kernel_dir() / f"{name}.py"
-    if not path.exists():
-        tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-        tmp.write_text(generate_source(flags))
-        os.replace(tmp, path)
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    spec.loader.exec_module(module)
-    return module
+    return import_generated(generate_source(flags), name, kernel_dir() / f"{name}.py")
 
 
 def kernel_module(flags: dict[str, bool]) -> ModuleType:

@@ -11,13 +11,13 @@ it. Absent effects are compile-time ``False`` and their code is removed.
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import os
-import sys
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 from types import ModuleType
+
+from craquelure.codegen import import_generated
 
 _HERE = Path(__file__).resolve().parent
 _SOURCES = ("_rhs_template.py", "effects/hertz.py", "effects/lubrication_normal.py",
@@ -59,15 +59,4 @@ def kernels(flags: Flags) -> ModuleType:
     for rel in _SOURCES[1:]:
         digest.update((_HERE / rel).read_bytes())
     name = f"softdyn_rhs_{flags.tag}_{digest.hexdigest()[:12]}"
-    folder = cache_dir()
-    folder.mkdir(parents=True, exist_ok=True)
-    path = folder / f"{name}.py"
-    if not path.is_file() or path.read_text() != source:
-        tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-        tmp.write_text(source)
-        os.replace(tmp, path)
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    spec.loader.exec_module(module)
-    return module
+    return import_generated(source, name, cache_dir() / f"{name}.py")
