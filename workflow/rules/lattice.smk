@@ -89,7 +89,7 @@ rule lattice_scene_figure:
     output:
         figure=report(
             "results/lattice/{scene}/{scene}.png",
-            caption="../report/lattice_{scene}.rst",
+            caption="../report/lattice_scene.rst",
             category="Beam lattice",
             labels={"figure": "{scene}"},
         ),
