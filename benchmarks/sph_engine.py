@@ -19,6 +19,7 @@ import yaml
 
 from craquelure.drying.engine import DryingEngine
 from craquelure.scene import load_scene_text
+from craquelure.sph.neighbours import Box, cell_order
 from craquelure.sph.positions import random_sequential_addition
 
 EFFECT_SETS = {
@@ -54,6 +55,8 @@ def main() -> None:
         length = np.sqrt(n) / 20.0
         x, y = random_sequential_addition(n, length, 0.8 * length / np.sqrt(n),
                                           np.random.default_rng(0))
+        order = cell_order(x, y, 0.2, Box.square(length))  # as `craquelure init` stores them
+        x, y = x[order], y[order]
         mass = np.full(n, length**2 / n)
         for label, effects in EFFECT_SETS.items():
             scene = scene_for(n, effects)

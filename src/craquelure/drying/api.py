@@ -8,8 +8,9 @@ from craquelure.drying.initial_state import build_initial_state
 from craquelure.scene import Scene
 
 # Neighbour-pair visits per second per thread of the drying rate function, measured by
-# benchmarks/sph_engine.py on this 2-core machine; used only for wall-time estimates.
-PAIR_VISITS_PER_S_PER_THREAD = 3.0e7
+# benchmarks/sph_engine.py on the 2-core development machine (2026-11-22, 4.6e7 at N = 4e4);
+# used only for wall-time estimates.
+PAIR_VISITS_PER_S_PER_THREAD = 4.6e7
 RK4_REAL_AXIS, ABM4_REAL_AXIS = 2.785, 1.285
 EVALS_PER_STEP = {"rk4": 4, "abm4": 2, "rk2": 2}
 
@@ -43,7 +44,8 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     dt = scene.get("numerics.dt")
     steps = math.ceil(scene.get("outputs.t_end") / dt)
     evals = EVALS_PER_STEP[scene.get("numerics.integrator")]
-    pair_visits = steps * evals * 2 * n * neighbours  # two pair passes per evaluation
+    # two pair passes per evaluation over the Verlet list (radius 1.1 h: 1.21x the pairs in h)
+    pair_visits = steps * evals * 2 * n * 1.21 * neighbours
     return {
         "particle spacing L/sqrt(N)": length / math.sqrt(n),
         "h / spacing": h / (length / math.sqrt(n)),
