@@ -146,7 +146,7 @@ def fig_inverse_mean_area(campaign: xr.Dataset, summary: dict[str, Any], profile
                 label=f"linear fit, R^2 = {fit['r2']:.4f}")
         t0 = fit["x_intercept"]
         if np.isfinite(t0):
-            ext = np.linspace(min(t0, tt[0]), tt[0], 20)
+            ext = np.linspace(max(min(t0, tt[0]), 0.0), tt[0], 20)  # t >= 0 only
             ax.plot(ext, fit["intercept_a"] + fit["slope_b"] * ext, "k:", lw=0.8)
     ax.axvspan(*summary["window"], color="0.9", zorder=0, label="fit window")
     ax.axvline(float(campaign.attrs["t_star"]), color="C3", ls="--", lw=1,
