@@ -12,10 +12,17 @@ CASE = ["particles.h0=0.1", "loads.reduced_force=1.0e-2", "outputs.run_past_stop
 
 
 def duration(*overrides):
+    return run_case(*overrides)[0]
+
+
+def run_case(*overrides, probe_tau=5.0):
+    """(T1 duration / tau, state at t = probe_tau)."""
     setup = build(load_scene("softdyn/t1_single", CASE + list(overrides)))
-    res = setup.run(sample_times_tau=np.array([]))
+    res = setup.run(sample_times_tau=np.array([probe_tau]))
     assert res.stopped
-    return res.t_stop / setup.tau
+    k = int(np.argmin(np.abs(res.t / setup.tau - probe_tau)))
+    assert res.t[k] / setup.tau == pytest.approx(probe_tau, rel=1e-12)
+    return res.t_stop / setup.tau, res.y[k] / setup.system.radius
 
 
 def test_rtol_convergence():
@@ -25,19 +32,37 @@ def test_rtol_convergence():
     assert duration("numerics.integrator=BDF") == pytest.approx(t9, rel=1e-2)
 
 
-def test_fixed_step_heun_converges():
-    """Check 13 (PARTLY MISSED): heun durations converge to the adaptive one, but at observed
-    order 1.0, not 2 (suspected cause: the right-hand side jumps with sgn(s) where a pair's
-    deflection crosses 0, e.g. the far CD pair; not resolved).
-    The explicit step must resolve the Baumgarte rate 1/tau_B, so tau_B = 0.1 tau here, and its
+HEUN = ("numerics.integrator=heun", "numerics.drift_tolerance=1.0",
+        "numerics.baumgarte_time=0.1")
+
+
+def test_fixed_step_heun_converges_at_second_order():
+    """Check 13: heun runs converge to the adaptive reference (LSODA, rtol 1e-11) at 2nd order,
+    on a smooth observable (the whole state at t = 5 tau) and on the T1 duration (the CD-force
+    crossing, located between steps).
+
+    Before the fix the order was 1.0: the last step of the load ramp evaluated its second stage
+    at t = t_r on the right-hand side of the jump of dF/dt (O(dt) local error); the step grid now
+    lands on t_r and the stage is taken on the left. Measured (dt = 0.02 ... 0.0025 tau): state
+    errors 1.9e-6 -> 3.0e-8 R (orders 1.97, 1.98, 1.99), duration errors 9.8e-5 -> 1.7e-6 tau
+    (orders 1.87, 2.11, 1.92). Tolerance 2 +- 0.3 on each halving (the spec's target), the
+    least-squares order within 2 +- 0.15. The explicit step must resolve the Baumgarte rate
+    1/tau_B, so tau_B = 0.1 tau here (the exact solution does not depend on tau_B), and its
     balance residual is O(dt^2) without error control: the drift guard is loosened for it."""
-    ref = duration("numerics.rtol=1.0e-10", "numerics.atol=1.0e-13")
-    errs = [abs(duration("numerics.integrator=heun", f"numerics.dt={dt!r}",
-                         "numerics.drift_tolerance=1.0", "numerics.baumgarte_time=0.1") - ref)
-            for dt in (0.01, 0.005, 0.0025)]
-    orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
-    assert np.all(orders > 0.9), (errs, orders)
-    assert errs[-1] < 1e-3 * ref
+    t_ref, y_ref = run_case("numerics.rtol=1.0e-11", "numerics.atol=1.0e-14",
+                            "numerics.baumgarte_time=0.1")
+    dts = [0.02, 0.01, 0.005, 0.0025]
+    err_t, err_y = [], []
+    for dt in dts:
+        t_h, y_h = run_case(*HEUN, f"numerics.dt={dt!r}")
+        err_t.append(abs(t_h - t_ref))
+        err_y.append(float(np.abs(y_h - y_ref).max()))
+    for errs in (np.array(err_t), np.array(err_y)):
+        orders = np.log2(errs[:-1] / errs[1:])
+        assert np.all(np.abs(orders - 2.0) < 0.3), (errs, orders)
+        fit = np.polyfit(np.log(dts), np.log(errs), 1)[0]
+        assert fit == pytest.approx(2.0, abs=0.15), (errs, fit)
+    assert err_t[-1] < 1e-4 * t_ref  # measured 6e-8 relative at dt = 0.0025 tau
 
 
 def test_heun_needs_a_step():

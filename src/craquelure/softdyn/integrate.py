@@ -213,31 +213,43 @@ def _adaptive(system, cls, t_end, rtol, atol, event, rec, guard, max_steps, prog
 
 
 def _heun(system, t_end, dt, event, rec, guard, max_steps, progress, unit):
-    n_total = int(math.ceil(t_end / dt - 1e-9))
+    """Explicit trapezoid on a step grid that lands on every break of the right-hand side (the
+    end of the load ramp, where dF/dt jumps) and evaluates its second stage there on the
+    left-hand side (``nextafter`` below the break), so no step straddles the jump: a straddling
+    step makes an O(dt) local error, hence first order globally."""
+    breaks = [tb for tb in (system.ramp_time,) if 0.0 < tb < t_end] + [t_end]
+    n_total = sum(int(math.ceil((b - a) / dt - 1e-9))
+                  for a, b in zip([0.0, *breaks[:-1]], breaks, strict=True))
     if n_total > max_steps:
         raise CraquelureError(f"heun: t_end/dt = {n_total} steps > numerics.max_steps")
     y = system.initial_state()
     t = 0.0
     event.start(t, y)
-    for step in range(1, n_total + 1):
-        h = min(dt, t_end - t)
-        k1 = system.rhs(t, y)
-        k2 = system.rhs(t + h, y + h * k1)
-        y_new = y + 0.5 * h * (k1 + k2)
-        t_new = t + h if step < n_total else t_end
-        if system.min_gap(y_new) <= 0.0:
-            raise SimulationDiverged(f"a gap closed (h <= 0) {guard.where(t_new, step)}: "
-                                     f"the heun step dt = {dt / unit:g} tau is too large")
-        guard.check(t_new, y_new, step)
+    step = 0
+    for t_bound in breaks:
+        n_seg = int(math.ceil((t_bound - t) / dt - 1e-9))
+        t_seg = t
+        for m in range(1, n_seg + 1):
+            step += 1
+            t_new = t_seg + (t_bound - t_seg) * m / n_seg if m < n_seg else t_bound
+            h = t_new - t
+            k1 = system.rhs(t, y)
+            t_stage = t_new if m < n_seg else math.nextafter(t_new, -math.inf)
+            k2 = system.rhs(t_stage, y + h * k1)
+            y_new = y + 0.5 * h * (k1 + k2)
+            if system.min_gap(y_new) <= 0.0:
+                raise SimulationDiverged(f"a gap closed (h <= 0) {guard.where(t_new, step)}: "
+                                         f"the heun step dt = {dt / unit:g} tau is too large")
+            guard.check(t_new, y_new, step)
 
-        def interp(tt, t0=t, y0=y, t1=t_new, y1=y_new):
-            w = (tt - t0) / (t1 - t0)
-            return (1.0 - w) * y0 + w * y1
+            def interp(tt, t0=t, y0=y, t1=t_new, y1=y_new):
+                w = (tt - t0) / (t1 - t0)
+                return (1.0 - w) * y0 + w * y1
 
-        rec.take(t_new, interp)
-        if event.crossed(t, t_new, y_new, interp, linear=True):
-            return event.t, event.y, step, 0
-        t, y = t_new, y_new
-        if step % 1000 == 0:
-            progress.update_to(t / unit)
+            rec.take(t_new, interp)
+            if event.crossed(t, t_new, y_new, interp, linear=True):
+                return event.t, event.y, step, 0
+            t, y = t_new, y_new
+            if step % 1000 == 0:
+                progress.update_to(t / unit)
     return t, y, n_total, 0
