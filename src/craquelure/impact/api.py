@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure.errors import CraquelureError
+from craquelure.impact.effects.damage import crack_band_width
 from craquelure.impact.engine import Engine, Settings, State
 from craquelure.impact.material import Concrete
 from craquelure.impact.measure import contact_metrics, run_metrics
@@ -31,7 +32,8 @@ STEPS_PER_S = 300.0
 
 
 def concrete(scene: Scene) -> Concrete:
-    band = scene.get("material.crack_band_width") or initial_smoothing_length(scene)
+    band = scene.get("material.crack_band_width") or crack_band_width(
+        scene.get("particles.spacing"), initial_smoothing_length(scene))
     mat = Concrete(bulk=scene.get("material.bulk_modulus", 1.0),
                    shear=scene.get("material.shear_modulus", 1.0),
                    f_c=scene.get("material.f_c", 1e30), f_bc_ratio=scene.get("material.f_bc_ratio"),

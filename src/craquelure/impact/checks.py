@@ -1,0 +1,77 @@
+"""Numerical experiments of the impact spec's checks that the tests, benchmarks and workflow
+share (spec section 10).
+
+:func:`crack_band_bar` is check 7: a 2D plane-strain bar (length ``length``, ``height_cells``
+rows of spacing Δ) pulled at ±``speed`` by its two end columns on each side (velocity
+prescribed, v_y = 0 there), started with the matching linear velocity profile so that the bar is
+loaded quasi-statically from the first step. The "one weakened row" of the spec is a notch: the
+top and bottom particles of the middle column get zero mass (they carry nothing), so the net
+section is (n_y − 2)Δ and the crack localises there, not at the gripped ends (without it, two
+cracks formed next to the grips and the bar dissipated 1.9 G_F). It runs until the crack can be
+fully open: 1.3 × (w_c + 1.5 κ0 L)/(2 v), w_c = 2G_F/f_t. The dissipation is
+Σ m (e_int − e_el − w_p): the stress work minus the (secant) elastic energy still stored and the
+plastic work; kinetic energy and artificial viscosity are outside e_int by construction.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from craquelure.impact.api import initial_state, settings, softening
+from craquelure.impact.engine import Engine
+from craquelure.impact.specimen import build_specimen
+from craquelure.scene import load_scene
+
+BAR_EFFECTS = "[elasticity, plasticity, damage, artificial_viscosity, variable_smoothing_length]"
+
+
+def crack_band_bar(spacing: float, height_cells: int, kappa: float = 1.0, speed: float = 0.05,
+                   length: float = 0.2, overrides: tuple[str, ...] = ()) -> dict[str, float]:
+    """Run the notched bar; returns dissipation / (G_F × net section) and diagnostics."""
+    nx = int(round(length / spacing))
+    scene = load_scene("impact/default", [
+        "particles.shape=rectangle", f"particles.spacing={spacing}",
+        f"particles.diameter_cells={nx}", f"particles.height_cells={height_cells}",
+        "particles.impact_velocity=0.0", f"numerics.kappa={kappa}", f"effects={BAR_EFFECTS}",
+        *overrides])
+    sp = build_specimen(scene, 0)
+    st = initial_state(scene, sp)
+    x, y = sp.x, sp.y
+    left, right = x < x.min() + 1.5 * spacing, x > x.max() - 1.5 * spacing
+    ends = left | right
+    col = np.rint(x / spacing - 0.5 * (nx % 2 == 0)).astype(int)  # middle column is 0
+    notch = (col == 0) & ((y > y.max() - 0.01 * spacing) | (y < y.min() + 0.01 * spacing))
+    st.m[notch] = 0.0
+    eng = Engine(settings(scene), st)
+    mat = eng.s.material
+    st.vx[:] = speed * x / x.max()
+
+    def drive():
+        st.vx[left], st.vx[right], st.vy[ends] = -speed, speed, 0.0
+        eng.ax[ends] = 0.0
+        eng.ay[ends] = 0.0
+
+    drive()
+    t_end = 1.3 * (2 * mat.G_F / mat.f_t + 1.5 * mat.kappa0 * length) / (2 * speed)
+    t0 = time.process_time()
+    while eng.t < t_end:
+        eng.step()
+        drive()
+        if eng.step_count % 500 == 0:
+            eng.check()
+    eng.check()
+    cpu = time.process_time() - t0
+    net = (height_cells - 2) * spacing
+    e = eng.energies()
+    s = softening(st.kap, mat)
+    cols = np.unique(col)
+    s_col = np.array([s[(col == c) & (st.m > 0)].mean() for c in cols])
+    band = cols[s_col > 0.5]
+    return {"ratio": e["damage"] / (mat.G_F * net), "band_width": mat.band,
+            "band_columns": int(band.size), "band_first": int(band.min()) if band.size else 0,
+            "band_last": int(band.max()) if band.size else 0,
+            "max_softening_outside": float(s_col[np.abs(cols) > 3].max()),
+            "elastic_left": e["elastic"] / (mat.G_F * net), "steps": eng.step_count,
+            "particles": int(x.size), "cpu_seconds": cpu}
