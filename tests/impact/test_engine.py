@@ -1,6 +1,7 @@
 """Checks 3, 4, 5, 8 (spec section 10): conservation with zero masses, wave speeds, Benz
 invariance, artificial stress against clumping. Small sizes."""
 
+import functools
 import math
 
 import numpy as np
@@ -115,19 +116,26 @@ def test_benz_h_rho_invariant(rate):
     assert st.h * np.sqrt(st.rho) == pytest.approx(inv0, rel=1e-6)
 
 
+@functools.cache
 def clumping_run(as_epsilon):
+    """Check 8 run: (min pair distance / Δ over the run, max rms velocity in steps 100-500 after
+    the release of the 1 % noise, rms velocity at step 2000, stress std at 500 and 2000)."""
     nx = ny = 16
     s, st = periodic_block(nx, ny, as_epsilon=as_epsilon, noise=0.01)
     tension = 0.8 * MAT.f_t
     st.sig[:, 0] = st.sig[:, 1] = st.nom[:, 0] = st.nom[:, 1] = tension
     st.sig[:, 3] = st.nom[:, 3] = 2 * MAT.poisson * tension
     eng = Engine(s, st)
-    noise0 = None
+    early = 0.0
     min_dist = np.inf
+    sig_early = 0.0
     for n in range(2000):
         eng.step()
-        if n == 50:
-            noise0 = np.std(np.hypot(st.vx, st.vy))
+        rms = math.sqrt(float(np.mean(st.vx**2 + st.vy**2)))
+        if 100 <= n <= 500:
+            early = max(early, rms)
+        if n == 500:
+            sig_early = float(st.sig[:, 0].std())
         if n % 100 == 0 or n == 1999:
             eng.check()
             dx = st.x[:, None] - st.x[None, :]
@@ -137,23 +145,39 @@ def clumping_run(as_epsilon):
             d = np.hypot(dx, dy)
             np.fill_diagonal(d, np.inf)
             min_dist = min(min_dist, d.min())
-    return min_dist / s.spacing, noise0, np.std(np.hypot(st.vx, st.vy))
+    return min_dist / s.spacing, early, rms, sig_early, float(st.sig[:, 0].std())
 
 
 def test_artificial_stress_prevents_clumping_in_tension(capsys):
-    """Check 8. Measured (2026-11-22): eps_AS = 0.3 keeps the minimum pair distance at 0.98
-    Delta, but the velocity noise is not constant: the artificial stress on the 1 %-perturbed
-    lattice injects ~3e-3 m/s at once and it creeps up to ~7e-3 m/s over 2000 steps; with
-    eps_AS = 0 no clumping develops within 2000 steps either (h = 1.2 Delta, 0.8 f_t: growth
-    time ~ h/sqrt(sigma/rho) = 140 us, comparable to the run). So the noise bound asserted is
-    1 % of the tension's velocity scale sigma/(rho c_p) = 0.3 m/s, not "no growth"."""
-    dmin, n0, n1 = clumping_run(0.3)
-    dmin0, m0, m1 = clumping_run(0.0)
+    """Check 8, first half: eps_AS = 0.3 keeps the minimum pair distance >= 0.7 Delta (measured
+    0.98 Delta). The eps_AS = 0 run is reported: no clumping either within 2000 steps (h =
+    1.2 Delta, 0.8 f_t: growth time ~ h/sqrt(sigma/rho) = 140 us, comparable to the run)."""
+    dmin, *_ = clumping_run(0.3)
+    dmin0, e0, f0, _, _ = clumping_run(0.0)
     with capsys.disabled():
-        print(f"\n[check 8] eps_AS = 0.3: min distance {dmin:.3f} Delta, velocity noise "
-              f"{n0:.3g} -> {n1:.3g} m/s; eps_AS = 0: min distance {dmin0:.3f} Delta, "
-              f"noise {m0:.3g} -> {m1:.3g} m/s")
+        print(f"\n[check 8] eps_AS = 0.3: min distance {dmin:.3f} Delta; eps_AS = 0: min "
+              f"distance {dmin0:.3f} Delta, rms velocity {e0:.3g} -> {f0:.3g} m/s")
     assert dmin >= 0.7
-    scale = 0.8 * MAT.f_t / (2400.0 * 3616.0)
-    assert n1 < 0.03 * scale
     assert math.isfinite(dmin0)
+
+
+@pytest.mark.parametrize("as_epsilon", [
+    0.0, 0.2,
+    pytest.param(0.3, marks=pytest.mark.xfail(strict=True, reason=(
+        "spec check 8 asks that the velocity noise does not grow at eps_AS = 0.3; measured "
+        "2026-11-22: rms velocity 7.1e-3 -> 1.6e-2 m/s (x2.2) and stress std 0.24 -> 0.97 MPa "
+        "from step 500 to 2000, while eps_AS = 0.2 (x0.68) and 0 (x0.30) decay. Cause: the "
+        "R_j half of f^n (R_i + R_j) is -eps_AS times a nearest-neighbour-weighted gradient of "
+        "sigma; for the shortest stress waves, which the h = 1.2 Delta SPH gradient barely "
+        "sees, it outweighs the physical restoring term once eps_AS > ~0.25, so short-wave "
+        "stress modes grow (the AS energy account e_AS falls to -0.5 J/m, work done on the "
+        "particles). A property of Monaghan's AS at this h, not of the noise; the spec value "
+        "0.3 is kept for the impact runs (contact, compression-dominated)")))])
+def test_velocity_noise_does_not_grow(as_epsilon, capsys):
+    """Check 8, second half: the rms velocity at step 2000 is not above its maximum over steps
+    100-500 (the transient of the released 1 % position noise)."""
+    _, early, final, sig_early, sig_final = clumping_run(as_epsilon)
+    with capsys.disabled():
+        print(f"\n[check 8] eps_AS = {as_epsilon}: rms velocity {early:.3g} -> {final:.3g} m/s "
+              f"(x{final / early:.2f}), stress std {sig_early:.3g} -> {sig_final:.3g} Pa")
+    assert final <= early
