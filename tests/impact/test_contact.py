@@ -19,11 +19,13 @@ def run(overrides, seed=0):
 @pytest.fixture(scope="module")
 def elastic_runs():
     out = {}
-    for contact in ("contact_bulk", "contact_mass"):
-        out[contact] = run(["particles.diameter_cells=20", "particles.impact_velocity=1.0",
-                            "particles.gap=0.0", f"effects={ELASTIC.format(contact=contact)}",
-                            "outputs.t_end=1.6e-4", "outputs.series_dt=1.0e-6",
-                            "outputs.snapshot_times=[]"])
+    for key, contact, a in (("contact_bulk", "contact_bulk", 0.1),
+                            ("contact_mass", "contact_mass", 0.1),
+                            ("contact_bulk_stiff", "contact_bulk", 6.4)):
+        out[key] = run(["particles.diameter_cells=20", "particles.impact_velocity=1.0",
+                        "particles.gap=0.0", f"effects={ELASTIC.format(contact=contact)}",
+                        f"numerics.contact_a={a}", "outputs.t_end=1.6e-4",
+                        "outputs.series_dt=1.0e-6", "outputs.snapshot_times=[]"])
     return out
 
 
@@ -41,13 +43,34 @@ def test_elastic_disc_impulse_restitution_energy(elastic_runs, contact):
 
 @pytest.mark.xfail(strict=True, reason=(
     "spec check 9 asks for peak forces within 25 %; measured 2026-11-22 (20-cell disc, 1 m/s): "
-    "bulk 2.44e5 N/m, mass-based 5.14e5 N/m: k_mass = a m/dt^2 = 1.2e11 N/m is 100x stiffer "
-    "than k_bulk = 1.0e9 N/m at the AV-limited dt = 0.18 us, so the softer bulk penalty "
-    "lowers the peak"))
+    "bulk 2.44e5 N/m, mass-based 5.14e5 N/m (x2.1; x1.9 at Delta = 2 mm: 2.69e5 / 5.01e5). "
+    "A property of the two formulas, not a bug: in 2D formula (2) gives every particle "
+    "k = a K/sqrt(2) = 1.0e9 N/m whatever Delta, as compliant as a ~30 Delta thick concrete "
+    "layer, so the disc bounces on its penalty springs like a rigid mass, "
+    "F ~ v sqrt(N_c k M) (test below); formula (1) is ~100x stiffer (a m/dt^2 = 1.2e11 N/m) "
+    "and the disc's own compliance sets the peak. Raising a to 6.4 closes the gap "
+    "(test below)"))
 def test_peak_forces_of_both_formulas_agree(elastic_runs):
     bulk = elastic_runs["contact_bulk"][1].force_peak
     mass = elastic_runs["contact_mass"][1].force_peak
     assert abs(bulk - mass) / max(bulk, mass) < 0.25
+
+
+def test_bulk_penalty_peak_is_rigid_mass_on_springs(elastic_runs):
+    """Why check 9's peaks differ: with formula (2) the peak follows a rigid disc of mass M on
+    the penalty springs of the N_c bottom-row particles, F = v sqrt(N_c k M) (= 2.69e5 N/m;
+    measured 2.44e5: the disc's own compliance lowers it 10 %), independent of the disc's
+    stiffness; with a stiffer bulk penalty (a = 6.4: k = 6.4e10 N/m) the peak approaches the
+    mass-based one within 25 % (measured 5.10e5 vs 5.14e5 N/m)."""
+    sp, eng, _, _ = elastic_runs["contact_bulk"]
+    n_c = int(np.sum(sp.y < sp.y.min() + 0.5 * sp.spacing))
+    k = eng.prm[eng.k.P_K_BULK]
+    rigid = 1.0 * np.sqrt(n_c * k * sp.mass.sum())
+    assert eng.force_peak == pytest.approx(rigid, rel=0.15)
+    assert eng.force_peak < rigid  # the disc's compliance is in series with the springs
+    stiff = elastic_runs["contact_bulk_stiff"][1].force_peak
+    mass = elastic_runs["contact_mass"][1].force_peak
+    assert abs(stiff - mass) / max(stiff, mass) < 0.25
 
 
 ZERO_MASSES = ["particles.diameter_cells=20", "particles.masses.distribution=poisson",

@@ -16,6 +16,15 @@ the base and the kinetic energy removed are logged. So every penalty particle ha
 :math:`\sqrt{k/m_i}\Delta t \le 0.5`, and no separate penalty time-step limit is needed.
 The base receives :math:`-F^c_i`; :math:`F(t) = \sum_i F^c_i` (per metre of thickness in 2D).
 Penalty energy :math:`\tfrac12 k g_i^2` enters the energy balance.
+
+Peak force versus formula (1) (spec check 9, measured 2026-11-22; ``tests/impact/test_contact.py``):
+in 2D k does not depend on Δ, so the penalty layer is as compliant as a concrete layer of
+thickness E Δ/k ≈ 30Δ; a disc striking at 1 m/s then bounces on the springs of its N_c contact
+particles like a rigid mass, F_max ≈ v √(N_c k M) (20-cell disc: 2.69e5 predicted, 2.44e5 N/m
+measured), while the mass-based k_i = a m_i/Δt² ≈ 1.2e11 N/m is ~100× stiffer and gives
+5.14e5 N/m. The 2.1× (1.9× at Δ = 2 mm) is therefore a property of the two formulas at a = 0.1,
+not a bug; with a = 6.4 the bulk peak is 5.10e5 N/m. The spec's 25 % agreement stays a strict
+xfail; the impulse, restitution and energy checks pass with both.
 """
 
 from numba import njit
