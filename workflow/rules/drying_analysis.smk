@@ -114,3 +114,52 @@ TARGETS["drying_analysis"] = [
     *DRYING_PNG.values(),
     *DRYING_PDF,
 ]
+
+
+rule drying_accuracy:
+    input:
+        scene=scene_file("drying", config["drying"]["accuracy"]["scene"]),
+    output:
+        "results/drying/accuracy.nc",
+    params:
+        seed=config["drying"]["accuracy"]["seed"],
+        time_steps=config["drying"]["accuracy"]["time_steps"],
+    log:
+        "logs/drying_accuracy.log",
+    benchmark:
+        "benchmarks/results/drying_accuracy.tsv"
+    threads: config["drying"]["threads"]
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_accuracy.py"
+
+
+rule drying_accuracy_figure:
+    input:
+        "results/drying/accuracy.nc",
+    output:
+        png=report(
+            "results/drying/figures/drying_accuracy.png",
+            caption="../report/drying_accuracy.rst",
+            category="Drying paste",
+            labels={"figure": "accuracy: error vs wall time"},
+        ),
+        pdf="results/drying/figures/drying_accuracy.pdf",
+    params:
+        profile=config["profile"],
+    log:
+        "logs/drying_accuracy_figure.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_accuracy_figure.py"
+
+
+TARGETS["drying_accuracy"] = [
+    "results/drying/figures/drying_accuracy.png",
+    "results/drying/figures/drying_accuracy.pdf",
+]

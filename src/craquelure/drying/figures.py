@@ -228,3 +228,35 @@ def make_figures(campaign: xr.Dataset, summary: dict[str, Any], run: xr.Dataset,
     for name in FIGURES:
         written.extend(save_figure(makers[name](), outputs[name]))
     return written
+
+
+def fig_accuracy(study: xr.Dataset, profile: str):
+    """Error versus wall time of the integrators (dataset of
+    :func:`craquelure.drying.accuracy.error_versus_wall_time`), one line per integrator, points
+    labelled by dt, with the observed orders in the legend."""
+    fig, ax = plt.subplots(figsize=(6.4, 5.0))
+    fig.subplots_adjust(bottom=0.24)
+    names = study["integrator"].values
+    for name, colour in zip(names, _colours(len(names)), strict=True):
+        err = study["error"].sel(integrator=name).values
+        wall = study["wall_time"].sel(integrator=name).values
+        order = study["observed_order"].sel(integrator=name).values
+        orders = ", ".join(_fmt(float(o), ".2f") for o in order)
+        ax.loglog(wall, err, "o-", color=colour,
+                  label=f"{name} (observed orders between successive dt: {orders})")
+        for w, e, dt in zip(wall, err, study["dt"].values, strict=True):
+            ax.annotate(f"{dt:g}", (w, e), fontsize=6, xytext=(3, 3),
+                        textcoords="offset points")
+    ax.set_xlabel("wall time of the stepping loop [s]")
+    ax.set_ylabel("relative L2 error of the final velocity field")
+    ax.legend(fontsize=7)
+    a = study.attrs
+    ax.set_title(f"Drying SPH: error vs wall time (profile {profile})", fontsize=9)
+    _caption(fig, [
+        f"profile {profile}, scene {a.get('scene_name', '?')}: N = {int(a['n_particles'])}, "
+        f"t = 0..{float(a['t_end']):g}, fracture off; labels are dt",
+        f"reference: {a['reference']} at dt = {float(a['reference_dt']):g} "
+        f"({float(a['reference_wall_time_s']):.3g} s); error {a['error_measure']}",
+        f"wall time on {a.get('threads', '?')} numba thread(s), measured {a.get('start_time', '')}",
+    ])
+    return fig
