@@ -49,6 +49,7 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
         resume: bool = False) -> Path:
-    if resume:
-        raise CraquelureError("lattice runs are not checkpointed: run again without --resume")
-    return _run(scene, out, seed=seed, init=init)
+    if init is not None:
+        raise CraquelureError("lattice runs build their initial state from the scene and seed: "
+                              "run without --init")
+    return _run(scene, out, seed=seed, resume=resume)

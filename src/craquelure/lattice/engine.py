@@ -100,6 +100,21 @@ def csr_bonds(n: int, bi: np.ndarray, bj: np.ndarray) -> tuple[np.ndarray, np.nd
     return off, ids[order].astype(np.int64)
 
 
+def chunks(n: int, bi: np.ndarray, bj: np.ndarray, nchunk: int
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Work split of the kernel: bond chunk bounds (nchunk + 1), the node range [lo, hi) of
+    the ends of each bond chunk (2, nchunk) and particle chunk bounds (nchunk + 1)."""
+    cb = np.linspace(0, bi.size, nchunk + 1).round().astype(np.int64)
+    crange = np.zeros((2, nchunk), np.int64)
+    for c in range(nchunk):
+        lo, hi = cb[c], cb[c + 1]
+        if hi > lo:
+            crange[0, c] = min(bi[lo:hi].min(), bj[lo:hi].min())
+            crange[1, c] = max(bi[lo:hi].max(), bj[lo:hi].max()) + 1
+    cn = np.linspace(0, n, nchunk + 1).round().astype(np.int64)
+    return cb, crange, cn
+
+
 def stable_step_estimate(system: System) -> float:
     """2/omega_est with the spec's quick estimate (safe by 1.16-1.37 for the triangular
     lattice)."""
@@ -143,10 +158,13 @@ class Engine:
     refreeze_radius: float = 1.1
     step: int = 0
     series: list = field(default_factory=list)
+    parallel: bool | None = None  # None: parallel kernel for large systems on > 1 thread
 
     def __post_init__(self):
         s = self.system
-        parallel = s.bi.size >= PARALLEL_MIN_BONDS and numba.get_num_threads() > 1
+        parallel = self.parallel
+        if parallel is None:
+            parallel = s.bi.size >= PARALLEL_MIN_BONDS and numba.get_num_threads() > 1
         self.flags = codegen.flags_for(self.effects, s.period_x > 0, self.node_averaged,
                                        self.bending, parallel)
         self.kernel = codegen.kernel_module(self.flags)
@@ -154,7 +172,6 @@ class Engine:
         self.dt = float(self.p[0])
         self.q = np.ascontiguousarray(np.vstack([s.x, s.y, s.theta]))
         self.qm = self.q.copy()
-        self.qn = np.empty_like(self.q)
         self.qref = self.q[:2].copy()
         self.qbuild = self.q[:2].copy()
         self.bref = rest_state(s.x, s.y, s.theta, s.bi, s.bj, s.period_x)
@@ -178,6 +195,8 @@ class Engine:
         self.bratio = np.zeros(nb)
         self.tbreak = np.full(nb, -1.0)
         self.poff, self.pidx = csr_bonds(s.n, s.bi, s.bj)
+        self.cb, self.crange, self.cn = chunks(s.n, s.bi, s.bj, self.kernel.NCHUNK)
+        self.fn = np.zeros((self.kernel.NCHUNK, 3, s.n))
 
     def set_velocity(self, vx, vy, omega=None):
         """Set x(t - dt) so that the backward velocity is (vx, vy, omega)."""
@@ -260,11 +279,12 @@ class Engine:
             if self.freeze_every and self.flags["HAS_MELTING"]:
                 chunk = min(chunk, self.freeze_every - self.step % self.freeze_every)
             status, done, rows = k.advance(
-                self.qm, self.q, self.qn, self.qref, self.qbuild, s.mass, s.inertia,
+                self.qm, self.q, self.qref, self.qbuild, s.mass, s.inertia,
                 s.diameter, s.fix, s.drive, s.load, s.bi, s.bj, self.bref, self.bk, s.state,
                 s.unbreakable, self.bprev, self.bforce, self.benergy, self.bratio, self.tbreak,
-                self.poff, self.pidx, self.cpi, self.cpj, self.fc, self.p, self.acc,
-                self.seed, self.step, chunk, self.series_every, buf)
+                self.poff, self.pidx, self.cb, self.crange, self.cn, self.fn, self.cpi,
+                self.cpj, self.fc, self.p, self.acc, self.seed, self.step, chunk,
+                self.series_every, buf)
             self.series.extend(buf[:rows].copy())
             self.step += done
             remaining -= done
@@ -282,6 +302,38 @@ class Engine:
                 self.refreeze()
                 if self.flags["HAS_CONTACT"]:
                     self.rebuild_contacts()
+
+    # bond-indexed arrays of the engine (rows, bond) and of the system (bond) in a checkpoint
+    BOND_STATE = ("bref", "bk", "bprev", "bforce", "benergy", "bratio", "tbreak")
+    SYSTEM_BONDS = ("bi", "bj", "kn", "ka", "kb", "state", "unbreakable")
+
+    def checkpoint(self) -> dict[str, np.ndarray]:
+        """Everything that evolves (configurations, bond rest states and history, bond list,
+        accumulators, energy series, step); particle constants are rebuilt from the scene.
+        The contact list is rebuilt first, so that a resumed run (which rebuilds it on
+        restore) continues from the same list."""
+        if self.flags["HAS_CONTACT"]:
+            self.rebuild_contacts()
+        s = self.system
+        out = {name: getattr(self, name).copy() for name in ("qm", "q", "qref", "qbuild", "acc",
+                                                            *self.BOND_STATE)}
+        out.update({name: getattr(s, name).copy() for name in self.SYSTEM_BONDS})
+        out["series"] = self.series_array()
+        out["step"] = np.array(self.step)
+        return out
+
+    def restore(self, ck: dict[str, np.ndarray]) -> None:
+        """Continue from :meth:`checkpoint` (bit-identical to the uninterrupted run)."""
+        s = self.system
+        for name in self.SYSTEM_BONDS:
+            setattr(s, name, np.ascontiguousarray(ck[name]).astype(getattr(s, name).dtype))
+        self._alloc_bond_arrays()
+        for name in ("qm", "q", "qref", "qbuild", "acc", *self.BOND_STATE):
+            setattr(self, name, np.ascontiguousarray(ck[name], np.float64))
+        self.step = int(ck["step"])
+        self.series = list(np.asarray(ck["series"]).reshape(-1, self.kernel.N_SERIES))
+        if self.flags["HAS_CONTACT"]:
+            self.rebuild_contacts()
 
     def series_array(self) -> np.ndarray:
         return np.array(self.series).reshape(-1, self.kernel.N_SERIES)

@@ -8,12 +8,17 @@ the branches of absent effects are removed by the compiler and cost nothing, and
 
 One call of :func:`advance` performs up to ``n_steps`` central-difference steps (section 5):
 
-1. bonds (parallel): deformation, elastic and damping forces, energy; per-beam fracture and
-   melting decisions (a bond that fails or melts carries no force in this step);
-2. node-averaged fracture (serial, optional);
+1. bonds, in ``NCHUNK`` fixed chunks of the bond list (``prange`` over chunks): deformation,
+   elastic and damping forces, energy; per-beam fracture and melting decisions (a bond that
+   fails or melts carries no force in this step). Each chunk scatters its bond forces into
+   its own node-force buffer ``fn[c]`` (race-free; bonds are sorted by their first end, so a
+   chunk touches a narrow node range ``crange[:, c]``, the only part of its buffer that is
+   cleared and read);
+2. node-averaged fracture (serial, optional; a beam broken here has its force taken back
+   out of its chunk's buffer);
 3. contacts (serial, optional): repulsion and friction over the Verlet pair list;
-4. particles (parallel): gather bond forces through the particle -> bond CSR, add gravity,
-   buoyancy, bed, loads; update each dof with
+4. particles, in ``NCHUNK`` node chunks (``prange``): sum the chunk buffers that cover the
+   node, add gravity, buoyancy, bed, loads; update each dof in place with
    ``x+ = [2x - (1 - g dt/2) x- + dt^2 F/m] / (1 + g dt/2)`` (g: mass damping (until
    ``GAMMA_UNTIL``) + drag + bed damping rates, i.e. C = g M, implicit), clamp fixed dofs,
    prescribe driven ones;
@@ -23,6 +28,12 @@ One call of :func:`advance` performs up to ``n_steps`` central-difference steps 
    1/2 (f_k + f_k+1)(x_k+1 - x_k) this budget is exact for a linear system; the call
    stops with status NAN or RUNAWAY when E_tot is not finite or |E_tot - E_0| exceeds
    ``energy_tolerance`` times max(E_mech, |W_ext|, dissipated, floor).
+
+Determinism: the chunk count is a constant (not the thread count) and the per-chunk partial
+sums (energies, node forces) are added in chunk order, so the serial and the parallel kernel
+and any number of threads give bit-identical trajectories. ``fastmath`` is restricted to
+``FASTMATH`` (FMA contraction, reciprocal, no signed zeros): no ``nnan``/``ninf``, so the NaN
+check stays valid.
 
 Status codes: OK, NAN, RUNAWAY, REBUILD (contact list must be rebuilt; the step is complete).
 """
@@ -72,6 +83,15 @@ SERIES = ("time", "kinetic", "rotational", "elastic", "contact", "external", "wo
           "drive_fx", "drive_fy")
 N_SERIES = len(SERIES)
 OK, NAN, RUNAWAY, REBUILD = 0, 1, 2, 3
+# fixed number of work chunks (bonds and particles); independent of the thread count
+NCHUNK = 8
+FASTMATH = {"arcp", "nsz"}
+# per-chunk partial sums of the bond phase and of the particle phase
+B_U, B_DAMP, B_FRACT, B_MELT, B_BROKEN, B_MELTED = 0, 1, 2, 3, 4, 5
+N_BPART = 6
+(P_KIN, P_ROT, P_UEXT, P_WORK, P_DISS, P_DISS_FWD, P_WORK_FWD, P_LUX, P_LUY, P_NLOAD, P_DFX,
+ P_DFY, P_MOVED) = range(13)
+N_PPART = 13
 
 
 @njit(inline="always", cache=True)
@@ -125,103 +145,259 @@ def bond_deformations(q, bi, bj, bref, state, lx, out):
         out[0, b], out[1, b], out[2, b] = e, p1, p2
 
 
+@njit(cache=True, fastmath=FASTMATH)
+def _bond_chunk(lo, hi, nlo, nhi, q, qm, bi, bj, bref, bk, state, unbreak, bprev, bforce,
+                benergy, bratio, tbreak, p, seed, gstep, t, fn, out):
+    """Bonds lo..hi-1: forces scattered into fn (3, n) (nodes nlo..nhi-1 cleared first),
+    partial sums into out[B_*]."""
+    dt = p[DT]
+    lx = p[LX]
+    bd = p[BETA] / dt
+    for a in range(3):
+        for i in range(nlo, nhi):
+            fn[a, i] = 0.0
+    u_beams = 0.0
+    e_damp = 0.0
+    e_fract = 0.0
+    e_melt = 0.0
+    n_broken = 0.0
+    n_melted = 0.0
+    for b in range(lo, hi):
+        if state[b] != 1:
+            continue
+        i, j = bi[b], bj[b]
+        dx, dy = _chord(q, i, j, lx)
+        dref = (qm[2, i] - bref[2, b]) - bprev[1, b]  # chord rotation at t - dt
+        ell, c, s, e, p1, p2, alpha = deformation(dx, dy, q[2, i], q[2, j], bref[0, b],
+                                                  bref[1, b], bref[2, b], bref[3, b], dref)
+        kn, ka, kb = bk[0, b], bk[1, b], bk[2, b]
+        nax = kn * e
+        m1 = ka * p1 + kb * p2
+        m2 = kb * p1 + ka * p2
+        u = elastic_energy(kn, ka, kb, e, p1, p2)
+        benergy[b] = u
+        if HAS_FRACTURE:
+            r = beam_ratio(nax, (m1 + m2) / ell, m1, m2, p[AREA], p[INERTIA], p[WIDTH],
+                           p[SIGMA0], p[TAU0], BENDING)
+            bratio[b] = r
+            if (not NODE_AVERAGED) and t >= p[T_FRACTURE] and unbreak[b] == 0 and r >= 1.0:
+                state[b] = 0
+                tbreak[b] = t
+                e_fract += u
+                n_broken += 1.0
+                continue
+        if HAS_MELTING:
+            lam = melt_rate(u, p[MELT_A], p[E_B], p[BLOCK], p[FROZEN_RATE])
+            if uniform01(seed, gstep, b) < -math.expm1(-lam * dt):
+                bref[0, b] = ell
+                bref[1, b] = alpha
+                bref[2, b] = q[2, i]
+                bref[3, b] = q[2, j]
+                for r in range(6):
+                    bprev[r, b] = 0.0
+                if NODE_AVERAGED:
+                    for r in range(4):
+                        bforce[r, b] = 0.0
+                benergy[b] = 0.0
+                e_melt += u
+                n_melted += 1.0
+                continue
+        # bond damping on the backward deformation rates; dissipation booked as the
+        # trapezoidal sum 1/2 (f_d(t - dt) + f_d(t)) . (d(t) - d(t - dt))
+        de = e - bprev[0, b]
+        dp1 = p1 - bprev[1, b]
+        dp2 = p2 - bprev[2, b]
+        nd = bd * kn * de
+        m1d = bd * (ka * dp1 + kb * dp2)
+        m2d = bd * (kb * dp1 + ka * dp2)
+        e_damp += 0.5 * ((bprev[3, b] + nd) * de + (bprev[4, b] + m1d) * dp1
+                         + (bprev[5, b] + m2d) * dp2)
+        bprev[0, b] = e
+        bprev[1, b] = p1
+        bprev[2, b] = p2
+        bprev[3, b] = nd
+        bprev[4, b] = m1d
+        bprev[5, b] = m2d
+        nax += nd
+        m1 += m1d
+        m2 += m2d
+        v = (m1 + m2) / ell
+        fx = -nax * c - v * s  # force on j; on i it is the opposite
+        fy = -nax * s + v * c
+        fn[0, i] -= fx
+        fn[1, i] -= fy
+        fn[2, i] -= m1
+        fn[0, j] += fx
+        fn[1, j] += fy
+        fn[2, j] -= m2
+        if NODE_AVERAGED:
+            bforce[0, b] = fx
+            bforce[1, b] = fy
+            bforce[2, b] = -m1
+            bforce[3, b] = -m2
+        u_beams += u
+    out[B_U] = u_beams
+    out[B_DAMP] = e_damp
+    out[B_FRACT] = e_fract
+    out[B_MELT] = e_melt
+    out[B_BROKEN] = n_broken
+    out[B_MELTED] = n_melted
+
+
+@njit(cache=True, fastmath=FASTMATH)
+def _particle_chunk(lo, hi, qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load, fn,
+                    crange, fc, p, t, out):
+    """Particles lo..hi-1: total force, central-difference update in place
+    ((qm, q) <- (q, q+)), partial sums into out[P_*]."""
+    dt = p[DT]
+    ux_d, uy_d = _drive(t + dt, p)
+    ramp = min(1.0, t / p[LOAD_RAMP]) if p[LOAD_RAMP] > 0.0 else 1.0
+    gam = p[GAMMA] if t < p[GAMMA_UNTIL] else 0.0
+    g_x = p[G] * math.sin(p[SLOPE])
+    g_y = -p[G] * math.cos(p[SLOPE])
+    kin = 0.0
+    rot = 0.0
+    u_ext = 0.0
+    work = 0.0
+    diss = 0.0
+    diss_fwd = 0.0
+    work_fwd = 0.0
+    lux = 0.0
+    luy = 0.0
+    nload = 0.0
+    dfx = 0.0
+    dfy = 0.0
+    moved = 0.0
+    for i in range(lo, hi):
+        m = mass[i]
+        fx = 0.0
+        fy = 0.0
+        tq = 0.0
+        if HAS_BEAMS:
+            for c in range(NCHUNK):
+                if crange[0, c] <= i < crange[1, c]:
+                    fx += fn[c, 0, i]
+                    fy += fn[c, 1, i]
+                    tq += fn[c, 2, i]
+        if HAS_CONTACT:
+            fx += fc[0, i]
+            fy += fc[1, i]
+        yi = q[1, i]
+        gx = gam
+        gy = gam
+        if HAS_GRAVITY:
+            fgx, fgy, ug = gravity(m, g_x, g_y, q[0, i], yi, qref[0, i], qref[1, i])
+            fx += fgx
+            fy += fgy
+            u_ext += ug
+        if HAS_BUOYANCY:
+            fb, ub = buoyancy(m, p[RHO], p[RHO_W], p[G], yi, qref[1, i], p[Y_WATER])
+            fy += fb
+            u_ext += ub
+        if HAS_DRAG:
+            cd = drag_rate(yi, p[Y_WATER], p[C_DRAG], p[DRAG_ALL] > 0.0)
+            gx += cd
+            gy += cd
+        if HAS_BED:
+            h, fbed, ubed = bed(yi, diam[i], p[Y_BED], p[K_BED])
+            if h > 0.0:
+                fy += fbed
+                u_ext += ubed
+                gy += p[C_BED]
+                gx += p[C_FRIC_BED]
+        lfx = load[0, i] * ramp
+        lfy = load[1, i] * ramp
+        fx += lfx
+        fy += lfy
+        # update each dof (x, y with the mass, theta with J)
+        xn, kx, dx1, dx2, wx1, wx2, fsx = _dof(q[0, i], qm[0, i], fx, gx, m, dt, fix[0, i],
+                                               drive[0, i], qref[0, i] + ux_d)
+        yn, ky, dy1, dy2, wy1, wy2, fsy = _dof(q[1, i], qm[1, i], fy, gy, m, dt, fix[1, i],
+                                               drive[1, i], qref[1, i] + uy_d)
+        tn, kt, dt1, dt2, wt1, wt2, _ = _dof(q[2, i], qm[2, i], tq, gam, inertia[i], dt,
+                                             fix[2, i], 0, 0.0)
+        kin += kx + ky
+        rot += kt
+        diss += dx1 + dy1 + dt1
+        diss_fwd += dx2 + dy2 + dt2
+        work += (wx1 + wy1 + wt1 + lfx * 0.5 * (xn - qm[0, i])
+                 + lfy * 0.5 * (yn - qm[1, i]))
+        work_fwd += (wx2 + wy2 + wt2 + lfx * 0.5 * (xn - q[0, i])
+                     + lfy * 0.5 * (yn - q[1, i]))
+        if drive[0, i]:
+            dfx += fsx
+        if drive[1, i]:
+            dfy += fsy
+        if load[0, i] != 0.0 or load[1, i] != 0.0:
+            lux += q[0, i] - qref[0, i]
+            luy += q[1, i] - qref[1, i]
+            nload += 1.0
+        if HAS_CONTACT:
+            ddx = xn - qbuild[0, i]
+            ddy = yn - qbuild[1, i]
+            moved = max(moved, ddx * ddx + ddy * ddy)
+        # node i is read by no other node in this phase: rotate (qm, q) <- (q, q+) in place
+        qm[0, i] = q[0, i]
+        qm[1, i] = q[1, i]
+        qm[2, i] = q[2, i]
+        q[0, i] = xn
+        q[1, i] = yn
+        q[2, i] = tn
+    out[P_KIN] = kin
+    out[P_ROT] = rot
+    out[P_UEXT] = u_ext
+    out[P_WORK] = work
+    out[P_DISS] = diss
+    out[P_DISS_FWD] = diss_fwd
+    out[P_WORK_FWD] = work_fwd
+    out[P_LUX] = lux
+    out[P_LUY] = luy
+    out[P_NLOAD] = nload
+    out[P_DFX] = dfx
+    out[P_DFY] = dfy
+    out[P_MOVED] = moved
+
+
 @njit(cache=True, parallel=PARALLEL)
-def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
+def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
             bi, bj, bref, bk, state, unbreak, bprev, bforce, benergy, bratio, tbreak,
-            poff, pidx, cpi, cpj, fc, p, acc, seed, step0, n_steps, series_every, series):
+            poff, pidx, cb, crange, cn, fn, cpi, cpj, fc, p, acc, seed, step0, n_steps,
+            series_every, series):
     """Advance up to n_steps; returns (status, steps done, series rows written).
 
     qm, q: configurations (x, y, theta rows) at t - dt and t on entry, at the new
-    (t - dt, t) on exit; qn is scratch. Bond and accumulator arrays are updated in place.
+    (t - dt, t) on exit. cb (NCHUNK + 1): bond chunk bounds; crange (2, NCHUNK): node range
+    touched by each bond chunk; cn (NCHUNK + 1): particle chunk bounds; fn (NCHUNK, 3, n):
+    node-force buffers. Bond and accumulator arrays are updated in place.
     """
-    n, nb, ncp = q.shape[1], bi.size, cpi.size
+    n, ncp = q.shape[1], cpi.size
     dt = p[DT]
     lx = p[LX]
     rows = 0
-    moved2 = np.zeros(n if HAS_CONTACT else 1)
     status = OK
     done = 0
+    bpart = np.zeros((NCHUNK, N_BPART))
+    ppart = np.zeros((NCHUNK, N_PPART))
     for k in range(n_steps):
         gstep = step0 + k
         t = gstep * dt
         broken_before = acc[A_BROKEN]
         # 1. bonds
         u_beams = 0.0
-        e_damp = 0.0
         e_fract = 0.0
-        e_melt = 0.0
         n_broken = 0.0
-        n_melted = 0.0
         if HAS_BEAMS:
-            for b in prange(nb):
-                if state[b] != 1:
-                    continue
-                i, j = bi[b], bj[b]
-                dx, dy = _chord(q, i, j, lx)
-                dref = (qm[2, i] - bref[2, b]) - bprev[1, b]  # chord rotation at t - dt
-                ell, c, s, e, p1, p2, alpha = deformation(dx, dy, q[2, i], q[2, j], bref[0, b],
-                                                          bref[1, b], bref[2, b], bref[3, b],
-                                                          dref)
-                kn, ka, kb = bk[0, b], bk[1, b], bk[2, b]
-                nax = kn * e
-                m1 = ka * p1 + kb * p2
-                m2 = kb * p1 + ka * p2
-                u = elastic_energy(kn, ka, kb, e, p1, p2)
-                benergy[b] = u
-                if HAS_FRACTURE:
-                    r = beam_ratio(nax, (m1 + m2) / ell, m1, m2, p[AREA], p[INERTIA], p[WIDTH],
-                                   p[SIGMA0], p[TAU0], BENDING)
-                    bratio[b] = r
-                    if (not NODE_AVERAGED) and t >= p[T_FRACTURE] and unbreak[b] == 0 \
-                            and r >= 1.0:
-                        state[b] = 0
-                        tbreak[b] = t
-                        e_fract += u
-                        n_broken += 1.0
-                        continue
-                if HAS_MELTING:
-                    lam = melt_rate(u, p[MELT_A], p[E_B], p[BLOCK], p[FROZEN_RATE])
-                    if uniform01(seed, gstep, b) < -math.expm1(-lam * dt):
-                        bref[0, b] = ell
-                        bref[1, b] = alpha
-                        bref[2, b] = q[2, i]
-                        bref[3, b] = q[2, j]
-                        for r in range(6):
-                            bprev[r, b] = 0.0
-                        bforce[0, b] = 0.0
-                        bforce[1, b] = 0.0
-                        bforce[2, b] = 0.0
-                        bforce[3, b] = 0.0
-                        benergy[b] = 0.0
-                        e_melt += u
-                        n_melted += 1.0
-                        continue
-                # bond damping on the backward deformation rates; dissipation booked as the
-                # trapezoidal sum 1/2 (f_d(t - dt) + f_d(t)) . (d(t) - d(t - dt))
-                bd = p[BETA] / dt
-                de = e - bprev[0, b]
-                dp1 = p1 - bprev[1, b]
-                dp2 = p2 - bprev[2, b]
-                nd = bd * kn * de
-                m1d = bd * (ka * dp1 + kb * dp2)
-                m2d = bd * (kb * dp1 + ka * dp2)
-                e_damp += 0.5 * ((bprev[3, b] + nd) * de + (bprev[4, b] + m1d) * dp1
-                                 + (bprev[5, b] + m2d) * dp2)
-                bprev[0, b] = e
-                bprev[1, b] = p1
-                bprev[2, b] = p2
-                bprev[3, b] = nd
-                bprev[4, b] = m1d
-                bprev[5, b] = m2d
-                nax += nd
-                m1 += m1d
-                m2 += m2d
-                v = (m1 + m2) / ell
-                bforce[0, b] = -nax * c - v * s
-                bforce[1, b] = -nax * s + v * c
-                bforce[2, b] = -m1
-                bforce[3, b] = -m2
-                u_beams += u
+            for c in prange(NCHUNK):
+                _bond_chunk(cb[c], cb[c + 1], crange[0, c], crange[1, c], q, qm, bi, bj, bref,
+                            bk, state, unbreak, bprev, bforce, benergy, bratio, tbreak, p,
+                            seed, gstep, t, fn[c], bpart[c])
+            for c in range(NCHUNK):
+                u_beams += bpart[c, B_U]
+                acc[A_DAMP] += bpart[c, B_DAMP]
+                e_fract += bpart[c, B_FRACT]
+                acc[A_MELT] += bpart[c, B_MELT]
+                n_broken += bpart[c, B_BROKEN]
+                acc[A_MELTED] += bpart[c, B_MELTED]
         # 2. node-averaged fracture
         if HAS_BEAMS and HAS_FRACTURE and NODE_AVERAGED and t >= p[T_FRACTURE]:
             vol = 2.0 * p[CELL_AREA]
@@ -254,11 +430,19 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
                     e_fract += benergy[best]
                     u_beams -= benergy[best]
                     n_broken += 1.0
-        acc[A_DAMP] += e_damp
+                    # take the beam's force back out of its chunk's buffer
+                    c = 0
+                    while cb[c + 1] <= best:
+                        c += 1
+                    ib, jb = bi[best], bj[best]
+                    fn[c, 0, ib] += bforce[0, best]
+                    fn[c, 1, ib] += bforce[1, best]
+                    fn[c, 2, ib] -= bforce[2, best]
+                    fn[c, 0, jb] -= bforce[0, best]
+                    fn[c, 1, jb] -= bforce[1, best]
+                    fn[c, 2, jb] -= bforce[3, best]
         acc[A_FRACT] += e_fract
-        acc[A_MELT] += e_melt
         acc[A_BROKEN] += n_broken
-        acc[A_MELTED] += n_melted
         # 3. contacts
         u_contact = 0.0
         if HAS_CONTACT:
@@ -285,12 +469,10 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
                     fc[0, i] += ft * ny
                     fc[1, i] -= ft * nx
                     acc[A_DAMP] += abs(ft * vt) * dt
-        # 4. particles
-        ux_d, uy_d = _drive(t + dt, p)
-        ramp = min(1.0, t / p[LOAD_RAMP]) if p[LOAD_RAMP] > 0.0 else 1.0
-        gam = p[GAMMA] if t < p[GAMMA_UNTIL] else 0.0
-        g_x = p[G] * math.sin(p[SLOPE])
-        g_y = -p[G] * math.cos(p[SLOPE])
+        # 4. particles (updated in place)
+        for c in prange(NCHUNK):
+            _particle_chunk(cn[c], cn[c + 1], qm, q, qref, qbuild, mass, inertia, diam, fix,
+                            drive, load, fn, crange, fc, p, t, ppart[c])
         kin = 0.0
         rot = 0.0
         u_ext = 0.0
@@ -303,90 +485,23 @@ def advance(qm, q, qn, qref, qbuild, mass, inertia, diam, fix, drive, load,
         nload = 0.0
         dfx = 0.0
         dfy = 0.0
-        for i in prange(n):
-            m = mass[i]
-            fx = 0.0
-            fy = 0.0
-            tq = 0.0
-            if HAS_BEAMS:
-                for kk in range(poff[i], poff[i + 1]):
-                    b = pidx[kk]
-                    if state[b] != 1:
-                        continue
-                    if bi[b] == i:
-                        fx -= bforce[0, b]
-                        fy -= bforce[1, b]
-                        tq += bforce[2, b]
-                    else:
-                        fx += bforce[0, b]
-                        fy += bforce[1, b]
-                        tq += bforce[3, b]
-            if HAS_CONTACT:
-                fx += fc[0, i]
-                fy += fc[1, i]
-            yi = q[1, i]
-            gx = gam
-            gy = gam
-            if HAS_GRAVITY:
-                fgx, fgy, ug = gravity(m, g_x, g_y, q[0, i], yi, qref[0, i], qref[1, i])
-                fx += fgx
-                fy += fgy
-                u_ext += ug
-            if HAS_BUOYANCY:
-                fb, ub = buoyancy(m, p[RHO], p[RHO_W], p[G], yi, qref[1, i], p[Y_WATER])
-                fy += fb
-                u_ext += ub
-            if HAS_DRAG:
-                cd = drag_rate(yi, p[Y_WATER], p[C_DRAG], p[DRAG_ALL] > 0.0)
-                gx += cd
-                gy += cd
-            if HAS_BED:
-                h, fbed, ubed = bed(yi, diam[i], p[Y_BED], p[K_BED])
-                if h > 0.0:
-                    fy += fbed
-                    u_ext += ubed
-                    gy += p[C_BED]
-                    gx += p[C_FRIC_BED]
-            lfx = load[0, i] * ramp
-            lfy = load[1, i] * ramp
-            fx += lfx
-            fy += lfy
-            # update each dof (x, y with the mass, theta with J); one += per reduction
-            xn, kx, dx1, dx2, wx1, wx2, fsx = _dof(q[0, i], qm[0, i], fx, gx, m, dt, fix[0, i],
-                                                   drive[0, i], qref[0, i] + ux_d)
-            yn, ky, dy1, dy2, wy1, wy2, fsy = _dof(q[1, i], qm[1, i], fy, gy, m, dt, fix[1, i],
-                                                   drive[1, i], qref[1, i] + uy_d)
-            tn, kt, dt1, dt2, wt1, wt2, _ = _dof(q[2, i], qm[2, i], tq, gam, inertia[i], dt,
-                                                 fix[2, i], 0, 0.0)
-            qn[0, i] = xn
-            qn[1, i] = yn
-            qn[2, i] = tn
-            kin += kx + ky
-            rot += kt
-            diss += dx1 + dy1 + dt1
-            diss_fwd += dx2 + dy2 + dt2
-            work += (wx1 + wy1 + wt1 + lfx * 0.5 * (xn - qm[0, i])
-                     + lfy * 0.5 * (yn - qm[1, i]))
-            work_fwd += (wx2 + wy2 + wt2 + lfx * 0.5 * (xn - q[0, i])
-                         + lfy * 0.5 * (yn - q[1, i]))
-            dfx += fsx if drive[0, i] else 0.0
-            dfy += fsy if drive[1, i] else 0.0
-            if load[0, i] != 0.0 or load[1, i] != 0.0:
-                lux += q[0, i] - qref[0, i]
-                luy += q[1, i] - qref[1, i]
-                nload += 1.0
-            if HAS_CONTACT:
-                ddx = qn[0, i] - qbuild[0, i]
-                ddy = qn[1, i] - qbuild[1, i]
-                moved2[i] = ddx * ddx + ddy * ddy
+        moved = 0.0
+        for c in range(NCHUNK):
+            kin += ppart[c, P_KIN]
+            rot += ppart[c, P_ROT]
+            u_ext += ppart[c, P_UEXT]
+            work += ppart[c, P_WORK]
+            diss += ppart[c, P_DISS]
+            diss_fwd += ppart[c, P_DISS_FWD]
+            work_fwd += ppart[c, P_WORK_FWD]
+            lux += ppart[c, P_LUX]
+            luy += ppart[c, P_LUY]
+            nload += ppart[c, P_NLOAD]
+            dfx += ppart[c, P_DFX]
+            dfy += ppart[c, P_DFY]
+            moved = max(moved, ppart[c, P_MOVED])
         acc[A_DAMP] += diss
         acc[A_WORK] += work
-        moved = moved2.max() if HAS_CONTACT else 0.0
-        # rotate configurations: (qm, q) <- (q, qn)
-        for i in prange(n):
-            for a in range(3):
-                qm[a, i] = q[a, i]
-                q[a, i] = qn[a, i]
         done = k + 1
         # 5. energy sample and checks
         if (gstep + 1) % series_every == 0 or k == n_steps - 1:

@@ -1,0 +1,66 @@
+"""Checkpoint / resume of lattice runs: an interrupted run resumed from its last checkpoint
+gives the dataset of the uninterrupted run, bit for bit."""
+
+import numpy as np
+import pytest
+
+from craquelure.io import open_dataset
+from craquelure.lattice.run import checkpoint_path, fingerprint
+from craquelure.lattice.run import run as lattice_run
+from craquelure.scene import load_scene
+
+# small versions of two scenes that exercise every piece of evolving state: contact lists,
+# fracture and the bed / buoyancy (calving), melting with re-forming bonds on a periodic
+# lattice (glen)
+SCENES = {
+    "calving": ["domain.nx=24", "domain.ny=8", "domain.water_level=5.0", "material.g=0.02",
+                "fracture.start_time=30.0", "numerics.mass_damping_until=30.0",
+                "numerics.series_every=20", "outputs.t_end=150.0", "outputs.frames=8",
+                "numerics.checkpoint_every=2"],
+    "glen": ["domain.nx=8", "domain.ny=6", "melting.freeze_every=200", "outputs.t_end=120.0",
+             "outputs.frames=6", "numerics.checkpoint_every=2", "loads.top_shear_stress=0.05"],
+}
+# provenance attributes that differ between any two runs
+VOLATILE = {"wall_time_s", "start_time", "scene_overrides"}
+
+
+def same_dataset(a, b):
+    assert set(a.data_vars) == set(b.data_vars)
+    for name in a.data_vars:
+        np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=name)
+    for name in a.coords:
+        np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=name)
+    keep = set(a.attrs) - VOLATILE
+    np.testing.assert_equal({k: a.attrs[k] for k in keep}, {k: b.attrs[k] for k in keep})
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_interrupted_run_resumes_bit_identically(name, tmp_path):
+    scene = load_scene(f"lattice/{name}", SCENES[name])
+    full = lattice_run(scene, tmp_path / "full.nc", seed=3)
+    assert not checkpoint_path(full).exists()  # removed once the dataset is written
+    out = tmp_path / "part.nc"
+    ck = lattice_run(scene, out, seed=3, stop_after_checkpoints=2)
+    assert ck == checkpoint_path(out) and ck.exists() and not out.exists()
+    ck_ds = open_dataset(ck)
+    assert ck_ds.attrs["finished"] == 0 and 0 < ck_ds.attrs["step"]
+    assert ck_ds.attrs["fingerprint"] == fingerprint(scene, 3)
+    lattice_run(scene, out, seed=3, resume=True)
+    assert not ck.exists()
+    a, b = open_dataset(full), open_dataset(out)
+    same_dataset(a, b)
+    if name == "calving":
+        assert int((a.bond_state == 0).sum()) > 0  # beams broke after the checkpoint too
+        assert float(a.bond_break_time.max()) > ck_ds.attrs["step"] * a.attrs["dt"]
+    else:
+        assert a.melted.values[-1] > 0
+
+
+def test_checkpoint_of_another_seed_is_ignored(tmp_path, capsys):
+    scene = load_scene("lattice/glen", SCENES["glen"])
+    out = tmp_path / "run.nc"
+    lattice_run(scene, out, seed=1, stop_after_checkpoints=1)
+    lattice_run(scene, out, seed=2, resume=True)
+    assert "ignoring checkpoint" in capsys.readouterr().err
+    fresh = lattice_run(scene, tmp_path / "fresh.nc", seed=2)
+    same_dataset(open_dataset(out), open_dataset(fresh))
