@@ -117,4 +117,30 @@ rule impact_figures:
         "../scripts/impact_figures.py"
 
 
-TARGETS["impact"] = ["results/impact/summary.json", *IMPACT_PNG.values()]
+rule impact_accuracy:
+    output:
+        json="results/impact/accuracy.json",
+        png=report(
+            "results/impact/figures/impact_accuracy.png",
+            caption="../report/impact_accuracy.rst",
+            category="Concrete impact",
+            labels={"figure": "accuracy: error vs CPU time"},
+        ),
+    params:
+        profile=config["profile"],
+        spacings=IMPACT["accuracy"]["spacings"],
+        kappas=IMPACT["accuracy"]["kappas"],
+    log:
+        "logs/impact_accuracy.log",
+    benchmark:
+        "benchmarks/results/impact_accuracy.tsv"
+    threads: 1
+    resources:
+        mem_mb=IMPACT["mem_mb"],
+        runtime=10,
+    script:
+        "../scripts/impact_accuracy.py"
+
+
+TARGETS["impact"] = ["results/impact/summary.json", *IMPACT_PNG.values(),
+                     "results/impact/figures/impact_accuracy.png"]
