@@ -46,7 +46,7 @@ def test_divergence_stops_without_output(tmp_path):
     assert not list(tmp_path.iterdir())
 
 
-@pytest.mark.parametrize("profile,expected", [("config.yaml", 36), ("ci.yaml", 18),
+@pytest.mark.parametrize("profile,expected", [("config.yaml", 21), ("ci.yaml", 18),
                                               ("paper.yaml", 132)])
 def test_campaign_sizes(profile, expected):
     section = yaml.safe_load(Path(project_root() / "config" / profile).read_text())["impact"]

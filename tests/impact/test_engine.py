@@ -166,8 +166,9 @@ def test_artificial_stress_prevents_clumping_in_tension(capsys):
     pytest.param(0.3, marks=pytest.mark.xfail(strict=True, reason=(
         "spec check 8 asks that the velocity noise does not grow at eps_AS = 0.3; measured "
         "2026-11-22: rms velocity 7.1e-3 -> 1.6e-2 m/s (x2.2) and stress std 0.24 -> 0.97 MPa "
-        "from step 500 to 2000, while eps_AS = 0.2 (x0.68) and 0 (x0.30) decay. Cause: the "
-        "R_j half of f^n (R_i + R_j) is -eps_AS times a nearest-neighbour-weighted gradient of "
+        "from step 500 to 2000, while eps_AS = 0.2 (x0.68) and 0 (x0.30) decay. Likely cause "
+        "(analysis; the threshold is measured, the mechanism not isolated): the R_j half "
+        "of f^n (R_i + R_j) is -eps_AS times a nearest-neighbour-weighted gradient of "
         "sigma; for the shortest stress waves, which the h = 1.2 Delta SPH gradient barely "
         "sees, it outweighs the physical restoring term once eps_AS > ~0.25, so short-wave "
         "stress modes grow (the AS energy account e_AS falls to -0.5 J/m, work done on the "

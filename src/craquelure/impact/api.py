@@ -206,7 +206,8 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
     g = scene.get
     crack = crack_indicator(scene, st.dmg, st.kap)
     metrics = run_metrics(sp.x, sp.y, crack, st.epsp, sp.precrack, sp.spacing, sp.radius,
-                          g("material.cracked_threshold"), g("material.crushed_strain"))
+                          g("material.cracked_threshold"), g("material.crushed_strain"),
+                          sp.centre_y)
     metrics["cracked_fraction_damage"] = float(np.mean(st.dmg >= g("material.cracked_threshold")))
     metrics["cracked_measure"] = g("material.cracked_measure")
     metrics.update(contact_metrics(series["time"], series["contact_force"], series["vcm_y"]))

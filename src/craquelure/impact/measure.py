@@ -11,6 +11,11 @@
 - Main cracks: clusters of cracked, not crushed particles, adjacent if their reference distance
   is ≤ 1.5Δ; a cluster counts if its reference extent along its principal axis is ≥ R. Angle θ to
   the vertical in (−90°, 90°], length = extent along the axis + Δ.
+- Crack crossings of the centre line [D, added 2026-11-22]: the number of separate runs of
+  cracked, not crushed particles along the grid row nearest the disc centre height (reference
+  positions). The cluster rule above merges radial cracks that a later transverse crack or a
+  branch joins (N_mc = 1 for a fan of five radial cracks); the crossings count them: the
+  source's single central main crack is 1 crossing near x = 0.
 - Crushed zone [D]: crushed particles (ε̄_p ≥ 0.0035) in clusters that touch the lowest two grid
   rows (the contact region; "connected to the lowest particle" generalised to the rows that
   touch the base); area A_cr = count·Δ² (per metre), height h_cr = reference y-extent + Δ.
@@ -68,6 +73,25 @@ def main_cracks(x0, y0, damage, plastic, spacing, radius, cracked=0.9, crushed=0
     return sorted(out, key=lambda d: -d["length"])
 
 
+def centre_line_crossings(x0, y0, damage, plastic, spacing, centre_y, cracked=0.9,
+                          crushed=0.0035) -> tuple[int, str]:
+    """(number of cracked runs along the grid row nearest y = centre_y, their mean x in mm)."""
+    row = np.abs(y0 - centre_y) <= np.abs(y0 - centre_y).min() + 0.01 * spacing
+    row &= y0 <= centre_y + 0.01 * spacing  # one row when the centre falls between two rows
+    idx = np.flatnonzero(row)
+    idx = idx[np.argsort(x0[idx])]
+    hit = (damage[idx] >= cracked) & (plastic[idx] < crushed)
+    runs, start = [], None
+    for k, h in enumerate(hit):
+        if h and start is None:
+            start = k
+        if start is not None and (not h or k == hit.size - 1):
+            end = k if h else k - 1
+            runs.append(float(x0[idx[start:end + 1]].mean()))
+            start = None
+    return len(runs), ",".join(f"{1e3 * x:.0f}" for x in runs)
+
+
 def crushed_zone(x0, y0, plastic, spacing, crushed=0.0035) -> tuple[float, float]:
     member = plastic >= crushed
     bottom = y0 <= y0.min() + 1.01 * spacing
@@ -102,8 +126,12 @@ def contact_metrics(t, force, vcm_y) -> dict[str, float]:
 
 
 def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
-                crushed=0.0035) -> dict[str, float]:
+                crushed=0.0035, centre_y=None) -> dict[str, float]:
     mcs = main_cracks(x0, y0, damage, plastic, spacing, radius, cracked, crushed)
+    if centre_y is None:
+        centre_y = 0.5 * (y0.min() + y0.max())
+    n_cross, x_cross = centre_line_crossings(x0, y0, damage, plastic, spacing, centre_y,
+                                             cracked, crushed)
     area, height = crushed_zone(x0, y0, plastic, spacing, crushed)
     out = {
         "cracked_fraction": float(np.mean(damage >= cracked)),
@@ -113,6 +141,8 @@ def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
         "main_crack_angles_deg": ",".join(f"{m['angle_deg']:.1f}" for m in mcs),
         "crushed_area": area,
         "crushed_height": height,
+        "centre_crossings": n_cross,
+        "centre_crossings_x_mm": x_cross,
     }
     if precrack.any():
         out["precrack_cracked_fraction"] = precrack_agreement(x0, y0, damage, precrack, spacing,

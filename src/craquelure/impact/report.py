@@ -21,7 +21,7 @@ PER_RUN = ("n_main_cracks", "main_crack_angle_deg", "cracked_fraction",
            "cracked_fraction_damage", "crushed_area", "crushed_height", "contact_force_peak",
            "contact_impulse", "contact_duration", "rebound_velocity",
            "energy_balance_error_max", "min_y_final", "precrack_cracked_fraction",
-           "precrack_angle_deg", "wall_time_s", "steps")
+           "precrack_angle_deg", "wall_time_s", "steps", "centre_crossings")
 
 
 def _num(v):
@@ -78,6 +78,8 @@ def summarise(paths, profile: str, scene: str, distribution: str) -> dict:
     total_wall = sum(m["wall_time_s"] or 0 for m in runs)
     return {
         "profile": profile, "scene": scene, "n_runs": len(runs),
+        "n_seeds_heterogeneous": max((len(c["seeds"]) for k, c in out_cases.items()
+                                      if not k.startswith("homogeneous/")), default=0),
         "all_runs_finished": True,
         "max_energy_balance_error": max(abs(m["energy_balance_error_max"]) for m in runs),
         "total_run_wall_time_s": total_wall,
@@ -85,7 +87,10 @@ def summarise(paths, profile: str, scene: str, distribution: str) -> dict:
         "notes": ("cracked = softening s >= 0.9 (residual tensile strength <= 0.1 f_t); "
                   "D_t >= 0.9 is reported as cracked_fraction_damage. Main cracks: clusters of "
                   "cracked, not crushed particles (reference distance <= 1.5 Delta) with extent "
-                  ">= R; parallel crack bands closer than 1.5 Delta merge into one cluster."),
+                  ">= R; parallel crack bands closer than 1.5 Delta merge into one cluster, "
+                  "and cracks joined by a branch or a transverse crack count once: "
+                  "centre_crossings (cracked runs along the row at the disc centre height) "
+                  "counts them separately and is given with each finding."),
     }
 
 
@@ -112,7 +117,8 @@ def evaluate_findings(cases: dict, dist: str) -> list[dict]:
                         homo["per_seed"]["crushed_area"][0])
         add("homogeneous: one symmetric vertical main crack, crushed contact zone",
             "N_mc = 1, |theta| <= 10 deg, A_cr > 0",
-            {"N_mc": n, "theta_deg": ang, "A_cr_m2": area},
+            {"N_mc": n, "theta_deg": ang, "A_cr_m2": area,
+             "centre_crossings": homo["per_seed"]["centre_crossings"][0]},
             n == 1 and ang is not None and abs(ang) <= 10 and area > 0)
     else:
         add("homogeneous: one main crack", "N_mc = 1", {}, None)
@@ -123,7 +129,10 @@ def evaluate_findings(cases: dict, dist: str) -> list[dict]:
         p1 = _med(cases, f"{dist}/none/kappa1", "cracked_fraction")
         add("heterogeneous kappa = 1: several main cracks, more damage",
             "median N_mc >= 2 and median phi_c above the homogeneous disc",
-            {"median_N_mc": n1, "median_phi_c": p1, "phi_c_homogeneous": phi_h},
+            {"median_N_mc": n1, "median_phi_c": p1, "phi_c_homogeneous": phi_h,
+             "median_centre_crossings": _med(cases, f"{dist}/none/kappa1", "centre_crossings"),
+             "centre_crossings_homogeneous": _med(cases, "homogeneous/none/kappa1",
+                                                  "centre_crossings")},
             n1 >= 2 and phi_h is not None and p1 > phi_h)
     if het[1.5] and het[1.0]:
         frac = het[1.5]["fraction_one_main_crack"]
@@ -143,6 +152,7 @@ def evaluate_findings(cases: dict, dist: str) -> list[dict]:
              "A_cr_0.7_vs_1.0": vals["crushed_area"]},
             frac >= 0.5 and vals["cracked_fraction"][0] > vals["cracked_fraction"][1]
             and vals["crushed_area"][0] > vals["crushed_area"][1])
+    _crossing_findings(cases, dist, add)
     forces = {k: _med(cases, f"homogeneous/none/kappa{k:g}", "contact_force_peak")
               for k in (0.7, 1.0, 1.5)}
     if all(v is not None for v in forces.values()):
@@ -165,6 +175,39 @@ def evaluate_findings(cases: dict, dist: str) -> list[dict]:
              "precrack_angle_deg": pang, "angle_difference_deg": diff},
             frac is not None and frac >= 0.8 and diff is not None and diff <= 15)
     return f
+
+
+def _crossing_findings(cases: dict, dist: str, add) -> None:
+    """The main-crack findings again with the centre-line crossings as the crack counter
+    (see :mod:`craquelure.impact.measure`): the cluster rule merges joined radial cracks."""
+    def med(key):
+        return _med(cases, key, "centre_crossings")
+
+    def frac_one(key):
+        c = cases.get(key)
+        vals = [v for v in c["per_seed"]["centre_crossings"] if v is not None] if c else []
+        return float(np.mean([v == 1 for v in vals])) if vals else None
+
+    homo, het1 = med("homogeneous/none/kappa1"), med(f"{dist}/none/kappa1")
+    if homo is not None:
+        add("homogeneous, by centre crossings: one central main crack",
+            "exactly 1 cracked run along the centre row", {"centre_crossings": homo},
+            homo == 1)
+    if homo is not None and het1 is not None:
+        add("heterogeneous kappa = 1, by centre crossings: several main cracks",
+            "median crossings >= 2 and above the homogeneous disc",
+            {"median_crossings": het1, "homogeneous": homo}, het1 >= 2 and het1 > homo)
+    f15, f07 = frac_one(f"{dist}/none/kappa1.5"), frac_one(f"{dist}/none/kappa0.7")
+    if f15 is not None and het1 is not None:
+        add("kappa = 1.5, by centre crossings: one main crack",
+            "1 crossing in >= 60 % of seeds", {"fraction_1_crossing": f15,
+                                                "median_crossings": med(f"{dist}/none/kappa1.5")},
+            f15 >= 0.6)
+    if f07 is not None and het1 is not None:
+        add("kappa = 0.7, by centre crossings: one main crack",
+            "1 crossing in >= 50 % of seeds", {"fraction_1_crossing": f07,
+                                                "median_crossings": med(f"{dist}/none/kappa0.7")},
+            f07 >= 0.5)
 
 
 def write_summary(summary: dict, path: Path) -> None:
@@ -199,6 +242,7 @@ def _failed(ds, snapshot=-1):
 def _title(ds):
     return (f"kappa = {float(ds.attrs['metric_kappa']):g}, {ds.attrs['metric_distribution']}, "
             f"seed {int(ds.attrs.get('seed', 0))}: N_mc = {int(ds.attrs['metric_n_main_cracks'])}"
+            f", crossings {int(ds.attrs.get('metric_centre_crossings', -1))}"
             f", phi_c = {float(ds.attrs['metric_cracked_fraction']):.2f}")
 
 
