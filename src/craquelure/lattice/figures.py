@@ -49,20 +49,32 @@ def calving(ds, out, title):
     ax[2].set_ylabel("broken beams")
     c, d, n = fragments.size_distribution(sz)
     slope, decades = fragments.fit_slope(c, d, n)
+    tau, cut = fragments.fit_cutoff_power_law(sz[1:])
     sel = n > 0
     ax[3].loglog(c[sel], d[sel], "o", color="k", label="n(s)")
     if np.isfinite(slope):
         ref = d[sel][0] * (c[sel] / c[sel][0]) ** -1.5
         ax[3].loglog(c[sel], ref, "--", color="tab:red", label="s^-3/2")
+    if np.isfinite(tau):
+        # maximum-likelihood form: expected counts in the same log bins / bin width
+        grid = np.arange(1, int(50 * c[sel].max()) + 1)
+        w = grid ** -tau * np.exp(-grid / cut)
+        edges = np.sqrt(c[:-1] * c[1:])
+        edges = np.r_[c[0] ** 2 / edges[0], edges, c[-1] ** 2 / edges[-1]]
+        expected, _ = np.histogram(grid, edges, weights=(sz.size - 1) * w / w.sum())
+        ax[3].loglog(c[sel], (expected / np.diff(edges))[sel], "-", color="tab:blue",
+                     label=f"ML s^-{tau:.2f} exp(-s/{cut:.0f}), same bins")
     ax[3].set_xlabel("fragment size s (particles)")
     ax[3].set_ylabel("n(s)")
-    ax[3].set_title(f"{sz.size - 1} fragments, fitted slope {slope:.2f} over {decades:.1f} dec.")
-    ax[3].legend()
+    ax[3].set_title(f"{sz.size - 1} fragments: ML exponent {tau:.2f} (cut-off {cut:.0f}); "
+                    f"binned slope {slope:.2f} over {decades:.1f} dec.", fontsize=9)
+    ax[3].legend(fontsize=8)
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     plt.close(fig)
     return {"fragments": int(sz.size - 1), "slope": slope, "decades": decades,
+            "ml_exponent": tau, "ml_cutoff": cut,
             "broken": int(ds.broken.values[-1]),
             "calved_particles": int(sz[1:].sum())}
 

@@ -1,15 +1,26 @@
-"""Fragments: connected components of the intact-beam graph (lattice spec section 10).
+r"""Fragments: connected components of the intact-beam graph (lattice spec section 10).
 
 Particles of one body joined by intact beams form a fragment; the largest fragment is the
 main body and is excluded from the size distribution. ``n(s)`` is histogrammed on
 logarithmic bins (counts divided by bin width), and its log-log slope is fitted over the
 bins with at least ``min_count`` fragments (2D brittle fragmentation predicts -3/2 with a
 cut-off). Only the body particles (``body == 0``) are labelled; the pad is excluded.
+
+Decision [D]: the spec's form is a power law with an exponential cut-off,
+:math:`n(s) \propto s^{-\tau} e^{-s/s_*}`. A straight line through log-binned counts
+ignores the cut-off (the last bins steepen it) and weights the sparse large-size bins like
+the full small-size ones, so with the ~10^2 fragments of a laptop-size calving run it is
+biased steep. :func:`fit_cutoff_power_law` fits both parameters by maximum likelihood of the
+discrete distribution on s >= s_min (Clauset, Shalizi & Newman 2009, with the cut-off); the
+binned slope is still reported next to it.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from scipy.optimize import minimize
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
@@ -54,3 +65,30 @@ def fit_slope(centres, density, counts, min_count: int = 2) -> tuple[float, floa
         return float("nan"), 0.0
     b = np.polyfit(np.log10(centres[sel]), np.log10(density[sel]), 1)[0]
     return float(b), float(np.log10(centres[sel].max() / centres[sel].min()))
+
+
+def fit_cutoff_power_law(frag_sizes, s_min: int = 1, min_fragments: int = 10
+                         ) -> tuple[float, float]:
+    """Maximum-likelihood (tau, s_*) of p(s) = s^-tau exp(-s/s_*) / Z on s >= s_min (integer
+    sizes, Z summed to 50 max(s)); (nan, nan) below ``min_fragments`` fragments. Pass the
+    sizes without the main body."""
+    s = np.asarray(frag_sizes, dtype=np.float64)
+    s = s[s >= s_min]
+    if s.size < min_fragments:
+        return math.nan, math.nan
+    grid = np.arange(s_min, max(50.0 * s.max(), 1000.0) + 1.0)
+    log_grid = np.log(grid)
+    sum_log, sum_s = float(np.log(s).sum()), float(s.sum())
+
+    def nll(params):
+        tau, log_cut = params
+        cut = math.exp(log_cut)
+        logw = -tau * log_grid - grid / cut
+        top = logw.max()
+        log_z = top + math.log(np.exp(logw - top).sum())
+        return tau * sum_log + sum_s / cut + s.size * log_z
+
+    start = (1.5, math.log(max(3.0 * s.mean(), 2.0)))
+    res = minimize(nll, start, method="Nelder-Mead",
+                   options={"xatol": 1e-6, "fatol": 1e-9, "maxiter": 4000})
+    return float(res.x[0]), float(math.exp(res.x[1]))
