@@ -76,10 +76,11 @@ def lattice_run(n_side: int = 40, box_length: float = 2.0, bands_per_time=((),),
 
 def fragment_dataset(seed: int, times, mean_area, n_per_time, shape=2.0,
                      scene: str = "drying/default", first_removal: float = np.nan,
-                     ) -> xr.Dataset:
+                     drying_rate: float = 2.2e-4) -> xr.Dataset:
     """Fragment dataset with gamma-distributed areas: at times[k], n_per_time[k] fragments of
-    mean mean_area[k] and gamma shape ``shape`` (a number or one per time)."""
-    sc = load_scene(scene)
+    mean mean_area[k] and gamma shape ``shape`` (a number or one per time). The scene's drying
+    rate is pinned (t* = 22.7 by default) so the synthetic laws do not follow profile edits."""
+    sc = load_scene(scene, [f"material.drying_rate={drying_rate!r}"])
     rng = np.random.default_rng(seed)
     times = np.asarray(times, float)
     shapes = np.broadcast_to(np.asarray(shape, float), times.shape)

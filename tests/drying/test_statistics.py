@@ -22,7 +22,7 @@ T_STAR = 5e-3 / 2.2e-4  # default scene: 22.7
 TIMES = np.arange(9.0, 31.0)
 
 
-def campaign_of(b, t0, shape=2.0, n_seeds=30):
+def campaign_of(b, t0, shape=2.0, n_seeds=30, window_mode="paper"):
     mean = 1.0 / (b * np.maximum(TIMES - t0, 0.5))
     frags = []
     for s in range(n_seeds):
@@ -30,7 +30,7 @@ def campaign_of(b, t0, shape=2.0, n_seeds=30):
         n[TIMES < t0 + 1] = 1 + (s % 2) * (n[TIMES < t0 + 1] - 1)  # half still unbroken
         frags.append(fragment_dataset(s + 1, TIMES, mean, n, shape=shape,
                                       first_removal=t0 - 1.0 + 0.1 * s))
-    return build_campaign(frags, n_bins=20)
+    return build_campaign(frags, n_bins=20, window_mode=window_mode)
 
 
 def test_windows_scale_with_t_star():
@@ -152,3 +152,32 @@ def test_unbroken_campaign_is_summarised_without_error(tmp_path):
     assert not s["checks"]["check15_scaling_collapse"]["pass"]
     assert s["onset"]["all_samples_broken_time"] is None
     assert "git_commit" in s["provenance"]
+
+
+def test_all_broken_window_starts_when_every_sample_is_broken():
+    """Window mode all_broken: from the first snapshot from which on every sample has >= 2
+    fragments (half the synthetic samples stay whole until t0 + 1) to the last snapshot, with
+    7 collapse times spread over it; the summary reports the mode and the window."""
+    from craquelure.drying.statistics import campaign_window
+
+    t0 = 12.0
+    campaign = campaign_of(b=0.05, t0=t0, n_seeds=6, window_mode="all_broken")
+    counts = campaign["n_fragments"].values
+    first_all = TIMES[np.all(counts >= 2, axis=0)][0]
+    assert first_all >= t0 + 1  # the unbroken half delays it
+    win = campaign_window(TIMES, counts, T_STAR, "all_broken")
+    assert win["start"] == first_all and win["end"] == TIMES[-1]
+    assert win["mask"].sum() == np.count_nonzero(TIMES >= first_all)
+    assert win["collapse_times"].size == 7
+    assert win["collapse_times"][0] == first_all and win["collapse_times"][-1] == TIMES[-1]
+    # A sample that heals back to one fragment moves the start past that snapshot.
+    healed = counts.copy()
+    healed[0, -3] = 1
+    assert campaign_window(TIMES, healed, T_STAR, "all_broken")["start"] == TIMES[-2]
+    # Recorded in the campaign, read back by the summary.
+    summary = summarise(campaign, profile="test", n_boot=50)
+    assert summary["window_mode"] == "all_broken"
+    assert summary["window"] == pytest.approx([first_all, TIMES[-1]])
+    with pytest.raises(Exception, match="allowed values: paper, all_broken"):
+        campaign_window(TIMES, counts, T_STAR, "fastest")
+

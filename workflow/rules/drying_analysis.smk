@@ -37,6 +37,7 @@ rule drying_campaign:
         "results/drying/{scene}/campaign.nc",
     params:
         cli=CRAQUELURE,
+        window=config["drying"]["window"],
     log:
         "logs/drying_campaign/{scene}.log",
     threads: 1
@@ -44,7 +45,7 @@ rule drying_campaign:
         mem_mb=config["drying"]["mem_mb"],
         runtime=config["drying"]["runtime_init"],
     shell:
-        "{params.cli} campaign {input} --out {output} > {log} 2>&1"
+        "{params.cli} campaign {input} --out {output} --window {params.window} > {log} 2>&1"
 
 
 rule drying_summary:

@@ -1,5 +1,6 @@
-"""``craquelure campaign FRAG1.nc FRAG2.nc ... --out CAMPAIGN.nc [--bins 30]``: aggregate the
-per-seed fragment datasets of one drying scene over seeds (drying spec section 10)."""
+"""``craquelure campaign FRAG1.nc FRAG2.nc ... --out CAMPAIGN.nc [--bins 30] [--window MODE]``:
+aggregate the per-seed fragment datasets of one drying scene over seeds (drying spec section
+10); MODE is the statistics window (:func:`craquelure.drying.statistics.campaign_window`)."""
 
 from craquelure.errors import CraquelureError
 
@@ -11,6 +12,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("fragments", nargs="+", help="fragment datasets, one per seed")
     parser.add_argument("--out", required=True, help="output campaign dataset (.nc)")
     parser.add_argument("--bins", type=int, default=30, help="histogram bins")
+    parser.add_argument("--window", default="paper",
+                        help="statistics window: 'paper' (the paper's t = 180-300 rescaled by "
+                             "t*) or 'all_broken' (from the first snapshot with every sample "
+                             "broken to the end)")
 
 
 def main(args) -> int:
@@ -23,6 +28,11 @@ def main(args) -> int:
         raise CraquelureError(f"fragment datasets not found: {', '.join(missing)}")
     if args.bins < 2:
         raise CraquelureError(f"--bins {args.bins} is not allowed; must be >= 2")
-    out = campaign_from_files(args.fragments, args.out, args.bins)
+    from craquelure.drying.statistics import WINDOW_MODES
+
+    if args.window not in WINDOW_MODES:
+        raise CraquelureError(f"--window {args.window} is not allowed; allowed values: "
+                              f"{', '.join(WINDOW_MODES)}")
+    out = campaign_from_files(args.fragments, args.out, args.bins, args.window)
     print(f"wrote {out}")
     return 0

@@ -14,7 +14,7 @@ Dims: ``seed`` (independent samples), ``time`` (snapshot times, the same in ever
 - :math:`P(S;t)`: density of the pooled sizes at time t on common linear bins
   :math:`[0, S_{max}]`, normalised by the number of all fragments at t (so it integrates to
   the fraction inside the bins). :math:`S_{max}` is the largest fragment in the statistics
-  window (:func:`craquelure.drying.statistics.analysis_window`) [D: the early one-fragment
+  window (:func:`craquelure.drying.statistics.campaign_window`) [D: the early one-fragment
   samples, S = L^2, would otherwise squeeze every later histogram into the first bin].
 - Scaled distribution (30, 31): :math:`X = S/\langle S\rangle_t`,
   :math:`\tilde P(X) = \langle S\rangle_t P(X \langle S\rangle_t; t)`, i.e. the density of X,
@@ -67,9 +67,12 @@ def _density(values: np.ndarray, edges: np.ndarray) -> np.ndarray:
     return counts / (values.size * np.diff(edges))
 
 
-def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS) -> xr.Dataset:
-    """Aggregate per-seed fragment datasets (same scene and snapshot times) over seeds."""
-    from craquelure.drying.statistics import analysis_window, in_window, t_star
+def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
+                   window_mode: str = "paper") -> xr.Dataset:
+    """Aggregate per-seed fragment datasets (same scene and snapshot times) over seeds;
+    ``window_mode`` (:data:`craquelure.drying.statistics.WINDOW_MODES`) fixes the statistics
+    window, recorded in the attributes."""
+    from craquelure.drying.statistics import campaign_window, t_star
 
     if not fragments:
         raise CraquelureError("campaign: no fragment datasets given")
@@ -114,8 +117,8 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS) 
 
     scene = run_scene(first)
     tstar = t_star(scene)
-    lo, hi = analysis_window(tstar)
-    ref = in_window(times, tstar)[f_time_index]
+    win = campaign_window(times, count, tstar, window_mode)
+    ref = win["mask"][f_time_index]
     if not ref.any():
         ref = np.ones(area.size, bool)
     s_max = float(area[ref].max()) if area.size else 1.0
@@ -189,15 +192,16 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS) 
             ds.attrs[key] = value
     ds.attrs.update({"scene_name": str(first.attrs.get("scene_name", scene.name)),
                      "n_seeds": n_s, "seeds": ",".join(map(str, seeds)), "t_star": tstar,
-                     "window_start": lo, "window_end": hi})
+                     "window_mode": window_mode, "window_start": win["start"],
+                     "window_end": win["end"]})
     return ds
 
 
 def campaign_from_files(paths: Sequence[str | Path], out: str | Path,
-                        n_bins: int = DEFAULT_BINS) -> Path:
+                        n_bins: int = DEFAULT_BINS, window_mode: str = "paper") -> Path:
     clock = WallClock()
     fragments = [open_dataset(p) for p in paths]
-    ds = build_campaign(fragments, n_bins)
+    ds = build_campaign(fragments, n_bins, window_mode)
     ds.attrs.update(provenance_attrs(run_scene(fragments[0]), None, clock,
                                      effects=str(fragments[0].attrs.get("effects", ""))
                                      .split(",")))

@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from craquelure.drying.statistics import in_window, paper_t_star  # noqa: E402
+from craquelure.drying.statistics import paper_t_star, window_of  # noqa: E402
 
 FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
 
@@ -42,8 +42,11 @@ def setup_line(campaign: xr.Dataset, profile: str) -> str:
     a = campaign.attrs
     tstar = float(a["t_star"])
     speed = paper_t_star() / tstar
+    mode = str(a.get("window_mode", "paper"))
+    window = ("paper's window rescaled by t*" if mode == "paper"
+              else "window from the first snapshot with every sample broken")
     pace = ("as the paper" if abs(speed - 1) < 1e-3
-            else f"{speed:.3g}x faster than the paper: windows rescaled by t*")
+            else f"{speed:.3g}x faster than the paper; {window}")
     return (f"profile {profile}, scene {a.get('scene_name', '?')}: N = {int(a['n_particles'])}, "
             f"L = {float(a['box_length']):g}, {campaign.sizes['seed']} seeds; "
             f"t* = sigma_Y/v_r = {tstar:.3g} (drying {pace})")
@@ -53,7 +56,8 @@ def fit_line(summary: dict[str, Any]) -> str:
     fit = summary.get("fit", {})
     ci = fit.get("alpha_ci95") or [None, None]
     c14 = summary["checks"]["check14_inverse_mean_area_linear"]["pass"]
-    return (f"window t = [{summary['window'][0]:.3g}, {summary['window'][1]:.3g}]: "
+    lo, hi = (_fmt(v) for v in summary["window"])
+    return (f"window t = [{lo}, {hi}]: "
             f"alpha = {_fmt(fit.get('alpha'))} (95% CI {_fmt(ci[0])}-{_fmt(ci[1])}), "
             f"1/<S> linear: R^2 = {_fmt(fit.get('r2'), '.4f')}, "
             f"b = {_fmt(fit.get('slope_b'))} = {_fmt(summary.get('slope_over_b_star'))} b*, "
@@ -92,7 +96,7 @@ def _positive(values: np.ndarray) -> np.ndarray:
 
 
 def _colours(n: int):
-    return plt.cm.viridis(np.linspace(0.0, 0.9, max(n, 1)))
+    return plt.cm.viridis(np.linspace(0.0, 0.9, n))
 
 
 def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any],
@@ -102,7 +106,8 @@ def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any]
     sigma_y = float(a["yield_stress"])
     tstar = float(a["t_star"])
     times = run["time"].values
-    late = np.flatnonzero(times >= summary["initial_stage_end"])
+    start = summary.get("initial_stage_end")  # None when no snapshot has every sample broken
+    late = np.flatnonzero(times >= start) if start is not None else np.zeros(0, int)
     if late.size == 0:
         late = np.arange(times.size)
     picks = np.unique(late[np.linspace(0, late.size - 1, min(n_panels, late.size)).astype(int)])
@@ -148,7 +153,8 @@ def fig_inverse_mean_area(campaign: xr.Dataset, summary: dict[str, Any], profile
         if np.isfinite(t0):
             ext = np.linspace(max(min(t0, tt[0]), 0.0), tt[0], 20)  # t >= 0 only
             ax.plot(ext, fit["intercept_a"] + fit["slope_b"] * ext, "k:", lw=0.8)
-    ax.axvspan(*summary["window"], color="0.9", zorder=0, label="fit window")
+    if None not in summary["window"]:
+        ax.axvspan(*summary["window"], color="0.9", zorder=0, label="fit window")
     ax.axvline(float(campaign.attrs["t_star"]), color="C3", ls="--", lw=1,
                label="t* = sigma_Y / v_r")
     ax.set_xlabel("t [eta/lambda]")
@@ -162,8 +168,7 @@ def fig_inverse_mean_area(campaign: xr.Dataset, summary: dict[str, Any], profile
 
 
 def _window_times(campaign: xr.Dataset) -> np.ndarray:
-    t = campaign["time"].values
-    return t[in_window(t, float(campaign.attrs["t_star"]))]
+    return campaign["time"].values[window_of(campaign)["mask"]]
 
 
 def fig_size_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
@@ -191,7 +196,7 @@ def fig_size_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile
 def fig_scaled_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
     """Figs. 5-6: scaled distributions inside and before the window."""
     t_all = campaign["time"].values
-    window = in_window(t_all, float(campaign.attrs["t_star"]))
+    window = window_of(campaign)["mask"]
     start = int(np.argmax(window)) if window.any() else t_all.size
     groups = [("inside the window (collapse expected)", t_all[window]),
               ("before the window (no collapse expected)", t_all[:start])]
