@@ -6,7 +6,14 @@ D = (0, -sqrt3 d/2); all six pairs in a fixed list with zero initial deflection 
 and D up by F_v, A and B pushed toward each other by F_h. The scene gives the reduced AB load
 F~ = |F_v/sqrt3 - F_h|/(E R^2) and r = F_h/F_v, so F_v = F~ E R^2/|1/sqrt3 - r| [D] and
 tau = eta R^2/F with F = F~ E R^2 (for r = 0: tau = sqrt3 eta R^2/F_v, spec Eq. 29). theta is the
-angle between AC and AB. The T1 ends when the CD normal force reaches phi (F_v - F_h/sqrt3)
+angle between AC and AB. ``numerics.mirror_symmetry`` (default on) [D]: the rates are projected
+on the two mirror symmetries of the rhombus (x -> -x swapping A and B, y -> -y swapping C and D;
+the spec's T1 is symmetric, check 9). Without it the blocked rhombus (F_h/F_v = 0.65) is unstable
+to a rigid rotation (both load pairs are compressive and fixed in direction, and the tangential
+springs relax through the sliding films): the mode grows at about 0.03 per tau from round-off,
+by t = 650 tau the diagonals AC and BD carry the load tangentially (q = 0.025 R, s -> 0), and the
+sgn(s) kink of a(h, s) then stalls the stiff solvers (steps of 1e-12 tau at 698 tau). The T1
+ends when the CD normal force reaches phi (F_v - F_h/sqrt3)
 (``stop: cd_force``) or when theta <= theta_end (``stop: angle``).
 
 Pair: spheres 0 and 1 on the x axis at distance 2R + h0, loaded by F = F~ E R^2 toward each other
@@ -128,6 +135,7 @@ def build(scene) -> Setup:
     h0 = scene.get("particles.h0")
     force = scene.get("loads.reduced_force") * young * radius**2
     tau = eta * radius**2 / force
+    symmetry = ()
     d = (2.0 + h0) * radius
     if scene.get("particles.arrangement") == "t1":
         r = scene.get("loads.fh_over_fv")
@@ -139,6 +147,9 @@ def build(scene) -> Setup:
         x0 = np.array([[-d / 2, 0.0], [d / 2, 0.0], [0.0, SQRT3 * d / 2], [0.0, -SQRT3 * d / 2]])
         F0 = np.array([[f_h, 0.0], [-f_h, 0.0], [0.0, -f_v], [0.0, f_v]])
         pairs, pnames, names = np.array(T1_PAIRS), T1_PAIR_NAMES, T1_PARTICLES
+        if scene.get("numerics.mirror_symmetry"):
+            # mirror x -> -x swaps A and B, mirror y -> -y swaps C and D
+            symmetry = (((1, 0, 2, 3), (-1.0, 1.0, 1.0)), ((0, 1, 3, 2), (1.0, -1.0, 1.0)))
     else:
         f_v, f_h = force, 0.0
         sign = 1.0 if scene.get("loads.direction") == "compression" else -1.0
@@ -146,6 +157,7 @@ def build(scene) -> Setup:
         x0 = np.array([[-d / 2, 0.0], [d / 2, 0.0]])
         F0 = np.array([[sign * force, tang], [-sign * force, -tang]])
         pairs, pnames, names = np.array([(0, 1)]), ("01",), ("0", "1")
+    symmetry = tuple((perm, signs[:dim]) for perm, signs in symmetry)
     if dim == 3:
         x0 = np.hstack([x0, np.zeros((x0.shape[0], 1))])
         F0 = np.hstack([F0, np.zeros((F0.shape[0], 1))])
@@ -154,7 +166,7 @@ def build(scene) -> Setup:
         k_t=k_t, c_n=c_n, c_t=c_t, tau_baumgarte=scene.get("numerics.baumgarte_time") * tau,
         ramp_time=scene.get("loads.ramp_time") * tau, flags=flags,
         linear_solver=scene.get("numerics.linear_solver"), pair_names=pnames,
-        particle_names=names)
+        particle_names=names, symmetry=symmetry)
     return Setup(scene=scene, system=system, force=force, tau=tau, f_v=f_v, f_h=f_h, h0=h0)
 
 

@@ -60,6 +60,7 @@ class System:
     linear_solver: str = "auto"
     pair_names: tuple[str, ...] = ()
     particle_names: tuple[str, ...] = ()
+    symmetry: tuple[tuple[tuple[int, ...], tuple[float, ...]], ...] = ()
     n_rhs: int = field(default=0, init=False)
 
     def __post_init__(self) -> None:
@@ -81,6 +82,7 @@ class System:
         self.solver = solver
         if solver == "sparse":
             self._build_pattern()
+        self._projector = self._symmetry_projector() if self.symmetry else None
 
     # ---- sizes and state -------------------------------------------------------------
     @property
@@ -122,8 +124,64 @@ class System:
         self.n_rhs += 1
         y = np.ascontiguousarray(y, dtype=np.float64)
         if self.solver == "dense":
-            return self.k.rhs_dense(float(t), y, self.x0, self.pi, self.pj, self.F0, self.p)
-        return self._rhs_sparse(float(t), y)
+            out = self.k.rhs_dense(float(t), y, self.x0, self.pi, self.pj, self.F0, self.p)
+        else:
+            out = self._rhs_sparse(float(t), y)
+        if self._projector is not None:
+            out = self._projector @ out
+        return out
+
+    # ---- imposed symmetry ------------------------------------------------------------
+    def _symmetry_projector(self) -> np.ndarray:
+        """Average of the signed state permutations of a point group given as generators
+        ``symmetry = ((particle permutation, axis signs), ...)``: the projector on the states
+        the group leaves invariant. Positions map as u'_{pi(i)} = M u_i (M = diag(signs)),
+        deflections as s' = s and q' = +-M q on the image pair (minus when the image pair is
+        stored with the opposite orientation: q_ji = -q_ij since f_ji = -f_ij)."""
+        gens = [self._state_map(np.asarray(perm), np.asarray(signs, dtype=float))
+                for perm, signs in self.symmetry]
+        size = self.state_size
+        group = {np.eye(size).tobytes(): np.eye(size)}
+        frontier = list(group.values())
+        while frontier:
+            new = []
+            for g in frontier:
+                for gen in gens:
+                    h = gen @ g
+                    if h.tobytes() not in group:
+                        group[h.tobytes()] = h
+                        new.append(h)
+            frontier = new
+            if len(group) > 64:
+                raise SceneError("symmetry: the generators do not close to a small group")
+        for perm, signs in self.symmetry:
+            image = np.empty_like(self.x0)
+            image[list(perm)] = self.x0 * np.asarray(signs, dtype=float)
+            if not np.allclose(image, self.x0, rtol=0.0, atol=1e-12 * self.radius):
+                raise SceneError("symmetry: the initial positions are not invariant")
+        return sum(group.values()) / len(group)
+
+    def _state_map(self, perm: np.ndarray, signs: np.ndarray) -> np.ndarray:
+        n, d, npair = self.n, self.d, self.n_pairs
+        G = np.zeros((self.state_size, self.state_size))
+        for i in range(n):
+            for e in range(d):
+                G[perm[i] * d + e, i * d + e] = signs[e]
+        if not self.flags.hertz:
+            return G
+        index = {(int(i), int(j)): k for k, (i, j) in enumerate(self.pairs)}
+        off_s, off_q = n * d, n * d + npair
+        for k, (i, j) in enumerate(self.pairs):
+            pi_, pj_ = int(perm[i]), int(perm[j])
+            if (pi_, pj_) in index:
+                kk, orient = index[(pi_, pj_)], 1.0
+            else:
+                kk, orient = index[(pj_, pi_)], -1.0
+            G[off_s + kk, off_s + k] = 1.0
+            if self.flags.tangential:
+                for e in range(d):
+                    G[off_q + kk * d + e, off_q + k * d + e] = orient * signs[e]
+        return G
 
     def evaluate(self, t: float, y: np.ndarray) -> dict[str, np.ndarray]:
         """Everything at one state: velocities, rates, pair quantities, blocks, residual."""
