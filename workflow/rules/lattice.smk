@@ -133,4 +133,32 @@ rule lattice_scaling:
         "../scripts/lattice_scaling.py"
 
 
+rule lattice_accuracy:
+    output:
+        figure=report(
+            "results/lattice/accuracy/accuracy.png",
+            caption="../report/lattice_accuracy.rst",
+            category="Beam lattice",
+            labels={"figure": "error versus wall time"},
+        ),
+        table="results/lattice/accuracy/accuracy.tsv",
+        summary="results/lattice/accuracy/summary.json",
+    params:
+        rows=LATTICE["accuracy"]["rows"],
+        dt_factors=LATTICE["accuracy"]["dt_factors"],
+        title=LATTICE_JOBS.title(
+            "column mode (H = 1, periodic x), reference: continuum period 4H/c_P"
+        ),
+    log:
+        "logs/lattice_accuracy.log",
+    benchmark:
+        "benchmarks/results/lattice_accuracy.tsv"
+    threads: 1
+    resources:
+        mem_mb=LATTICE["mem_mb"],
+        runtime=LATTICE["runtime"],
+    script:
+        "../scripts/lattice_accuracy.py"
+
+
 TARGETS["lattice"] = LATTICE_JOBS.targets()

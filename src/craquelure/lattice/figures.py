@@ -171,3 +171,36 @@ def scaling(rows, out, title):
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     plt.close(fig)
+
+
+def accuracy(rows, out, title):
+    """Error versus wall time (and versus resolution) of the column-mode study
+    (:mod:`craquelure.lattice.accuracy`), one curve per time-step factor."""
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    factors = sorted({r["dt_factor"] for r in rows}, reverse=True)
+    for f in factors:
+        sel = [r for r in rows if r["dt_factor"] == f]
+        wall = np.array([r["wall_s"] for r in sel])
+        err = np.array([r["relative_error"] for r in sel])
+        n = np.array([r["rows"] for r in sel])
+        line, = ax[0].loglog(wall, err, "o-", label=f"dt = {f:g} x 2/omega_est")
+        for w, e, k in zip(wall, err, n, strict=True):
+            ax[0].annotate(f"N={k}", (w, e), fontsize=7, xytext=(3, 3),
+                           textcoords="offset points", color=line.get_color())
+        ax[1].loglog(n, err, "o-", color=line.get_color(), label=f"dt factor {f:g}")
+    n_all = np.array(sorted({r["rows"] for r in rows}))
+    chain = np.array([next(r["chain_prediction"] for r in rows if r["rows"] == k)
+                      for k in n_all])
+    ax[1].loglog(n_all, chain, "k--", lw=0.8, label="fixed-free chain (sin x/x - 1)")
+    ax[0].set_xlabel("wall time of the run [s] (compilation excluded)")
+    ax[0].set_ylabel("|T / T_continuum - 1|")
+    ax[0].legend(fontsize=8)
+    ax[0].set_title("error versus cost", fontsize=9)
+    ax[1].set_xlabel("free rows N (h = H/(N + 1/2))")
+    ax[1].set_ylabel("|T / T_continuum - 1|")
+    ax[1].legend(fontsize=8)
+    ax[1].set_title("error versus resolution (order 2 expected)", fontsize=9)
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
