@@ -241,7 +241,7 @@ def _failed(ds, snapshot=-1):
 
 def _title(ds):
     return (f"kappa = {float(ds.attrs['metric_kappa']):g}, {ds.attrs['metric_distribution']}, "
-            f"seed {int(ds.attrs.get('seed', 0))}: N_mc = {int(ds.attrs['metric_n_main_cracks'])}"
+            f"seed {int(ds.attrs.get('seed', 0))}:\nN_mc = {int(ds.attrs['metric_n_main_cracks'])}"
             f", crossings {int(ds.attrs.get('metric_centre_crossings', -1))}"
             f", phi_c = {float(ds.attrs['metric_cracked_fraction']):.2f}")
 
