@@ -86,3 +86,30 @@ def test_phase_scan_matches_the_line():
     assert np.array_equal(ds.occurred.values, ds.predicted.values)
     assert ds.occurred.sel(fh_over_fv=0.3).item() == 1.0
     assert ds.occurred.sel(fh_over_fv=0.8).item() == 0.0
+
+
+def test_sweep_batches_partition_the_window_and_balance_the_cost():
+    """Workflow batching: every point of the window in exactly one batch, deterministic, and
+    the estimated costs of the default sweep's batches within 25 % of each other."""
+    sc = load_scene("softdyn/t1_sweep")
+    points = studies.sweep_points(sc)
+    for n in (1, 2, 4, 100):
+        batches = studies.sweep_batches(sc, n)
+        assert len(batches) == min(n, len(points)) and all(batches)
+        assert sorted(p for b in batches for p in b) == sorted(points)
+        assert batches == studies.sweep_batches(sc, n)
+    costs = [sum(studies.point_cost(sc, *p) for p in b) for b in studies.sweep_batches(sc, 2)]
+    assert max(costs) <= 1.25 * min(costs)
+
+
+def test_batched_sweep_equals_the_serial_sweep():
+    """Aggregating batch datasets (dim ``point``) gives the serial sweep's dataset."""
+    sc = load_scene("softdyn/t1_sweep_ci")
+    serial = studies.run_sweep(sc)
+    batches = [studies.run_sweep_batch(sc, b) for b in studies.sweep_batches(sc, 2)]
+    assert all(b.sizes["point"] >= 1 for b in batches)
+    merged = studies.aggregate_sweep(sc, batches)
+    assert merged.duration.dims == ("h0", "force")
+    np.testing.assert_array_equal(merged.duration.values, serial.duration.values)
+    np.testing.assert_array_equal(merged.finished.values, serial.finished.values)
+    assert int(merged.computed.sum()) == len(studies.sweep_points(sc))

@@ -1,5 +1,6 @@
-# Soft Dynamics: T1 time series (Fig. 4), duration sweep (Fig. 5, one job per grid point),
-# T1 occurrence (Fig. 3) and two-sphere runs.
+# Soft Dynamics: T1 time series (Fig. 4), duration sweep (Fig. 5, the grid points in
+# config softdyn.sweep_batches batches of similar cost, one job each), T1 occurrence (Fig. 3),
+# two-sphere runs, and the integrator accuracy-versus-wall-time study.
 from craquelure.softdyn import workflow as softdyn_workflow
 
 softdyn_workflow.configure(config["softdyn"])
@@ -9,6 +10,7 @@ wildcard_constraints:
     scene="[A-Za-z0-9_]+",
     i="[0-9]+",
     j="[0-9]+",
+    b="[0-9]+",
 
 
 rule softdyn_run:
@@ -31,6 +33,7 @@ rule softdyn_run:
         "{params.cli} run {input.scene} --out {output} {params.overrides} > {log} 2>&1"
 
 
+# A single grid point (not in the default DAG; for rerunning one point by its output path).
 rule softdyn_sweep_point:
     input:
         scene=softdyn_workflow.scene_path,
@@ -50,10 +53,30 @@ rule softdyn_sweep_point:
         "../scripts/softdyn_sweep_point.py"
 
 
+rule softdyn_sweep_batch:
+    input:
+        scene=softdyn_workflow.scene_path,
+    output:
+        "results/softdyn/{scene}/batches/b{b}.nc",
+    params:
+        overrides=softdyn_workflow.overrides(),
+        n_batches=softdyn_workflow.n_batches(),
+    log:
+        "logs/softdyn/{scene}/b{b}.log",
+    benchmark:
+        "benchmarks/results/softdyn/{scene}/b{b}.tsv"
+    threads: 1
+    resources:
+        mem_mb=config["softdyn"]["mem_mb"],
+        runtime=config["softdyn"]["runtime"],
+    script:
+        "../scripts/softdyn_sweep_batch.py"
+
+
 rule softdyn_sweep:
     input:
         scene=softdyn_workflow.scene_path,
-        points=softdyn_workflow.sweep_point_files,
+        points=softdyn_workflow.sweep_batch_files,
     output:
         data="results/softdyn/{scene}/sweep.nc",
         figure=report("results/softdyn/{scene}/fig5.png", caption="../report/softdyn_fig5.rst",
@@ -68,6 +91,28 @@ rule softdyn_sweep:
         runtime=10,
     script:
         "../scripts/softdyn_sweep_aggregate.py"
+
+
+rule softdyn_accuracy:
+    input:
+        scene=softdyn_workflow.scene_path,
+    output:
+        data="results/softdyn/{scene}/accuracy.nc",
+        figure=report("results/softdyn/{scene}/accuracy.png",
+                      caption="../report/softdyn_accuracy.rst", category="Soft Dynamics",
+                      subcategory="accuracy vs cost"),
+    params:
+        overrides=softdyn_workflow.overrides(),
+    log:
+        "logs/softdyn/{scene}/accuracy.log",
+    benchmark:
+        "benchmarks/results/softdyn/{scene}/accuracy.tsv"
+    threads: 1
+    resources:
+        mem_mb=config["softdyn"]["mem_mb"],
+        runtime=config["softdyn"]["runtime"],
+    script:
+        "../scripts/softdyn_accuracy.py"
 
 
 rule softdyn_fig4:
@@ -132,4 +177,5 @@ TARGETS["softdyn"] = (
     + expand("results/softdyn/{scene}/gaps.png", scene=config["softdyn"]["pairs"])
     + expand("results/softdyn/{scene}/fig5.png", scene=config["softdyn"]["sweep"])
     + expand("results/softdyn/{scene}/fig3.png", scene=config["softdyn"]["phase"])
+    + expand("results/softdyn/{scene}/accuracy.png", scene=config["softdyn"]["accuracy"])
 )

@@ -1,9 +1,10 @@
 """Model API of Soft Dynamics for the CLI: initial state, derived numbers, runs.
 
 ``run`` dispatches on ``study.kind``: ``single`` writes the time series of one run (T1 or
-two-sphere), ``sweep`` the duration map over (h0, F~) (serially; the workflow runs the points as
-parallel jobs), ``phase`` the T1 occurrence over (F_h/F_v, F~). The runs are deterministic: the
-seed is recorded but nothing is random.
+two-sphere), ``sweep`` the duration map over (h0, F~) (serially; the workflow runs batches of
+points as parallel jobs), ``phase`` the T1 occurrence over (F_h/F_v, F~), ``accuracy`` the
+integrators' error versus wall time on one T1 (:mod:`craquelure.softdyn.accuracy`). The runs
+are deterministic: the seed is recorded but nothing is random.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from craquelure.io import write_dataset
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 from craquelure.softdyn import studies
+from craquelure.softdyn.accuracy import run_accuracy
 from craquelure.softdyn.scenarios import build, predictions, series_dataset
 
 
@@ -75,6 +77,8 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
         ds = series_dataset(setup, setup.run(desc=scene.name))
     elif kind == "sweep":
         ds = studies.run_sweep(scene)
+    elif kind == "accuracy":
+        ds = run_accuracy(scene)
     else:
         ds = studies.run_phase(scene)
     ds.attrs.update(provenance_attrs(scene, seed, clock))

@@ -1,5 +1,6 @@
 """Figures of the Soft Dynamics model: Fig. 4 (one T1 in time), Fig. 5 (duration map), Fig. 3
-(T1 occurrence in the (F_h, F_v) plane) and the two-sphere gap history."""
+(T1 occurrence in the (F_h, F_v) plane), the two-sphere gap history and the integrators' error
+versus wall time."""
 
 from __future__ import annotations
 
@@ -107,5 +108,39 @@ def two_sphere(ds, path, profile: str, scene: str):
     ax.legend(fontsize=8)
     ax.set_title(f"two spheres ({profile} profile, scene {scene}): h0 = {ds.attrs['h0']:g} R, "
                  f"F~ = {ds.attrs['reduced_force']:g}", fontsize=9)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def accuracy(ds, path, profile: str, scene: str):
+    """T1 duration error (and state error at the probe time) versus integration wall time."""
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.6))
+    markers = {"LSODA": "o", "BDF": "s", "Radau": "^"}
+    for k, (err, label) in enumerate((("error", "|T - T_ref| / tau"),
+                                      ("state_error", f"max |y - y_ref| / R at t = "
+                                                      f"{ds.attrs['probe_time']:g} tau"))):
+        a = ax[k]
+        for m, method in enumerate(ds.integrator.values):
+            w = ds.adaptive_wall_time_s.values[m]
+            e = ds[f"adaptive_{err}"].values[m]
+            a.loglog(w, np.maximum(e, 1e-16), marker=markers.get(str(method), "x"),
+                     label=f"{method} (rtol {ds.rtol.values[0]:.0e}..{ds.rtol.values[-1]:.0e})")
+        ok = ds.heun_stable.values > 0
+        if ok.any():
+            a.loglog(ds.heun_wall_time_s.values[ok], np.maximum(ds[f"heun_{err}"].values[ok],
+                                                                1e-16),
+                     marker="D", ls="--", color="k",
+                     label=f"heun (dt {ds.dt.values[ok][0]:g}..{ds.dt.values[ok][-1]:g} tau)")
+        a.set_xlabel("integration wall time [s]")
+        a.set_ylabel(label)
+        a.grid(True, which="both", alpha=0.3)
+    ax[0].legend(fontsize=8)
+    order = ds.attrs.get("heun_duration_order", math.nan)
+    fig.suptitle(
+        f"softdyn accuracy vs cost, profile {profile}, scene {scene}: T1 at h0 = "
+        f"{ds.attrs['h0']:g} R, F~ = {ds.attrs['reduced_force']:g} (T_ref = "
+        f"{ds.attrs['reference_duration']:.4f} tau)\nreference: {ds.attrs['reference']}; "
+        f"heun order (3 finest dt): duration {order:.2f}, state "
+        f"{ds.attrs.get('heun_state_order', math.nan):.2f}", fontsize=9)
     fig.tight_layout()
     return _save(fig, path)

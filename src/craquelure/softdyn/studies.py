@@ -5,7 +5,9 @@ Sweep: grid ``study.h0`` x ``study.reduced_force``; only points with h0/h* insid
 ``study.window`` are run (the informative window of spec 9.2; outside it a run is either pure
 Poiseuille or hopelessly long), the others are NaN with ``computed = 0``. Each point runs to the
 end of the T1 (``stop: cd_force``); points that do not finish by ``outputs.t_end`` have
-``finished = 0`` and a NaN duration. Phase: grid ``study.fh_over_fv`` x ``study.reduced_force``,
+``finished = 0`` and a NaN duration. The workflow runs the points in ``n`` batches of similar
+estimated cost (:func:`sweep_batches`), one process each, since a process start costs more than
+most points. Phase: grid ``study.fh_over_fv`` x ``study.reduced_force``,
 each run until theta <= ``outputs.theta_end_deg`` or ``outputs.t_end`` (units of tau of the AB
 load |F_v/sqrt3 - F_h|).
 """
@@ -71,6 +73,39 @@ def run_sweep_point(scene, i: int, j: int) -> xr.Dataset:
     return ds
 
 
+def point_cost(scene, i: int, j: int) -> float:
+    """Relative cost estimate of a sweep point, for balancing the batches: the predicted
+    duration (the AB opening quadrature plus T_P, units of tau) times the stiffness of the far
+    CD pair (steps scale like 1/F~, spec section 8), in log form so that no point dominates."""
+    h0, force, _ = sweep_grid(scene)
+    k_n, c_n = scene.get("material.k_n"), scene.get("material.c_n")
+    t_pred = theory.t_separation(h0[i], force[j], k_n, c_n) + theory.t_poiseuille(h0[i], c_n)
+    return math.log(1.0 + t_pred) * (1.0 + math.log10(1.0 / force[j]))
+
+
+def sweep_batches(scene, n_batches: int) -> list[list[tuple[int, int]]]:
+    """The window's points split into at most ``n_batches`` non-empty batches of similar
+    estimated cost (longest-processing-time-first greedy; deterministic)."""
+    points = sweep_points(scene)
+    n = max(1, min(int(n_batches), len(points)))
+    order = sorted(points, key=lambda ij: (-point_cost(scene, *ij), ij))
+    loads = [0.0] * n
+    batches: list[list[tuple[int, int]]] = [[] for _ in range(n)]
+    for ij in order:
+        k = min(range(n), key=lambda b: (loads[b], b))
+        batches[k].append(ij)
+        loads[k] += point_cost(scene, *ij)
+    return [sorted(b) for b in batches]
+
+
+def run_sweep_batch(scene, points: list[tuple[int, int]]) -> xr.Dataset:
+    """Several sweep points in one process (one Snakemake job), stacked along ``point``."""
+    if not points:
+        raise SceneError("sweep batch: no points")
+    return xr.concat([run_sweep_point(scene, i, j).squeeze(("h0", "force"))
+                      .reset_coords(("h0", "force")) for i, j in points], dim="point")
+
+
 SWEEP_ATTRS = {
     "duration": {"units": "tau", "long_name": "T1 duration (CD force reaches phi F_v)"},
     "finished": {"long_name": "1 if the T1 ended before outputs.t_end"},
@@ -107,11 +142,11 @@ def aggregate_sweep(scene, points: list[xr.Dataset]) -> xr.Dataset:
     ds["h0_over_h_star"] = (("h0", "force"), h0[:, None] / hs[None, :])
     ds["regime"] = (("h0", "force"), np.array([[theory.regime(h, f, k_n) for f in force]
                                                for h in h0], dtype=object))
-    for point in points:
-        i = int(np.argmin(np.abs(np.log(h0 / float(point.h0.values[0])))))
-        j = int(np.argmin(np.abs(np.log(force / float(point.force.values[0])))))
+    for point in _single_points(points):
+        i = int(np.argmin(np.abs(np.log(h0 / _scalar(point.h0)))))
+        j = int(np.argmin(np.abs(np.log(force / _scalar(point.force)))))
         for name in numeric:
-            ds[name].values[i, j] = float(point[name].values[0, 0])
+            ds[name].values[i, j] = _scalar(point[name])
     missing = [(float(h0[i]), float(force[j])) for i, j in zip(*np.nonzero(mask), strict=True)
                if np.isnan(ds["finished"].values[i, j])]
     if missing:
@@ -126,8 +161,22 @@ def aggregate_sweep(scene, points: list[xr.Dataset]) -> xr.Dataset:
     return ds
 
 
+def _scalar(var) -> float:
+    return float(np.asarray(var.values).reshape(-1)[0])
+
+
+def _single_points(datasets):
+    """Point datasets from point (length-1 h0, force) or batch (``point`` dim) datasets."""
+    for ds in datasets:
+        if "point" in ds.dims:
+            for k in range(ds.sizes["point"]):
+                yield ds.isel(point=k)
+        else:
+            yield ds
+
+
 def run_sweep(scene) -> xr.Dataset:
-    """The whole sweep, serially (Snakemake runs the points as parallel jobs instead)."""
+    """The whole sweep, serially (Snakemake runs batches of points as parallel jobs)."""
     return aggregate_sweep(scene, [run_sweep_point(scene, i, j)
                                    for i, j in sweep_points(scene)])
 

@@ -4,7 +4,7 @@ rules in a Snakefile)."""
 from __future__ import annotations
 
 from craquelure.scene import load_scene
-from craquelure.softdyn.studies import sweep_points
+from craquelure.softdyn.studies import sweep_batches, sweep_points
 
 _SECTION: dict = {}
 
@@ -21,6 +21,23 @@ def overrides() -> list[str]:
 
 def scene_path(wildcards) -> str:
     return f"config/scenes/softdyn/{wildcards.scene}.yaml"
+
+
+def n_batches() -> int:
+    return int(_SECTION.get("sweep_batches", 1))
+
+
+def batch_points(scene_file: str, batch: int) -> list[tuple[int, int]]:
+    """The (i, j) grid points of one sweep batch."""
+    batches = sweep_batches(load_scene(scene_file, overrides()), n_batches())
+    return batches[batch]
+
+
+def sweep_batch_files(wildcards) -> list[str]:
+    """One dataset per batch of grid points (``sweep_batches`` jobs, balanced by cost)."""
+    scene = load_scene(scene_path(wildcards), overrides())
+    n = len(sweep_batches(scene, n_batches()))
+    return [f"results/softdyn/{wildcards.scene}/batches/b{b}.nc" for b in range(n)]
 
 
 def sweep_point_files(wildcards) -> list[str]:
