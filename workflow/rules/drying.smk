@@ -51,3 +51,44 @@ TARGETS["drying"] = expand(
     scene=config["drying"]["scene"],
     seed=seeds("drying"),
 )
+
+
+# Thickness sweep (rules drying_thickness*): the same initial states run with another layer
+# thickness H; results/drying/<scene>_H<H>/ (H with its decimal point spelled p, e.g. H0p25:
+# scene wildcards have no dots) then goes through drying_fragments like any run.
+ruleorder: drying_thickness_run > drying_run
+
+
+def thickness_label(value):
+    """H as a wildcard value: 0.25 -> 0p25."""
+    return f"{value:g}".replace(".", "p")
+
+
+def thickness_value(wildcards):
+    return wildcards.thickness.replace("p", ".")
+
+
+rule drying_thickness_run:
+    input:
+        scene=drying_scene,
+        state="results/mass/{scene}/seed{seed}.nc",
+    output:
+        "results/drying/{scene}_H{thickness}/run/seed{seed}.nc",
+    wildcard_constraints:
+        thickness=r"[0-9]+(?:p[0-9]+)?",
+    params:
+        cli=CRAQUELURE,
+        overrides=scene_overrides("drying"),
+        thickness=thickness_value,
+    log:
+        "logs/drying_run/{scene}_H{thickness}/seed{seed}.log",
+    benchmark:
+        "benchmarks/results/drying_run/{scene}_H{thickness}/seed{seed}.tsv"
+    threads: config["drying"]["threads"]
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_run"],
+    shell:
+        "{params.cli} run {input.scene} --init {input.state} --out {output} --resume "
+        "--threads {threads} {params.overrides} --set material.thickness={params.thickness} "
+        "> {log} 2>&1"

@@ -1,5 +1,7 @@
 # Drying paste analysis: fragments per seed, campaign aggregate over seeds, summary of the
-# paper's claims (results/drying/summary.json) and the paper's figures 2-6.
+# paper's claims (results/drying/summary.json) and the paper's figures 2-6; the thickness
+# sweep; the error-versus-wall-time study.
+from craquelure.scene import load_scene
 
 DRYING_FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
 DRYING_CAMPAIGN = f"results/drying/{config['drying']['scene']}/campaign.nc"
@@ -163,4 +165,63 @@ rule drying_accuracy_figure:
 TARGETS["drying_accuracy"] = [
     "results/drying/figures/drying_accuracy.png",
     "results/drying/figures/drying_accuracy.pdf",
+]
+
+
+def thickness_fragments(wildcards):
+    """Fragment datasets of the sweep, grouped by H; the scene's own H reuses its runs."""
+    sweep = config["drying"]["thickness"]
+    own = float(load_scene(scene_file("drying", wildcards.scene)).get("material.thickness"))
+    sweep_seeds = seeds("drying")[: sweep["n_seeds"]]
+    files = {}
+    for value in sweep["values"]:
+        label = thickness_label(value)
+        folder = wildcards.scene if abs(value - own) < 1e-12 else f"{wildcards.scene}_H{label}"
+        files[f"H{label}"] = [
+            f"results/drying/{folder}/fragments/seed{seed}.nc" for seed in sweep_seeds
+        ]
+    return files
+
+
+rule drying_thickness:
+    input:
+        unpack(thickness_fragments),
+    output:
+        "results/drying/{scene}/thickness.nc",
+    log:
+        "logs/drying_thickness/{scene}.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_thickness.py"
+
+
+rule drying_thickness_figure:
+    input:
+        "results/drying/{scene}/thickness.nc",
+    output:
+        png=report(
+            "results/drying/figures/{scene}_thickness.png",
+            caption="../report/drying_thickness.rst",
+            category="Drying paste",
+            labels={"figure": "thickness sweep: <S> vs H"},
+        ),
+        pdf="results/drying/figures/{scene}_thickness.pdf",
+    params:
+        profile=config["profile"],
+    log:
+        "logs/drying_thickness_figure/{scene}.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_thickness_figure.py"
+
+
+TARGETS["drying_thickness"] = [
+    f"results/drying/figures/{config['drying']['scene']}_thickness.png",
+    f"results/drying/figures/{config['drying']['scene']}_thickness.pdf",
 ]
