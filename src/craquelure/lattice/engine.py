@@ -2,9 +2,10 @@
 
 :class:`System` holds particles (positions x, y, rotation theta at t and t - dt, mass, moment
 of inertia, diameter, fixed / driven dof masks, loads) and bonds (end indices, rest state
-L0, alpha0, theta refs, stiffnesses k_n, a, b, state, unbreakable flag). :class:`Engine`
-compiles the kernel for the effect set, advances in chunks, rebuilds the contact list and
-re-freezes bonds (melting) between chunks, and raises :class:`SimulationDiverged` on NaN or
+L0, rest chord direction (cos, sin alpha0), theta refs, stiffnesses k_n, a, b, state,
+unbreakable flag). :class:`Engine` compiles the kernel for the effect set, advances in
+chunks, rebuilds the contact list and re-freezes bonds (melting) between chunks, and raises
+:class:`SimulationDiverged` on NaN or
 runaway energy. Stable step (spec section 5): the quick estimate
 omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, k_s).
 """
@@ -80,13 +81,14 @@ class System:
 
 
 def rest_state(x, y, theta, bi, bj, period_x: float = 0.0) -> np.ndarray:
-    """(4, nb): L0, alpha0, theta_i ref, theta_j ref of bonds made stress-free in this
-    configuration."""
+    """(5, nb): L0, cos alpha0, sin alpha0 (rest chord direction), theta_i ref, theta_j ref
+    of bonds made stress-free in this configuration."""
     dx = x[bj] - x[bi]
     if period_x > 0:
         dx = dx - period_x * np.rint(dx / period_x)
     dy = y[bj] - y[bi]
-    return np.vstack([np.hypot(dx, dy), np.arctan2(dy, dx), theta[bi], theta[bj]])
+    ell = np.hypot(dx, dy)
+    return np.vstack([ell, dx / ell, dy / ell, theta[bi], theta[bj]])
 
 
 def csr_bonds(n: int, bi: np.ndarray, bj: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

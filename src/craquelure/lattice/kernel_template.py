@@ -141,7 +141,8 @@ def bond_deformations(q, bi, bj, bref, state, lx, out):
             continue
         dx, dy = _chord(q, bi[b], bj[b], lx)
         _, _, _, e, p1, p2, _ = deformation(dx, dy, q[2, bi[b]], q[2, bj[b]], bref[0, b],
-                                             bref[1, b], bref[2, b], bref[3, b], 0.0)
+                                             bref[1, b], bref[2, b], bref[3, b], bref[4, b],
+                                             0.0)
         out[0, b], out[1, b], out[2, b] = e, p1, p2
 
 
@@ -167,9 +168,9 @@ def _bond_chunk(lo, hi, nlo, nhi, q, qm, bi, bj, bref, bk, state, unbreak, bprev
             continue
         i, j = bi[b], bj[b]
         dx, dy = _chord(q, i, j, lx)
-        dref = (qm[2, i] - bref[2, b]) - bprev[1, b]  # chord rotation at t - dt
-        ell, c, s, e, p1, p2, alpha = deformation(dx, dy, q[2, i], q[2, j], bref[0, b],
-                                                  bref[1, b], bref[2, b], bref[3, b], dref)
+        dref = (qm[2, i] - bref[3, b]) - bprev[1, b]  # chord rotation at t - dt
+        ell, c, s, e, p1, p2, _ = deformation(dx, dy, q[2, i], q[2, j], bref[0, b], bref[1, b],
+                                              bref[2, b], bref[3, b], bref[4, b], dref)
         kn, ka, kb = bk[0, b], bk[1, b], bk[2, b]
         nax = kn * e
         m1 = ka * p1 + kb * p2
@@ -190,9 +191,10 @@ def _bond_chunk(lo, hi, nlo, nhi, q, qm, bi, bj, bref, bk, state, unbreak, bprev
             lam = melt_rate(u, p[MELT_A], p[E_B], p[BLOCK], p[FROZEN_RATE])
             if uniform01(seed, gstep, b) < -math.expm1(-lam * dt):
                 bref[0, b] = ell
-                bref[1, b] = alpha
-                bref[2, b] = q[2, i]
-                bref[3, b] = q[2, j]
+                bref[1, b] = c
+                bref[2, b] = s
+                bref[3, b] = q[2, i]
+                bref[4, b] = q[2, j]
                 for r in range(6):
                     bprev[r, b] = 0.0
                 if NODE_AVERAGED:
