@@ -83,7 +83,8 @@ def fig3(ds, path, profile: str, scene: str):
                label="T1")
     ax.scatter(fh[occ == 0], fv[occ == 0], marker="s", color="grey", label="no T1")
     top = max(fh.max(), fv.max() / math.sqrt(3)) * 1.1
-    x = np.linspace(0, top, 2)
+    # many points: a two-point segment is drawn straight in display space (symlog x, log y)
+    x = np.geomspace(fv[fv > 0].min() / math.sqrt(3) / 3, top, 200)
     ax.plot(x, math.sqrt(3) * x, "k-", lw=0.8, label="F_v = sqrt3 F_h")
     ax.set_xscale("symlog", linthresh=1e-4)
     ax.set_yscale("log")
