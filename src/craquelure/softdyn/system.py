@@ -6,9 +6,10 @@ time tau = eta R^2 / F are chosen by the scenario (:mod:`craquelure.softdyn.t1`,
 :mod:`craquelure.softdyn.pair`).
 
 Velocity solve: ``linear_solver: dense`` runs the whole right-hand side in one numba function
-(N d <= 64 with ``auto``); ``sparse`` computes the per-pair blocks in numba and solves the
-(N d)^2 system with SuperLU (``scipy.sparse.linalg.splu``; LSQR when ``lubrication_tangential``
-is absent and the system may be singular). The sparsity pattern is fixed by the pair list and
+(N d <= 128 with ``auto``); ``sparse`` computes the per-pair blocks in numba and solves the
+(N d)^2 system with SuperLU (``scipy.sparse.linalg.splu``, last particle pinned and the mean
+velocity removed afterwards; LSQR with the sum rows when ``lubrication_tangential`` is absent and
+the system may be singular). The sparsity pattern is fixed by the pair list and
 built once.
 """
 
@@ -23,7 +24,9 @@ import scipy.sparse.linalg as spla
 from craquelure.errors import SceneError
 from craquelure.softdyn.compile import Flags, kernels
 
-DENSE_MAX_UNKNOWNS = 64
+# benchmarks/softdyn_cost.py: at N = 64 (128 unknowns) a RHS takes 0.17 ms dense, 0.59 ms sparse;
+# at N = 256, 11 ms dense, 2.3 ms sparse
+DENSE_MAX_UNKNOWNS = 128
 
 
 def flags_for(scene) -> Flags:
@@ -227,10 +230,19 @@ class System:
                         cols.append(bj * d + g)
                         src.append(k * d * d + e * d + g)
                         sgn.append(sign)
-        self._sp_rows = np.array(rows + [last * d + e for e in range(d) for _ in range(self.n)],
-                                 dtype=np.int64)
-        self._sp_cols = np.array(cols + [i * d + e for e in range(d) for i in range(self.n)],
-                                 dtype=np.int64)
+        # Gauge: with lubrication_tangential the last particle is pinned (v_last = 0, one
+        # diagonal entry per component) and the mean velocity is removed after the solve; a
+        # dense row sum_i v_i = 0 would fill the LU factors (measured with the row: solve 60 ms
+        # at N = 1024 and 650 ms at 4096; pinned: 7 ms and 45 ms). Without it (possible
+        # rotation null modes, LSQR) the sum rows are kept.
+        self._pinned = self.flags.tangential
+        if self._pinned:
+            extra_rows = extra_cols = [last * d + e for e in range(d)]
+        else:
+            extra_rows = [last * d + e for e in range(d) for _ in range(self.n)]
+            extra_cols = [i * d + e for e in range(d) for i in range(self.n)]
+        self._sp_rows = np.array(rows + extra_rows, dtype=np.int64)
+        self._sp_cols = np.array(cols + extra_cols, dtype=np.int64)
         self._sp_src = np.array(src, dtype=np.int64)
         self._sp_sign = np.array(sgn)
         self._sp_shape = (m, m)
@@ -245,12 +257,17 @@ class System:
         d, m = self.d, self.n_unknowns
         data = A.reshape(-1)[self._sp_src] * self._sp_sign
         scale = float(np.abs(A).max()) or 1.0
-        data = np.concatenate([data, np.full(self.n * d, scale)])
+        data = np.concatenate([data, np.full(self._sp_rows.size - data.size, scale)])
         M = sp.csc_matrix((data, (self._sp_rows, self._sp_cols)), shape=self._sp_shape)
         rhs = c.reshape(-1).copy()
         rhs[(self.n - 1) * d:] = 0.0
-        if self.flags.tangential:
-            return spla.splu(M).solve(rhs)
+        if self._pinned:
+            # rows sum to zero (translation null mode) and the last particle's equations
+            # follow from the others, so the pinned solution plus a uniform shift solves all
+            # the pattern is structurally symmetric: minimum degree on A^T + A (N = 4096
+            # patch: 40 ms against 72 ms with the default COLAMD)
+            v = spla.splu(M, permc_spec="MMD_AT_PLUS_A").solve(rhs).reshape(self.n, d)
+            return (v - v.mean(axis=0)).reshape(-1)
         return spla.lsqr(M, rhs, atol=1e-15, btol=1e-15, iter_lim=50 * m)[0]
 
     def _rhs_sparse(self, t: float, y: np.ndarray) -> np.ndarray:
