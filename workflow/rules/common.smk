@@ -4,6 +4,8 @@ import sys
 
 from snakemake.utils import validate
 
+from craquelure.scene import load_scene
+
 
 validate(config, schema="../schemas/config.schema.yaml")
 
@@ -35,3 +37,28 @@ def seeds(section):
 
 def drying_scene(wildcards):
     return scene_file("drying", wildcards.scene)
+
+
+def thickness_label(value):
+    """H as a wildcard value (scene wildcards have no dots): 0.25 -> 0p25."""
+    return f"{value:g}".replace(".", "p")
+
+
+def thickness_value(wildcards):
+    return wildcards.thickness.replace("p", ".")
+
+
+def thickness_fragments(wildcards):
+    """Fragment datasets of the sweep, grouped by H; the scene's own H reuses its runs."""
+    sweep = config["drying"]["thickness"]
+    own = float(load_scene(scene_file("drying", wildcards.scene)).get("material.thickness"))
+    sweep_seeds = seeds("drying")[: sweep["n_seeds"]]
+    files = {}
+    for value in sweep["values"]:
+        label = thickness_label(value)
+        folder = wildcards.scene if abs(value - own) < 1e-12 else f"{wildcards.scene}_H{label}"
+        files[f"H{label}"] = [
+            f"results/drying/{folder}/fragments/seed{seed}.nc" for seed in sweep_seeds
+        ]
+    return files
+

@@ -59,15 +59,6 @@ TARGETS["drying"] = expand(
 ruleorder: drying_thickness_run > drying_run
 
 
-def thickness_label(value):
-    """H as a wildcard value: 0.25 -> 0p25."""
-    return f"{value:g}".replace(".", "p")
-
-
-def thickness_value(wildcards):
-    return wildcards.thickness.replace("p", ".")
-
-
 rule drying_thickness_run:
     input:
         scene=drying_scene,

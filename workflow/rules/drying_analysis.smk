@@ -1,7 +1,6 @@
 # Drying paste analysis: fragments per seed, campaign aggregate over seeds, summary of the
 # paper's claims (results/drying/summary.json) and the paper's figures 2-6; the thickness
 # sweep; the error-versus-wall-time study.
-from craquelure.scene import load_scene
 
 DRYING_FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
 DRYING_CAMPAIGN = f"results/drying/{config['drying']['scene']}/campaign.nc"
@@ -166,21 +165,6 @@ TARGETS["drying_accuracy"] = [
     "results/drying/figures/drying_accuracy.png",
     "results/drying/figures/drying_accuracy.pdf",
 ]
-
-
-def thickness_fragments(wildcards):
-    """Fragment datasets of the sweep, grouped by H; the scene's own H reuses its runs."""
-    sweep = config["drying"]["thickness"]
-    own = float(load_scene(scene_file("drying", wildcards.scene)).get("material.thickness"))
-    sweep_seeds = seeds("drying")[: sweep["n_seeds"]]
-    files = {}
-    for value in sweep["values"]:
-        label = thickness_label(value)
-        folder = wildcards.scene if abs(value - own) < 1e-12 else f"{wildcards.scene}_H{label}"
-        files[f"H{label}"] = [
-            f"results/drying/{folder}/fragments/seed{seed}.nc" for seed in sweep_seeds
-        ]
-    return files
 
 
 rule drying_thickness:
