@@ -29,7 +29,8 @@ from craquelure.sph.integrators import REAL_AXIS_LIMIT, Stepper
 from craquelure.sph.kernels import kernel_kind
 from craquelure.sph.neighbours import Box, neighbour_list
 
-RATE_EFFECTS = ("continuity", "drying", "elasticity", "substrate", "viscosity", "xsph")
+RATE_EFFECTS = ("continuity", "drying", "elasticity", "gradient_correction", "substrate",
+                "viscosity", "xsph")
 NVAR = template.NVAR
 X, Y, VX, VY, RHO, SXX, SYY, SXY = range(8)
 

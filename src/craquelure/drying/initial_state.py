@@ -58,7 +58,9 @@ def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
             check=not scene.get("particles.excluded_bands"))
         attrs.update(report.as_attrs())
     else:
-        mass = np.full(n, rho0 * length**2 / n)
+        # Sites are placed over the whole box and excluded bands removed afterwards, so each
+        # particle stands for L^2 / particles.n of area whatever was excluded.
+        mass = np.full(n, rho0 * length**2 / scene.get("particles.n"))
         attrs.update(cg_iterations=0, cg_residual=float("nan"), stopped_by="equal_masses")
     amplitude = scene.get("material.initial_stress_amplitude") * scene.get(
         "material.yield_stress", 0.0)

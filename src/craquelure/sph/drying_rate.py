@@ -4,8 +4,9 @@ set by :mod:`craquelure.sph.codegen` (the FLAGS block is replaced, absent effect
 State rows (struct of arrays, shape ``(NVAR, N)``): x, y (unwrapped positions), vx, vy, rho,
 sigma_e xx, yy, xy. Two pair passes per evaluation:
 
-1. velocity gradient :math:`L^I_{ab} = \sum_J V_J (v^J_a - v^I_a)\,\partial_b W_{IJ}` and the XSPH
-   sum; then per particle the total stress :math:`\sigma = \eta D + \sigma_e + v_r t \mathbf 1`,
+1. velocity gradient :math:`L^I_{ab} = \sum_J V_J (v^J_a - v^I_a)\,\partial_b W_{IJ}` (times
+   :math:`M^{-1}` with ``gradient_correction``) and the XSPH sum; then per particle the total
+   stress :math:`\sigma = \eta D + \sigma_e + v_r t \mathbf 1`,
    the Jaumann rate of :math:`\sigma_e`, :math:`\dot\rho = -\rho\,\mathrm{tr} L`,
    :math:`\dot{\mathbf r} = \mathbf v + \epsilon\,\text{XSPH}`;
 2. momentum :math:`\dot v^I_a = \sum_J m_J (\sigma^I_{ab}/\rho_I^2 + \sigma^J_{ab}/\rho_J^2)\,
@@ -21,6 +22,7 @@ from numba import njit, prange
 from craquelure.sph.effects.continuity import density_rate
 from craquelure.sph.effects.drying import drying_stress
 from craquelure.sph.effects.elasticity import jaumann_rate
+from craquelure.sph.effects.gradient_correction import corrected_gradient
 from craquelure.sph.effects.substrate import substrate_acceleration
 from craquelure.sph.effects.viscosity import viscous_stress
 from craquelure.sph.effects.xsph import xsph_pair
@@ -30,6 +32,7 @@ from craquelure.sph.kernels import kernel_dwdr, kernel_w
 CONTINUITY = True
 DRYING = True
 ELASTICITY = True
+GRADIENT_CORRECTION = False
 KERNEL = 0
 SUBSTRATE = True
 VISCOSITY = True
@@ -82,6 +85,10 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
         lyy = 0.0
         hx = 0.0
         hy = 0.0
+        mxx = 0.0
+        mxy = 0.0
+        myx = 0.0
+        myy = 0.0
         for k in range(offsets[i], offsets[i + 1]):
             j = index[k]
             dx = wrap(xi - state[X, j], box, half)
@@ -100,11 +107,19 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
                 lxy += dvx * gy
                 lyx += dvy * gx
                 lyy += dvy * gy
+                if GRADIENT_CORRECTION:
+                    # r_J - r_I = -(dx, dy)
+                    mxx -= dx * gx
+                    mxy -= dx * gy
+                    myx -= dy * gx
+                    myy -= dy * gy
             if XSPH:
                 cx, cy = xsph_pair(mass[j], rhoi, state[RHO, j], dvx, dvy,
                                    kernel_w(KERNEL, r, s, 2))
                 hx += cx
                 hy += cy
+        if GRADIENT_CORRECTION:
+            lxx, lxy, lyx, lyy = corrected_gradient(lxx, lxy, lyx, lyy, mxx, mxy, myx, myy)
         sxx = state[SXX, i]
         syy = state[SYY, i]
         sxy = state[SXY, i]
