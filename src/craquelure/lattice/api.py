@@ -15,8 +15,8 @@ from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 
 # bond updates per second of the serial kernel (benchmarks/lattice_engine.py on this shared
-# 2-core machine, 2026-11-22, after the chunked kernel: 1.9e7 wall at load average 7.7,
-# 2.1-2.7e7 per CPU-second); used only for wall-time estimates
+# 2-core machine, 2026-11-22, after the chunked kernel: 2.1-2.6e7 wall at load average 3.8,
+# 1.9e7 at 7.7); used only for wall-time estimates
 BOND_UPDATES_PER_S = 2.0e7
 
 __all__ = ["build_initial_state", "derived_numbers", "run"]
