@@ -48,7 +48,7 @@ from craquelure.lattice.effects.bed import bed
 from craquelure.lattice.effects.buoyancy import buoyancy
 from craquelure.lattice.effects.contact import friction, repulsion
 from craquelure.lattice.effects.drag import drag_rate
-from craquelure.lattice.effects.fracture import beam_ratio, node_ratio
+from craquelure.lattice.effects.fracture import beam_ratio_scaled, node_ratio
 from craquelure.lattice.effects.gravity import gravity
 from craquelure.lattice.effects.melting import melt_rate, uniform01
 
@@ -154,6 +154,10 @@ def _bond_chunk(lo, hi, nlo, nhi, q, qm, bi, bj, bref, bk, state, unbreak, bprev
     dt = p[DT]
     lx = p[LX]
     bd = p[BETA] / dt
+    inv_area = 1.0 / p[AREA]
+    bend = p[WIDTH] / (2.0 * p[INERTIA])
+    inv_sigma0 = 1.0 / p[SIGMA0]
+    inv_tau0 = 1.0 / p[TAU0]
     for a in range(3):
         for i in range(nlo, nhi):
             fn[a, i] = 0.0
@@ -178,8 +182,8 @@ def _bond_chunk(lo, hi, nlo, nhi, q, qm, bi, bj, bref, bk, state, unbreak, bprev
         u = elastic_energy(kn, ka, kb, e, p1, p2)
         benergy[b] = u
         if HAS_FRACTURE:
-            r = beam_ratio(nax, (m1 + m2) / ell, m1, m2, p[AREA], p[INERTIA], p[WIDTH],
-                           p[SIGMA0], p[TAU0], BENDING)
+            r = beam_ratio_scaled(nax, (m1 + m2) / ell, m1, m2, inv_area, bend, inv_sigma0,
+                                  inv_tau0, BENDING)
             bratio[b] = r
             if (not NODE_AVERAGED) and t >= p[T_FRACTURE] and unbreak[b] == 0 and r >= 1.0:
                 state[b] = 0

@@ -33,12 +33,20 @@ EFFECT = Effect(
 @njit(inline="always", cache=True)
 def beam_ratio(n, v, m1, m2, area, inertia, width, sigma0, tau0, bending):
     """(sigma/sigma0)^2 + (tau/tau0)^2 of one beam (tension positive, compression -> 0)."""
-    sigma = n / area
+    return beam_ratio_scaled(n, v, m1, m2, 1.0 / area, width / (2.0 * inertia), 1.0 / sigma0,
+                             1.0 / tau0, bending)
+
+
+@njit(inline="always", cache=True)
+def beam_ratio_scaled(n, v, m1, m2, inv_area, bend, inv_sigma0, inv_tau0, bending):
+    """:func:`beam_ratio` with the constant factors precomputed (1/A, w/(2I), 1/sigma0,
+    1/tau0): no division per beam in the kernel."""
+    sigma = n * inv_area
     if bending:
-        sigma += max(abs(m1), abs(m2)) * width / (2.0 * inertia)
-    sigma = max(sigma, 0.0)
-    tau = abs(v) / area
-    return (sigma / sigma0) ** 2 + (tau / tau0) ** 2
+        sigma += max(abs(m1), abs(m2)) * bend
+    sigma = max(sigma, 0.0) * inv_sigma0
+    tau = abs(v) * inv_area * inv_tau0
+    return sigma * sigma + tau * tau
 
 
 @njit(inline="always", cache=True)
