@@ -102,8 +102,8 @@ def test_campaign_command(tmp_path):
 
 
 def test_paper_profile_plans_one_analysis_per_seed_and_one_campaign():
-    """`snakemake -n --configfile config/paper.yaml`: 100 fragment analyses, one campaign
-    aggregate, one summary, one figure job."""
+    """`snakemake -n --configfile config/paper.yaml`: 100 mass solves, 100 runs, 100 fragment
+    analyses, one campaign aggregate, one summary, one figure job."""
     import re
     import subprocess
     import sys
@@ -114,7 +114,10 @@ def test_paper_profile_plans_one_analysis_per_seed_and_one_campaign():
                           "config/paper.yaml"], cwd=root, capture_output=True, text=True,
                          timeout=300)
     assert out.returncode == 0, out.stderr[-2000:]
-    counts = dict(re.findall(r"^(drying_\w+)\s+(\d+)$", out.stdout, re.MULTILINE))
+    counts = dict(re.findall(r"^(drying_\w+|mass_consistency)\s+(\d+)$", out.stdout,
+                             re.MULTILINE))
+    assert counts["mass_consistency"] == "100"
+    assert counts["drying_run"] == "100"
     assert counts["drying_fragments"] == "100"
     assert counts["drying_campaign"] == "1"
     assert counts["drying_summary"] == "1"

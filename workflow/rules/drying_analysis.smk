@@ -206,6 +206,7 @@ rule drying_thickness_figure:
 
 
 TARGETS["drying_thickness"] = [
-    f"results/drying/figures/{config['drying']['scene']}_thickness.png",
-    f"results/drying/figures/{config['drying']['scene']}_thickness.pdf",
+    f"results/drying/figures/{config['drying']['scene']}_thickness.{ext}"
+    for ext in ("png", "pdf")
+    if config["drying"]["thickness"]["n_seeds"] > 0
 ]
