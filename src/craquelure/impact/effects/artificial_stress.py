@@ -8,6 +8,22 @@ The nominal stress :math:`\sigma_i` is rotated to principal axes
 :math:`R_{xy} = cs(R'_1 - R'_2)`. The pair term :math:`f_{ij}^n (R_i + R_j)` with
 :math:`f_{ij} = W(r_{ij}; h_{ij})/W(\Delta; h_{ij})`, n = ``numerics.as_n`` (4), is added to the
 momentum bracket. In-plane components only (zz does not enter the 2D momentum equation).
+
+Decisions: σ is the total nominal stress (Gray et al. 2001; a deviatoric R would vanish in
+hydrostatic tension); Δ is the initial particle spacing ``particles.spacing`` (fixed; not h, not the
+current spacing) and W(Δ; h_ij) uses the same kernel and h_ij as W(r_ij; h_ij), so the kernel
+normalisation cancels and f(Δ) = 1 for every h. The pair term is symmetric in i, j and multiplies
+∇_iW_ij, so it is antisymmetric and conserves momentum. No separate time-step limit: the AS
+stiffness is ε_AS σ ≈ 1e-4 of the elastic one, and at CFL 0.15 instead of 0.3 check 8 still
+grows (stress noise ×2.5 over steps 500-2000), so its growth is no time-step instability.
+
+Known property (spec check 8, tests/impact/test_engine.py): in all-tensile states R_j follows the
+stress fluctuation, δR_j = −ε_AS δσ_j/ρ_j², which with n = 4 and h = 1.2Δ weakens only the
+nearest-neighbour (f = 1) part of the stress gradient (diagonal neighbours: f⁴ = 0.015). For
+modes with k_yΔ = π the diagonal contributions have the opposite sign, and above ε_AS ≈ 0.25
+(scalar estimate at kΔ = (π/2, π)) the gradient reverses: the linearised scheme (no AV) grows at
+4.7e4 1/s at ε_AS = 0.3 versus 1.4e4 1/s without AS and 6.0e3 1/s with R frozen at the uniform
+stress. The formula is kept as specified (Monaghan 2000; Gray et al. 2001).
 """
 
 from numba import njit
