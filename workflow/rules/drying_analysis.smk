@@ -150,6 +150,7 @@ rule drying_accuracy_figure:
         ),
         pdf="results/drying/figures/drying_accuracy.pdf",
     params:
+        figure="accuracy",
         profile=config["profile"],
     log:
         "logs/drying_accuracy_figure.log",
@@ -158,7 +159,7 @@ rule drying_accuracy_figure:
         mem_mb=config["drying"]["mem_mb"],
         runtime=config["drying"]["runtime_init"],
     script:
-        "../scripts/drying_accuracy_figure.py"
+        "../scripts/drying_dataset_figure.py"
 
 
 TARGETS["drying_accuracy"] = [
@@ -194,6 +195,7 @@ rule drying_thickness_figure:
         ),
         pdf="results/drying/figures/{scene}_thickness.pdf",
     params:
+        figure="thickness",
         profile=config["profile"],
     log:
         "logs/drying_thickness_figure/{scene}.log",
@@ -202,7 +204,7 @@ rule drying_thickness_figure:
         mem_mb=config["drying"]["mem_mb"],
         runtime=config["drying"]["runtime_init"],
     script:
-        "../scripts/drying_thickness_figure.py"
+        "../scripts/drying_dataset_figure.py"
 
 
 TARGETS["drying_thickness"] = [

@@ -1,0 +1,28 @@
+"""Snakemake script of rules drying_accuracy_figure and drying_thickness_figure: one figure
+(PNG + PDF) from one analysis dataset; nothing is simulated here.
+
+Outside Snakemake:
+``python workflow/scripts/drying_dataset_figure.py FIGURE DATASET.nc OUT.png PROFILE``, FIGURE one
+of accuracy, thickness.
+"""
+
+import sys
+
+from craquelure.drying.figures import fig_accuracy, fig_thickness, save_figure
+from craquelure.io import open_dataset
+
+FIGURES = {"accuracy": fig_accuracy, "thickness": fig_thickness}
+
+
+def main(figure: str, dataset: str, png: str, profile: str) -> None:
+    written = save_figure(FIGURES[figure](open_dataset(dataset), profile), png)
+    print("wrote " + ", ".join(map(str, written)))
+
+
+if "snakemake" in globals():
+    with open(snakemake.log[0], "w") as log:  # noqa: F821
+        sys.stdout = sys.stderr = log
+        main(snakemake.params.figure, snakemake.input[0], snakemake.output.png,  # noqa: F821
+             snakemake.params.profile)  # noqa: F821
+elif __name__ == "__main__":
+    main(*sys.argv[1:5])
