@@ -37,6 +37,8 @@ rule drying_run:
         "logs/drying_run/{scene}/seed{seed}.log",
     benchmark:
         "benchmarks/results/drying_run/{scene}/seed{seed}.tsv"
+    # The longest jobs of the default workflow: start them first (critical path).
+    priority: 10
     threads: config["drying"]["threads"]
     resources:
         mem_mb=config["drying"]["mem_mb"],
@@ -75,6 +77,8 @@ rule drying_thickness_run:
         "logs/drying_run/{scene}_H{thickness}/seed{seed}.log",
     benchmark:
         "benchmarks/results/drying_run/{scene}_H{thickness}/seed{seed}.tsv"
+    # The longest jobs of the default workflow: start them first (critical path).
+    priority: 10
     threads: config["drying"]["threads"]
     resources:
         mem_mb=config["drying"]["mem_mb"],
