@@ -26,7 +26,7 @@ from craquelure.sph.effects.gradient_correction import corrected_gradient
 from craquelure.sph.effects.substrate import substrate_acceleration
 from craquelure.sph.effects.viscosity import viscous_stress
 from craquelure.sph.effects.xsph import xsph_pair
-from craquelure.sph.kernels import kernel_dwdr, kernel_w
+from craquelure.sph.kernels import kernel_dwdr, kernel_w_dwdr
 
 # BEGIN FLAGS
 CONTINUITY = True
@@ -66,6 +66,9 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
     # Per-particle factors hoisted out of the pair loops: V_J = m_J/rho_J (pass 1) and
     # sigma_J/rho_J^2 (pass 2).
     volume = np.empty(n)
+    # dW/dr / r of every listed pair, computed in pass 1 and reused by pass 2 (0 beyond the
+    # support and for coincident particles)
+    gfac = np.zeros(index.size)
     for i in prange(n):
         volume[i] = mass[i] / state[RHO, i] if alive[i] else 0.0
     for i in prange(n):
@@ -99,8 +102,14 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
             r = np.sqrt(r2)
             dvx = state[VX, j] - vxi
             dvy = state[VY, j] - vyi
+            if XSPH:
+                w, dwdr = kernel_w_dwdr(KERNEL, r, s, 2)
+            else:
+                w, dwdr = 0.0, kernel_dwdr(KERNEL, r, s, 2)
             if r > 0.0:
-                f = volume[j] * kernel_dwdr(KERNEL, r, s, 2) / r
+                g = dwdr / r
+                gfac[k] = g
+                f = volume[j] * g
                 gx = f * dx
                 gy = f * dy
                 lxx += dvx * gx
@@ -114,8 +123,7 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
                     myx -= dy * gx
                     myy -= dy * gy
             if XSPH:
-                cx, cy = xsph_pair(mass[j], rhoi, state[RHO, j], dvx, dvy,
-                                   kernel_w(KERNEL, r, s, 2))
+                cx, cy = xsph_pair(mass[j], rhoi, state[RHO, j], dvx, dvy, w)
                 hx += cx
                 hy += cy
         if GRADIENT_CORRECTION:
@@ -172,14 +180,13 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
         ax = 0.0
         ay = 0.0
         for k in range(offsets[i], offsets[i + 1]):
+            g = gfac[k]
+            if g == 0.0:
+                continue
             j = index[k]
             dx = wrap(xi - state[X, j], box, half)
             dy = wrap(yi - state[Y, j], box, half)
-            r2 = dx * dx + dy * dy
-            if r2 >= s2 or r2 == 0.0:
-                continue
-            r = np.sqrt(r2)
-            f = mass[j] * kernel_dwdr(KERNEL, r, s, 2) / r
+            f = mass[j] * g
             gx = f * dx
             gy = f * dy
             txx = axx + scaled[0, j]

@@ -53,10 +53,10 @@ def kernel_shape(kind, x):
         f = a * a * a * a * a
         if x < 2.0 / 3.0:
             b = 2.0 - 3.0 * x
-            f -= 6.0 * b * b * b * b * b
+            f -= 6.0 * (b * b * b * b * b)
             if x < 1.0 / 3.0:
                 c = 1.0 - 3.0 * x
-                f += 15.0 * c * c * c * c * c
+                f += 15.0 * (c * c * c * c * c)
         return f
     if kind == CUBIC:
         q = 2.0 * x
@@ -78,10 +78,10 @@ def kernel_dshape(kind, x):
         d = a * a * a * a
         if x < 2.0 / 3.0:
             b = 2.0 - 3.0 * x
-            d -= 6.0 * b * b * b * b
+            d -= 6.0 * (b * b * b * b)
             if x < 1.0 / 3.0:
                 c = 1.0 - 3.0 * x
-                d += 15.0 * c * c * c * c
+                d += 15.0 * (c * c * c * c)
         return -15.0 * d
     if kind == CUBIC:
         q = 2.0 * x
@@ -109,6 +109,34 @@ def kernel_dwdr(kind, r, s, dim):
     return kernel_norm(kind, dim) * scale * kernel_dshape(kind, r * inv)
 
 
+@njit(inline="always", cache=True)
+def kernel_w_dwdr(kind, r, s, dim):
+    """(W, dW/dr) at once; the quintic shares its powers (same values as kernel_w and
+    kernel_dwdr, which the pass of the drying rate needs both of)."""
+    if kind != QUINTIC:
+        return kernel_w(kind, r, s, dim), kernel_dwdr(kind, r, s, dim)
+    inv = 1.0 / s
+    x = r * inv
+    if x >= 1.0:
+        return 0.0, 0.0
+    a = 3.0 - 3.0 * x
+    d = a * a * a * a
+    f = d * a
+    if x < 2.0 / 3.0:
+        b = 2.0 - 3.0 * x
+        b4 = b * b * b * b
+        f -= 6.0 * (b4 * b)
+        d -= 6.0 * b4
+        if x < 1.0 / 3.0:
+            c = 1.0 - 3.0 * x
+            c4 = c * c * c * c
+            f += 15.0 * (c4 * c)
+            d += 15.0 * c4
+    norm = kernel_norm(kind, dim)
+    scale = inv * inv if dim == 2 else inv * inv * inv
+    return norm * scale * f, norm * (scale * inv) * (-15.0 * d)
+
+
 @njit(cache=True)
 def kernel_w_array(kind, r, s, dim):
     out = np.empty_like(r)
@@ -123,6 +151,15 @@ def kernel_dwdr_array(kind, r, s, dim):
     for i in range(r.size):
         out.flat[i] = kernel_dwdr(kind, r.flat[i], s, dim)
     return out
+
+
+@njit(cache=True)
+def kernel_w_dwdr_array(kind, r, s, dim):
+    w_out = np.empty_like(r)
+    d_out = np.empty_like(r)
+    for i in range(r.size):
+        w_out.flat[i], d_out.flat[i] = kernel_w_dwdr(kind, r.flat[i], s, dim)
+    return w_out, d_out
 
 
 def w(name: str, r, s: float, dim: int = 2) -> np.ndarray:
