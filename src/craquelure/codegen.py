@@ -5,6 +5,9 @@ An engine writes a copy of its kernel template with its effect flags set as modu
 of the fragment sources, and imports it here. The file is written atomically (temporary name,
 then rename), so Snakemake jobs that generate the same module at once never read half a file;
 ``@njit(cache=True)`` then caches the machine code beside it for later processes.
+
+All engines keep their generated modules under one root, ``$CRAQUELURE_CACHE`` (default
+``~/.cache/craquelure``), one folder per engine (:func:`generated_dir`).
 """
 
 from __future__ import annotations
@@ -14,6 +17,14 @@ import os
 import sys
 from pathlib import Path
 from types import ModuleType
+
+
+def generated_dir(engine: str) -> Path:
+    """``$CRAQUELURE_CACHE/<engine>`` (default ``~/.cache/craquelure/<engine>``), created."""
+    root = os.environ.get("CRAQUELURE_CACHE")
+    path = (Path(root) if root else Path.home() / ".cache" / "craquelure") / engine
+    path.mkdir(parents=True, exist_ok=True)
+    return path
 
 
 def import_generated(source: str, module_name: str, path: Path) -> ModuleType:

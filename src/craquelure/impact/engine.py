@@ -30,13 +30,12 @@ from __future__ import annotations
 import hashlib
 import inspect
 import math
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from craquelure.codegen import import_generated
+from craquelure.codegen import generated_dir, import_generated
 from craquelure.errors import SimulationDiverged
 from craquelure.impact import kernels_template
 from craquelure.impact.effects import (
@@ -70,8 +69,7 @@ _FRAGMENTS = (kernels_template, artificial_stress, artificial_viscosity, contact
 
 
 def cache_dir() -> Path:
-    root = os.environ.get("CRAQUELURE_CACHE") or Path.home() / ".cache" / "craquelure"
-    return Path(root) / "impact_kernels"
+    return generated_dir("impact_kernels")
 
 
 def kernels_for(effects, periodic: bool = False):

@@ -1,7 +1,7 @@
 """Kernels specialised per effect set (generated source, PySPH style).
 
 :func:`kernel_module` copies ``kernel_template.py`` with its flag constants set, into
-``$CRAQUELURE_KERNEL_DIR`` (default ``~/.cache/craquelure/lattice``) under a name made of the
+``$CRAQUELURE_CACHE/lattice`` (default ``~/.cache/craquelure/lattice``) under a name made of the
 flags and a hash of the template and effect sources (so editing any fragment gives a new
 module and a fresh numba cache), and imports it. Numba treats module globals as compile-time
 constants: absent effects are compiled out.
@@ -10,13 +10,12 @@ constants: absent effects are compiled out.
 from __future__ import annotations
 
 import hashlib
-import os
 import re
 from functools import cache
 from pathlib import Path
 from types import ModuleType
 
-from craquelure.codegen import import_generated
+from craquelure.codegen import generated_dir, import_generated
 
 FLAGS = ("HAS_BEAMS", "HAS_FRACTURE", "HAS_MELTING", "HAS_CONTACT", "HAS_GRAVITY",
          "HAS_BUOYANCY", "HAS_DRAG", "HAS_BED", "PERIODIC_X", "NODE_AVERAGED", "BENDING",
@@ -28,10 +27,7 @@ _HERE = Path(__file__).parent
 
 
 def kernel_dir() -> Path:
-    root = os.environ.get("CRAQUELURE_KERNEL_DIR")
-    path = Path(root) if root else Path.home() / ".cache" / "craquelure" / "lattice"
-    path.mkdir(parents=True, exist_ok=True)
-    return path
+    return generated_dir("lattice")
 
 
 def _source_hash() -> str:

@@ -3,7 +3,7 @@
 ``kernels(flags)`` returns a module compiled from :mod:`craquelure.softdyn._rhs_template` with
 the flag lines ``HAS_TANGENTIAL``, ``HAS_HERTZ``, ``LITERAL_DEFLECTION`` replaced by the scene's
 values. The copy is written once under a name hashing the template, the effect fragments and the
-flags (so an edit anywhere invalidates it) in ``$CRAQUELURE_KERNEL_CACHE`` (default
+flags (so an edit anywhere invalidates it) in ``$CRAQUELURE_CACHE/softdyn`` (default
 ``~/.cache/craquelure/softdyn``) and imported from there; numba caches its machine code next to
 it. Absent effects are compile-time ``False`` and their code is removed.
 """
@@ -11,13 +11,12 @@ it. Absent effects are compile-time ``False`` and their code is removed.
 from __future__ import annotations
 
 import hashlib
-import os
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 from types import ModuleType
 
-from craquelure.codegen import import_generated
+from craquelure.codegen import generated_dir, import_generated
 
 _HERE = Path(__file__).resolve().parent
 _SOURCES = ("_rhs_template.py", "effects/hertz.py", "effects/lubrication_normal.py",
@@ -36,8 +35,7 @@ class Flags:
 
 
 def cache_dir() -> Path:
-    env = os.environ.get("CRAQUELURE_KERNEL_CACHE")
-    return Path(env) if env else Path.home() / ".cache" / "craquelure" / "softdyn"
+    return generated_dir("softdyn")
 
 
 def generated_source(flags: Flags) -> str:

@@ -14,21 +14,17 @@ from __future__ import annotations
 
 import hashlib
 import inspect
-import os
 import re
 from pathlib import Path
 from types import ModuleType
 
-from craquelure.codegen import import_generated
+from craquelure.codegen import generated_dir, import_generated
 
 _FLAG_BLOCK = re.compile(r"# BEGIN FLAGS.*?# END FLAGS", re.S)
 
 
 def cache_dir() -> Path:
-    root = os.environ.get("CRAQUELURE_CACHE_DIR")
-    path = Path(root) if root else Path.home() / ".cache" / "craquelure" / "generated"
-    path.mkdir(parents=True, exist_ok=True)
-    return path
+    return generated_dir("sph")
 
 
 def _dependency_sources(template_source: str, package_root: Path) -> str:
