@@ -16,6 +16,7 @@ include: "workflow/rules/lattice.smk"
 include: "workflow/rules/drying_analysis.smk"
 include: "workflow/rules/impact.smk"
 include: "workflow/rules/softdyn.smk"
+include: "workflow/rules/validation.smk"
 
 
 rule all:

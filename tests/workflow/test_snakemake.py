@@ -8,6 +8,7 @@ afterwards, and no temporary file may survive.
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -157,6 +158,19 @@ def test_ci_outputs_are_valid(ci_run):
             assert ds.attrs["seed"] == int(path.stem.removeprefix("seed"))
             for name in ("x", "y", "mass"):
                 assert ds[name].dims == ("particle",)
+
+
+def test_ci_validation_report_covers_every_model(ci_run):
+    """results/validation.json: claims of all four models, each with a computed verdict."""
+    work, proc = ci_run
+    assert proc.returncode == 0
+    doc = json.loads((work / "results" / "validation.json").read_text())
+    assert doc["profile"] == "ci"
+    assert {c["model"] for c in doc["claims"]} == {"drying", "impact", "lattice", "softdyn"}
+    assert all(c["verdict"] in ("reproduced", "partly", "not reproduced") for c in doc["claims"])
+    assert sum(doc["tally"]["all"].values()) == len(doc["claims"])
+    html = (work / "results" / "validation.html").read_text()
+    assert html.count("<tr>") == len(doc["claims"]) + 1 + len(doc["tally"]) - 1
 
 
 def test_ci_report_builds(ci_run):

@@ -16,6 +16,15 @@ CRAQUELURE = f"{sys.executable} -m craquelure"
 TARGETS = {}
 
 
+# Each model file also registers the analysis outputs its claims are computed from
+# (craquelure.<model>.claims), the inputs of rule validation_report.
+CLAIM_SOURCES = {}
+
+
+def claim_sources(wildcards):
+    return {model: paths for model, paths in CLAIM_SOURCES.items() if paths}
+
+
 def all_targets():
     return [path for paths in TARGETS.values() for path in paths]
 

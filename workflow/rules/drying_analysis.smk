@@ -207,6 +207,10 @@ rule drying_thickness_figure:
         "../scripts/drying_dataset_figure.py"
 
 
+CLAIM_SOURCES["drying"] = ["results/drying/summary.json"]
+if config["drying"]["thickness"]["n_seeds"] > 0:
+    CLAIM_SOURCES["drying"].append(f"results/drying/{config['drying']['scene']}/thickness.nc")
+
 TARGETS["drying_thickness"] = [
     f"results/drying/figures/{config['drying']['scene']}_thickness.{ext}"
     for ext in ("png", "pdf")

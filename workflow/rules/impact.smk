@@ -142,5 +142,6 @@ rule impact_accuracy:
         "../scripts/impact_accuracy.py"
 
 
+CLAIM_SOURCES["impact"] = ["results/impact/summary.json"]
 TARGETS["impact"] = ["results/impact/summary.json", *IMPACT_PNG.values(),
                      "results/impact/figures/impact_accuracy.png"]

@@ -162,3 +162,8 @@ rule lattice_accuracy:
 
 
 TARGETS["lattice"] = LATTICE_JOBS.targets()
+CLAIM_SOURCES["lattice"] = [
+    *(path for path in TARGETS["lattice"] if path.endswith("summary.json")),
+    "results/lattice/accuracy/summary.json",
+    "results/lattice/scaling/scaling.tsv",
+]

@@ -172,6 +172,14 @@ rule softdyn_pair_figure:
         "../scripts/softdyn_figure.py"
 
 
+CLAIM_SOURCES["softdyn"] = (
+    expand(
+        "results/softdyn/{scene}/run.nc",
+        scene=config["softdyn"]["single"] + config["softdyn"]["pairs"] + config["softdyn"]["phase"],
+    )
+    + expand("results/softdyn/{scene}/sweep.nc", scene=config["softdyn"]["sweep"])
+    + expand("results/softdyn/{scene}/accuracy.nc", scene=config["softdyn"]["accuracy"])
+)
 TARGETS["softdyn"] = (
     expand("results/softdyn/{scene}/fig4.png", scene=config["softdyn"]["single"])
     + expand("results/softdyn/{scene}/gaps.png", scene=config["softdyn"]["pairs"])

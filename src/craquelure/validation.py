@@ -1,0 +1,129 @@
+"""Validation report: the papers' claims, one row each, with what was measured and a verdict.
+
+Last stage of the pipeline: it reads analysis outputs only (``summary.json`` files and analysis
+datasets), never runs a simulation. Each model states its claims in ``craquelure.<model>.claims``
+(``claims(sources) -> list[Claim]``, ``sources`` being the files its rules registered); this
+module collects them and writes ``results/validation.json`` and ``results/validation.html``
+(the latter embedded in the Snakemake report).
+
+Verdicts are computed from the criterion's conditions, never typed in:
+
+- ``reproduced``: every condition holds;
+- ``partly``: some hold; the row names the ones that do not;
+- ``not reproduced``: none holds.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass
+from importlib import import_module
+from pathlib import Path
+
+from craquelure.io import write_text_atomic
+
+MODELS = ("drying", "impact", "lattice", "softdyn")
+VERDICTS = ("reproduced", "partly", "not reproduced")
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One claim of a source paper (or of a spec check standing for it) and how it fared."""
+
+    model: str
+    claim: str  # the paper's statement
+    source: str  # where it is stated: paper figure, spec section or check
+    criterion: str  # the test applied to the measurement
+    measured: str  # the numbers
+    verdict: str  # one of VERDICTS
+    note: str = ""  # failed conditions, caveats (sample size, profile departures)
+
+    def __post_init__(self) -> None:
+        if self.verdict not in VERDICTS:
+            raise ValueError(f"verdict: {self.verdict!r} is not allowed; allowed values: "
+                             f"{', '.join(VERDICTS)}")
+
+
+def verdict_of(conditions: Mapping[str, bool]) -> tuple[str, str]:
+    """(verdict, note naming the conditions that fail) for named boolean conditions."""
+    if not conditions:
+        raise ValueError("a verdict needs at least one condition")
+    failed = [name for name, ok in conditions.items() if not ok]
+    if not failed:
+        return "reproduced", ""
+    if len(failed) == len(conditions):
+        return "not reproduced", "fails: " + ", ".join(failed)
+    return "partly", "fails: " + ", ".join(failed)
+
+
+def collect(sources: Mapping[str, Sequence[str | Path]]) -> list[Claim]:
+    """Claims of every model that has sources, in the order of MODELS."""
+    unknown = sorted(set(sources) - set(MODELS))
+    if unknown:
+        raise ValueError(f"validation sources: unknown model(s) {', '.join(unknown)}; allowed "
+                         f"values: {', '.join(MODELS)}")
+    claims: list[Claim] = []
+    for model in MODELS:
+        paths = [Path(p) for p in sources.get(model, ())]
+        if paths:
+            claims.extend(import_module(f"craquelure.{model}.claims").claims(paths))
+    return claims
+
+
+def tally(claims: Sequence[Claim]) -> dict[str, dict[str, int]]:
+    """Counts of each verdict per model and in all."""
+    out: dict[str, dict[str, int]] = {}
+    for c in claims:
+        for key in (c.model, "all"):
+            out.setdefault(key, dict.fromkeys(VERDICTS, 0))[c.verdict] += 1
+    return out
+
+
+def write_json(claims: Sequence[Claim], path: str | Path, profile: str) -> Path:
+    doc = {"profile": profile, "tally": tally(claims), "claims": [asdict(c) for c in claims]}
+    return write_text_atomic(path, json.dumps(doc, indent=2) + "\n")
+
+
+_STYLE = """
+body { font-family: sans-serif; font-size: 13px; margin: 1em; }
+table { border-collapse: collapse; width: 100%; }
+th, td { border: 1px solid #bbb; padding: 4px 6px; vertical-align: top; text-align: left; }
+th { background: #eee; }
+td.reproduced { background: #d9f2d9; }
+td.partly { background: #fff2cc; }
+td.not-reproduced { background: #f8d7d7; }
+"""
+
+
+def render_html(claims: Sequence[Claim], profile: str) -> str:
+    counts = tally(claims)
+    rows = []
+    for model in MODELS:
+        mine = [c for c in claims if c.model == model]
+        if not mine:
+            continue
+        n = counts[model]
+        rows.append(f'<tr><th colspan="5">{model}: {n["reproduced"]} reproduced, '
+                    f'{n["partly"]} partly, {n["not reproduced"]} not reproduced</th></tr>')
+        for c in mine:
+            cells = [c.claim, c.source, c.criterion, c.measured]
+            tds = "".join(f"<td>{html.escape(x)}</td>" for x in cells)
+            verdict = html.escape(c.verdict) + (f"<br><small>{html.escape(c.note)}</small>"
+                                                if c.note else "")
+            rows.append(f'<tr>{tds}<td class="{c.verdict.replace(" ", "-")}">{verdict}</td></tr>')
+    head = "".join(f"<th>{h}</th>" for h in
+                   ("claim", "source", "criterion", "measured", "verdict"))
+    total = counts.get("all", dict.fromkeys(VERDICTS, 0))
+    return (f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>craquelure validation"
+            f"</title><style>{_STYLE}</style></head><body>\n"
+            f"<h2>Validation, profile {html.escape(profile)}</h2>\n"
+            f"<p>{len(claims)} claims: {total['reproduced']} reproduced, {total['partly']} partly, "
+            f"{total['not reproduced']} not reproduced. Verdicts are computed from the "
+            f"criterion's conditions; 'partly' names the conditions that fail.</p>\n"
+            f"<table><tr>{head}</tr>\n" + "\n".join(rows) + "\n</table></body></html>\n")
+
+
+def write_html(claims: Sequence[Claim], path: str | Path, profile: str) -> Path:
+    return write_text_atomic(path, render_html(claims, profile))

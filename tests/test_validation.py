@@ -1,0 +1,42 @@
+"""Validation report frame: verdicts from conditions, the model registry, the HTML table."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from craquelure import validation
+from craquelure.validation import Claim, verdict_of
+
+
+def test_verdict_from_conditions_names_the_failures():
+    assert verdict_of({"a": True, "b": True}) == ("reproduced", "")
+    assert verdict_of({"a": True, "b": False}) == ("partly", "fails: b")
+    assert verdict_of({"a": False, "b": False}) == ("not reproduced", "fails: a, b")
+    with pytest.raises(ValueError, match="at least one condition"):
+        verdict_of({})
+
+
+def test_claim_rejects_an_unknown_verdict():
+    with pytest.raises(ValueError, match="allowed values: reproduced, partly, not reproduced"):
+        Claim("drying", "c", "s", "k", "m", "maybe")
+
+
+def test_collect_rejects_an_unknown_model():
+    with pytest.raises(ValueError, match="unknown model.*allowed values: drying, impact"):
+        validation.collect({"fluid": ["x.json"]})
+
+
+def test_outputs_count_and_escape(tmp_path):
+    claims = [Claim("impact", "a < b & c", "s", "k", "1", "reproduced"),
+              Claim("impact", "d", "s", "k", "2", "partly", "fails: x"),
+              Claim("softdyn", "e", "s", "k", "3", "not reproduced", "fails: y")]
+    validation.write_json(claims, tmp_path / "v.json", "ci")
+    doc = json.loads((tmp_path / "v.json").read_text())
+    assert doc["tally"]["all"] == {"reproduced": 1, "partly": 1, "not reproduced": 1}
+    assert doc["tally"]["impact"]["partly"] == 1 and len(doc["claims"]) == 3
+    html = validation.render_html(claims, "ci")
+    assert "a &lt; b &amp; c" in html and "a < b" not in html
+    assert "impact: 1 reproduced, 1 partly, 0 not reproduced" in html
+    assert html.count('class="not-reproduced"') == 1

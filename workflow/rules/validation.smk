@@ -1,0 +1,28 @@
+# Validation report: every model's claims (craquelure.<model>.claims) computed from the
+# analysis outputs the model files registered in CLAIM_SOURCES, one table for the report.
+
+
+rule validation_report:
+    input:
+        unpack(claim_sources),
+    output:
+        html=report(
+            "results/validation.html",
+            caption="../report/validation.rst",
+            category="Validation",
+            labels={"table": "claims, measured, verdicts"},
+        ),
+        json="results/validation.json",
+    params:
+        profile=config["profile"],
+    log:
+        "logs/validation_report.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    script:
+        "../scripts/validation_report.py"
+
+
+TARGETS["validation"] = ["results/validation.html", "results/validation.json"]
