@@ -13,6 +13,9 @@ rule mass_consistency:
         "logs/mass_consistency/{scene}/seed{seed}.log",
     benchmark:
         "benchmarks/results/mass_consistency/{scene}/seed{seed}.tsv"
+    # Snakemake does not pass a job's priority on to its inputs: the (seconds-long) mass
+    # solves must outrank the drying runs that wait for them, or those start late.
+    priority: 20
     threads: config["drying"]["threads"]
     resources:
         mem_mb=config["drying"]["mem_mb"],
@@ -20,8 +23,6 @@ rule mass_consistency:
     shell:
         "{params.cli} init {input.scene} --seed {wildcards.seed} --out {output} "
         "--threads {threads} {params.overrides} > {log} 2>&1"
-
-
 
 
 rule drying_run:
