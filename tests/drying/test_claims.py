@@ -60,3 +60,21 @@ def test_thickness_exponent_within_two_standard_deviations(tmp_path):
 
     assert claims.thickness_claim(write(1.62, 0.24)).verdict == "reproduced"
     assert claims.thickness_claim(write(1.2, 0.24)).verdict == "not reproduced"
+
+
+def test_a_campaign_without_a_window_is_not_reproduced_with_its_reason():
+    # Short runs (the CI profile) never break every sample: no fit, no collapse times.
+    empty = copy.deepcopy(SUMMARY)
+    empty["fit"] = {"window_times": [], "mean_area": [],
+                    "error": "fewer than 3 usable snapshots in the window"}
+    empty["slope_over_b_star"] = None
+    empty["collapse"] = {"per_time": [], "cv_mean_x2": None, "raw_ks_first_last": None,
+                         "mean_pairwise_ks_before": 0.5, "mean_pairwise_ks_after": None}
+    for group in ("check14_inverse_mean_area_linear", "check15_scaling_collapse"):
+        for key, value in empty["checks"][group].items():
+            if isinstance(value, bool):
+                empty["checks"][group][key] = False
+    inverse, collapse = claims.inverse_area_claim(empty), claims.collapse_claim(empty)
+    assert inverse.verdict == collapse.verdict == "not reproduced"
+    assert inverse.measured == "no fit: fewer than 3 usable snapshots in the window"
+    assert collapse.measured.startswith("no collapse times")

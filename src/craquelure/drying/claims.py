@@ -20,6 +20,11 @@ MODEL = "drying"
 THICKNESS_SIGMAS = 2.0
 
 
+def _num(value, spec: str) -> str:
+    """A summary number, or n/a where the statistic could not be computed (None)."""
+    return "n/a" if value is None else format(value, spec)
+
+
 def _caveat(summary: dict) -> str:
     parts = [f"profile {summary['profile']}: N = {summary['n_particles']}, "
              f"{summary['n_seeds']} seeds, window {summary['window_mode']}"]
@@ -40,14 +45,17 @@ def inverse_area_claim(summary: dict) -> Claim:
     verdict, note = verdict_of({k: c14[k] for k in (
         "r2_at_least_0.95", "slope_positive", "quadratic_change_below_20_percent",
         "x_intercept_in_range")})
-    w0, w1 = summary["window"]
-    alpha_lo, alpha_hi = fit["alpha_ci95"]
-    measured = (f"window t = {w0:.3g}-{w1:.3g}: R^2 = {fit['r2']:.3f}, slope b = "
-                f"{fit['slope_b']:.3g} = {summary['slope_over_b_star']:.2f} b*, quadratic term "
-                f"{fit['quadratic_departure_fraction']:.1%} of the rise, x-intercept "
-                f"{fit['x_intercept']:.3g} = {fit['x_intercept'] / tstar:.2f} t* (range "
-                f"{lo / tstar:.2f}-{hi / tstar:.2f} t*); alpha = {fit['alpha']:.2f} (95 % CI "
-                f"{alpha_lo:.2f}-{alpha_hi:.2f})")
+    if "error" in fit:  # too few usable snapshots (e.g. the CI profile's short runs)
+        measured = f"no fit: {fit['error']}"
+    else:
+        w0, w1 = summary["window"]
+        alpha_lo, alpha_hi = fit["alpha_ci95"]
+        measured = (f"window t = {w0:.3g}-{w1:.3g}: R^2 = {fit['r2']:.3f}, slope b = "
+                    f"{fit['slope_b']:.3g} = {summary['slope_over_b_star']:.2f} b*, quadratic "
+                    f"term {fit['quadratic_departure_fraction']:.1%} of the rise, x-intercept "
+                    f"{fit['x_intercept']:.3g} = {fit['x_intercept'] / tstar:.2f} t* (range "
+                    f"{lo / tstar:.2f}-{hi / tstar:.2f} t*); alpha = {fit['alpha']:.2f} (95 % "
+                    f"CI {alpha_lo:.2f}-{alpha_hi:.2f})")
     return Claim(MODEL, "after the initial stage the average fragment area decreases as 1/t",
                  "paper Fig. 3; drying spec check 14",
                  "1/<S>_t linear in t: R^2 >= 0.95, slope > 0, a quadratic term changes the fit "
@@ -63,12 +71,15 @@ def collapse_claim(summary: dict) -> Claim:
         "ks_test_can_reject_at_all_t_k", "ks_below_critical_at_all_t_k",
         "cv_mean_x2_at_most_0.10", "raw_ks_first_last_at_least_0.3")})
     counts = [int(r["n"]) for r in rows]
-    measured = (f"KS(X(t_k), pooled X) below the 1 % critical value at {below}/{len(rows)} t_k "
-                f"({min(counts, default=0)}-{max(counts, default=0)} fragments each); CV of "
-                f"<X^2>_t = {col['cv_mean_x2']:.3f}; raw KS(S) first/last = "
-                f"{col['raw_ks_first_last']:.2f}; mean pairwise KS of scaled distributions "
-                f"{col['mean_pairwise_ks_before']:.2f} before the window, "
-                f"{col['mean_pairwise_ks_after']:.2f} inside it")
+    if not rows:
+        measured = "no collapse times: no snapshot window with every sample broken"
+    else:
+        measured = (f"KS(X(t_k), pooled X) below the 1 % critical value at {below}/{len(rows)} "
+                    f"t_k ({min(counts)}-{max(counts)} fragments each); CV of <X^2>_t = "
+                    f"{_num(col['cv_mean_x2'], '.3f')}; raw KS(S) first/last = "
+                    f"{_num(col['raw_ks_first_last'], '.2f')}; mean pairwise KS of scaled "
+                    f"distributions {_num(col['mean_pairwise_ks_before'], '.2f')} before the "
+                    f"window, {_num(col['mean_pairwise_ks_after'], '.2f')} inside it")
     return Claim(MODEL, "the fragment-size distributions collapse when scaled by their mean",
                  "paper Figs. 5-6; drying spec check 15",
                  "KS test can reject and does not at every t_k, CV of <X^2>_t <= 0.10, raw "
