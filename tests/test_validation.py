@@ -36,6 +36,7 @@ def test_outputs_count_and_escape(tmp_path):
     doc = json.loads((tmp_path / "v.json").read_text())
     assert doc["tally"]["all"] == {"reproduced": 1, "partly": 1, "not reproduced": 1}
     assert doc["tally"]["impact"]["partly"] == 1 and len(doc["claims"]) == 3
+    assert "git_commit" in doc["provenance"] and "version_numpy" in doc["provenance"]
     html = validation.render_html(claims, "ci")
     assert "a &lt; b &amp; c" in html and "a < b" not in html
     assert "impact: 1 reproduced, 1 partly, 0 not reproduced" in html

@@ -23,6 +23,7 @@ from importlib import import_module
 from pathlib import Path
 
 from craquelure.io import write_text_atomic
+from craquelure.provenance import git_commit, library_versions
 
 MODELS = ("drying", "impact", "lattice", "softdyn")
 VERDICTS = ("reproduced", "partly", "not reproduced")
@@ -81,8 +82,12 @@ def tally(claims: Sequence[Claim]) -> dict[str, dict[str, int]]:
     return out
 
 
-def write_json(claims: Sequence[Claim], path: str | Path, profile: str) -> Path:
-    doc = {"profile": profile, "tally": tally(claims), "claims": [asdict(c) for c in claims]}
+def write_json(claims: Sequence[Claim], path: str | Path, profile: str,
+               sources: Mapping[str, Sequence[str | Path]] | None = None) -> Path:
+    doc = {"profile": profile, "tally": tally(claims), "claims": [asdict(c) for c in claims],
+           "provenance": {"git_commit": git_commit(), **library_versions(),
+                          "sources": {m: [str(p) for p in paths]
+                                      for m, paths in (sources or {}).items()}}}
     return write_text_atomic(path, json.dumps(doc, indent=2) + "\n")
 
 

@@ -9,7 +9,8 @@ if "snakemake" in globals():
     sources = {model: list(snakemake.input[model]) for model in validation.MODELS  # noqa: F821
                if model in snakemake.input.keys()}  # noqa: F821
     claims = validation.collect(sources)
-    validation.write_json(claims, snakemake.output.json, snakemake.params.profile)  # noqa: F821
+    validation.write_json(claims, snakemake.output.json, snakemake.params.profile,  # noqa: F821
+                          sources)
     validation.write_html(claims, snakemake.output.html, snakemake.params.profile)  # noqa: F821
     for c in claims:
         print(f"[{c.model}] {c.verdict:>14}: {c.claim} | {c.measured}")
