@@ -1,10 +1,11 @@
 """``craquelure run SCENE --out RUN.nc [--init STATE.nc] [--seed N] [--resume]``: simulate a
 scene and write the run dataset (checkpointing as it goes)."""
 
+import sys
 from pathlib import Path
 
 from craquelure.commands import add_scene_arguments
-from craquelure.models import stage
+from craquelure.models import checkpoints, stage
 from craquelure.scene import load_scene
 
 NAME = "run"
@@ -27,6 +28,9 @@ def main(args) -> int:
 
         numba.set_num_threads(args.threads)
     scene = load_scene(args.scene, args.overrides)
+    if args.resume and not checkpoints(scene.model):
+        print(f"--resume: {scene.model} runs are short and write no checkpoints; starting "
+              f"from the beginning", file=sys.stderr)
     out = stage(scene.model, "run")(scene, Path(args.out), seed=args.seed,
                                     init=Path(args.init) if args.init else None,
                                     resume=args.resume)

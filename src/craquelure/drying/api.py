@@ -7,6 +7,8 @@ import math
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.scene import Scene
 
+CHECKPOINTS = True  # craquelure.drying.run writes <out>.checkpoint.nc
+
 # Neighbour-pair visits per second per thread of the drying rate function, measured by
 # benchmarks/sph_engine.py on the 2-core development machine (2026-11-22, 4.6e7 at N = 4e4);
 # used only for wall-time estimates.

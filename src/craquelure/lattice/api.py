@@ -14,6 +14,8 @@ from craquelure.lattice.run import run as _run
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 
+CHECKPOINTS = True  # craquelure.lattice.run writes <out>.checkpoint.nc
+
 # bond updates per second of the serial kernel (benchmarks/lattice_engine.py on this shared
 # 2-core machine, 2026-11-22, after the chunked kernel: 2.1-2.6e7 wall at load average 3.8,
 # 1.9e7 at 7.7); used only for wall-time estimates
