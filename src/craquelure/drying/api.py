@@ -10,9 +10,9 @@ from craquelure.scene import Scene
 CHECKPOINTS = True  # craquelure.drying.run writes <out>.checkpoint.nc
 
 # Neighbour-pair visits per second per thread of the drying rate function, measured by
-# benchmarks/sph_engine.py on the 2-core development machine (2026-11-22, 4.6e7 at N = 4e4);
+# benchmarks/sph_engine.py on the 2-core development machine (2026-11-22, 7.5e7 at N = 4e4);
 # used only for wall-time estimates.
-PAIR_VISITS_PER_S_PER_THREAD = 4.6e7
+PAIR_VISITS_PER_S_PER_THREAD = 7.5e7
 RK4_REAL_AXIS, ABM4_REAL_AXIS = 2.785, 1.285
 EVALS_PER_STEP = {"rk4": 4, "abm4": 2, "rk2": 2}
 

@@ -66,9 +66,9 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
     # Per-particle factors hoisted out of the pair loops: V_J = m_J/rho_J (pass 1) and
     # sigma_J/rho_J^2 (pass 2).
     volume = np.empty(n)
-    # dW/dr / r of every listed pair, computed in pass 1 and reused by pass 2 (0 beyond the
-    # support and for coincident particles)
-    gfac = np.zeros(index.size)
+    # dW/dr / r of every listed pair, written by pass 1 for every pair of a present particle
+    # and reused by pass 2 (0 beyond the support and for coincident particles)
+    gfac = np.empty(index.size)
     for i in prange(n):
         volume[i] = mass[i] / state[RHO, i] if alive[i] else 0.0
     for i in prange(n):
@@ -98,6 +98,7 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
             dy = wrap(yi - state[Y, j], box, half)
             r2 = dx * dx + dy * dy
             if r2 >= s2:
+                gfac[k] = 0.0
                 continue
             r = np.sqrt(r2)
             dvx = state[VX, j] - vxi
@@ -106,9 +107,9 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
                 w, dwdr = kernel_w_dwdr(KERNEL, r, s, 2)
             else:
                 w, dwdr = 0.0, kernel_dwdr(KERNEL, r, s, 2)
+            g = dwdr / r if r > 0.0 else 0.0
+            gfac[k] = g
             if r > 0.0:
-                g = dwdr / r
-                gfac[k] = g
                 f = volume[j] * g
                 gx = f * dx
                 gy = f * dy
