@@ -198,6 +198,8 @@ def _describe(error: jsonschema.ValidationError) -> str:
         return f"{where}: {value!r} is not allowed; must be {bounds[kind]} {error.validator_value}"
     if kind == "type":
         return f"{where}: {value!r} is not allowed; must be of type {error.validator_value}"
+    if kind == "anyOf" and "description" in error.schema:
+        return f"{where}: {value!r} is not allowed; allowed: {error.schema['description']}"
     return f"{where}: {value!r} is not allowed: {error.message}"
 
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 import yaml
 
-from craquelure.errors import SimulationDiverged
+from craquelure.errors import SceneError, SimulationDiverged
 from craquelure.impact import workflow
-from craquelure.impact.api import run
+from craquelure.impact.api import artificial_stress_epsilon, run, settings
 from craquelure.impact.specimen import build_specimen
 from craquelure.io import open_dataset
 from craquelure.scene import load_scene, project_root
@@ -31,8 +31,29 @@ def test_run_dataset_is_complete_and_deterministic(tmp_path):
     assert not np.array_equal(a["y"].values, sp.y)
     assert a["mass"].sum() == pytest.approx(a.sizes["particle"] * 2400.0 * 0.01**2, rel=1e-12)
     assert abs(a.attrs["metric_energy_balance_error_max"]) < 0.02
+    assert a.attrs["metric_as_epsilon"] == pytest.approx(0.15)  # as_epsilon: auto at kappa = 1
     c = open_dataset(run(scene, tmp_path / "c.nc", seed=4))
     assert not np.array_equal(a["mass"].values, c["mass"].values)
+
+
+@pytest.mark.parametrize("overrides,expected", [
+    (["numerics.kappa=0.7"], 0.2), (["numerics.kappa=1.0"], 0.15), (["numerics.kappa=1.5"], 0.0),
+    (["numerics.kappa=1.25"], 0.075), (["numerics.kappa=3.0"], 0.0),
+    (["numerics.kappa=1.5", "numerics.as_epsilon=0.3"], 0.3)])
+def test_artificial_stress_epsilon_auto(overrides, expected):
+    """``as_epsilon: auto`` (the impact scenes' default) follows h(0)/Delta = 1.2 kappa through
+    the measured minimisers 0.2 / 0.15 / 0 at 0.84 / 1.2 / 1.8, linear in between, constant
+    outside; a number is taken as given."""
+    scene = load_scene("impact/ci", overrides)
+    assert artificial_stress_epsilon(scene) == pytest.approx(expected, abs=1e-12)
+    assert settings(scene).as_epsilon == pytest.approx(expected, abs=1e-12)
+
+
+@pytest.mark.parametrize("value", ["automatic", "-0.1"])
+def test_artificial_stress_epsilon_rejects_bad_values(value):
+    with pytest.raises(SceneError, match=r"numerics\.as_epsilon: .* not allowed; allowed: a "
+                                         r"number >= 0, or auto"):
+        load_scene("impact/ci", [f"numerics.as_epsilon={value}"])
 
 
 def test_divergence_stops_without_output(tmp_path):

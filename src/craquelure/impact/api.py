@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure.errors import CraquelureError
+from craquelure.impact.effects.artificial_stress import auto_epsilon
 from craquelure.impact.effects.damage import crack_band_width
 from craquelure.impact.engine import Engine, Settings, State
 from craquelure.impact.material import Concrete
@@ -44,13 +45,22 @@ def concrete(scene: Scene) -> Concrete:
     return mat
 
 
+def artificial_stress_epsilon(scene: Scene) -> float:
+    """ε_AS of the run: the scene's number, or for ``auto`` the minimiser of the linearised
+    tensile growth at h(0)/Δ (:func:`~craquelure.impact.effects.artificial_stress.auto_epsilon`)."""
+    eps = scene.get("numerics.as_epsilon", 0.0)
+    if eps == "auto":
+        return auto_epsilon(initial_smoothing_length(scene) / scene.get("particles.spacing"))
+    return float(eps)
+
+
 def settings(scene: Scene) -> Settings:
     g = scene.get
     return Settings(
         material=concrete(scene), rho0=g("material.rho0"), spacing=g("particles.spacing"),
         effects=scene.effects, cfl=g("numerics.cfl"), dt_max=g("numerics.dt_max"),
         av_alpha=g("numerics.av_alpha", 0.0), av_beta=g("numerics.av_beta", 0.0),
-        as_epsilon=g("numerics.as_epsilon", 0.0), as_n=g("numerics.as_n"),
+        as_epsilon=artificial_stress_epsilon(scene), as_n=g("numerics.as_n"),
         h_min=g("numerics.h_min"), h_max=g("numerics.h_max"), base_y=g("domain.base_y"),
         contact_radius=g("numerics.contact_radius"), contact_a=g("numerics.contact_a", 0.1),
         kinematic_ratio=g("numerics.kinematic_ratio"),
@@ -87,6 +97,7 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "E [Pa], nu": (mat.young, mat.poisson),
         "c_p, c_s [m/s]": (st.wave_speed, math.sqrt(mat.shear / st.rho0)),
         "h(0) [m]": h0,
+        "artificial stress eps_AS": st.as_epsilon if scene.has("artificial_stress") else None,
         "Drucker-Prager alpha, k [Pa]": mat.dp,
         "kappa0, kappa_f": (mat.kappa0, mat.kappa_f),
         "Hillerborg length [m]": mat.hillerborg_length,
@@ -217,7 +228,8 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         "energy_initial": eng.e0, "steps": eng.step_count, "dt_min": eng.dt_min_seen,
         "max_penetration": eng.max_penetration, "kinematic_impulse": eng.impulse_kin,
         "min_y_final": float(st.y.min()), "spacing": sp.spacing, "radius": sp.radius,
-        "kappa": g("numerics.kappa"), "distribution": g("particles.masses.distribution"),
+        "kappa": g("numerics.kappa"), "as_epsilon": eng.s.as_epsilon,
+        "distribution": g("particles.masses.distribution"),
         "precrack_layout": g("particles.precrack"), "n_particles": sp.n,
         "n_zero_mass": int(np.sum(sp.mass == 0)),
     })

@@ -17,15 +17,29 @@ normalisation cancels and f(Δ) = 1 for every h. The pair term is symmetric in i
 stiffness is ε_AS σ ≈ 1e-4 of the elastic one, and at CFL 0.15 instead of 0.3 check 8 still
 grows (stress noise ×2.5 over steps 500-2000), so its growth is no time-step instability.
 
-Known property (spec check 8, tests/impact/test_engine.py): in all-tensile states R_j follows the
-stress fluctuation, δR_j = −ε_AS δσ_j/ρ_j², which with n = 4 and h = 1.2Δ weakens only the
-nearest-neighbour (f = 1) part of the stress gradient (diagonal neighbours: f⁴ = 0.015). For
-modes with k_yΔ = π the diagonal contributions have the opposite sign, and above ε_AS ≈ 0.25
-(scalar estimate at kΔ = (π/2, π)) the gradient reverses: the linearised scheme (no AV) grows at
-4.7e4 1/s at ε_AS = 0.3 versus 1.4e4 1/s without AS and 6.0e3 1/s with R frozen at the uniform
-stress. The formula is kept as specified (Monaghan 2000; Gray et al. 2001).
+Decision on ε_AS (spec: 0.3, a [D] value; check 8, tests/impact/test_engine.py). In all-tensile
+states R_j follows the stress fluctuation, δR_j = −ε_AS δσ_j/ρ_j², which with n = 4 weakens only
+the nearest-neighbour (f = 1) part of the SPH stress gradient (diagonal neighbours at h = 1.2Δ:
+f⁴ = 0.015). Too large an ε_AS therefore reverses the gradient for short modes and makes the
+instability worse, not better. Linearised one leapfrog step of this code (8 × 8 periodic lattice
+in 0.8 f_t biaxial tension, no AV; same rates in uniaxial tension), growth rate in 1/s:
+
+    h(0)/Δ (κ)     ε_AS = 0   0.1     0.15    0.2     0.25    0.3
+    0.84 (0.7)     2.8e4      2.0e4   1.3e4   7.0e3   7.7e3   8.3e3
+    1.2  (1.0)     1.4e4      8.7e3   4.2e3   2.1e4   3.4e4   4.7e4
+    1.8  (1.5)     0.3        4.1e3   8.1e3   1.1e4   -       1.5e4
+
+At h(0) = 1.8Δ the nearest neighbour sits inside the cubic spline's inflection point
+(q = 0.56 < 2/3): the scheme has no tensile instability (0.3 1/s is neutral: e^3e-4 over a
+1 ms run; 0.05 is neutral too) and ε_AS ≥ 0.1 creates one. So
+``numerics.as_epsilon: auto`` takes the minimiser measured at the paper's three supports,
+ε_AS = 0.2 / 0.15 / 0 at h(0)/Δ = 0.84 / 1.2 / 1.8, linearly interpolated in h(0)/Δ between
+them and held constant outside; with it check 8 passes at every κ, while the spec's 0.3 at κ = 1
+lets the velocity noise grow ×2.2 in 2000 steps (the growing mode is kΔ = (π/2, π)). The
+value used is recorded in each run's attributes (``metric_as_epsilon``).
 """
 
+import numpy as np
 from numba import njit
 
 from craquelure.impact.effects.damage import in_plane_principal
@@ -37,6 +51,17 @@ EFFECT = Effect(
     description="Monaghan artificial stress (epsilon_AS, n) against tensile instability",
     requires={"impact": ("numerics.as_epsilon",)},
 )
+
+
+# (h(0)/Delta, eps_AS minimising the linearised tensile growth); see the table above.
+AUTO_EPSILON = ((0.84, 0.2), (1.2, 0.15), (1.8, 0.0))
+
+
+def auto_epsilon(support_ratio: float) -> float:
+    """ε_AS for ``as_epsilon: auto`` at h(0)/Δ = ``support_ratio``."""
+    ratio, eps = zip(*AUTO_EPSILON, strict=True)
+    # rounded: 1.2 * 1.5 = 1.7999999999999998 would give 6e-17 instead of 0
+    return round(float(np.interp(support_ratio, ratio, eps)), 12)
 
 
 @njit(inline="always", cache=True)
