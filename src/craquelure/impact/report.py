@@ -69,6 +69,7 @@ def summarise(paths, profile: str, scene: str, distribution: str) -> dict:
         ms = sorted(ms, key=lambda m: m["seed"])
         out_cases[key] = {
             "seeds": [m["seed"] for m in ms],
+            "as_epsilon": ms[0].get("as_epsilon"),
             "per_seed": {q: [m.get(q) for m in ms] for q in PER_RUN},
             "stats": {q: _stats([m.get(q) for m in ms]) for q in PER_RUN
                       if q not in ("precrack_angle_deg",)},
@@ -240,7 +241,9 @@ def _failed(ds, snapshot=-1):
 
 
 def _title(ds):
-    return (f"kappa = {float(ds.attrs['metric_kappa']):g}, {ds.attrs['metric_distribution']}, "
+    return (f"kappa = {float(ds.attrs['metric_kappa']):g} (eps_AS "
+            f"{float(ds.attrs.get('metric_as_epsilon', float('nan'))):g}), "
+            f"{ds.attrs['metric_distribution']}, "
             f"seed {int(ds.attrs.get('seed', 0))}:\nN_mc = {int(ds.attrs['metric_n_main_cracks'])}"
             f", crossings {int(ds.attrs.get('metric_centre_crossings', -1))}"
             f", phi_c = {float(ds.attrs['metric_cracked_fraction']):.2f}")
