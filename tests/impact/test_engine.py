@@ -50,7 +50,7 @@ def test_momentum_conserved_with_zero_masses_translation_and_spin():
 
 def periodic_block(nx, ny, spacing=0.004, effects=("elasticity", "artificial_viscosity",
                                                    "artificial_stress"), as_epsilon=0.3,
-                   noise=0.0, seed=0, kappa=1.0):
+                   noise=0.0, seed=0, kappa=1.0, plane_stress=False):
     ix, iy = np.meshgrid(np.arange(nx), np.arange(ny), indexing="xy")
     x = (ix.ravel() + 0.5) * spacing
     y = (iy.ravel() + 0.5) * spacing
@@ -61,7 +61,8 @@ def periodic_block(nx, ny, spacing=0.004, effects=("elasticity", "artificial_vis
     st = State.grid(x, y, 0.0, 0.0, np.full(x.size, rho0 * spacing**2), rho0,
                       kappa * 1.2 * spacing)
     s = Settings(material=MAT, rho0=rho0, spacing=spacing, effects=tuple(effects),
-                 as_epsilon=as_epsilon, periodic_box=(nx * spacing, ny * spacing))
+                 as_epsilon=as_epsilon, periodic_box=(nx * spacing, ny * spacing),
+                 plane_stress=plane_stress)
     return s, st
 
 

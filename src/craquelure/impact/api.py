@@ -65,7 +65,7 @@ def settings(scene: Scene) -> Settings:
         contact_radius=g("numerics.contact_radius"), contact_a=g("numerics.contact_a", 0.1),
         kinematic_ratio=g("numerics.kinematic_ratio"),
         energy_runaway_factor=g("numerics.energy_runaway_factor"),
-        neighbour_skin=g("numerics.neighbour_skin"))
+        neighbour_skin=g("numerics.neighbour_skin"), plane_stress=g("domain.plane") == "stress")
 
 
 def initial_state(scene: Scene, specimen: Specimen) -> State:
@@ -95,6 +95,7 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     return {
         "particles": sp.n,
         "E [Pa], nu": (mat.young, mat.poisson),
+        "2D": f"plane {scene.get('domain.plane')}",
         "c_p, c_s [m/s]": (st.wave_speed, math.sqrt(mat.shear / st.rho0)),
         "h(0) [m]": h0,
         "artificial stress eps_AS": st.as_epsilon if scene.has("artificial_stress") else None,
@@ -228,7 +229,7 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         "energy_initial": eng.e0, "steps": eng.step_count, "dt_min": eng.dt_min_seen,
         "max_penetration": eng.max_penetration, "kinematic_impulse": eng.impulse_kin,
         "min_y_final": float(st.y.min()), "spacing": sp.spacing, "radius": sp.radius,
-        "kappa": g("numerics.kappa"), "as_epsilon": eng.s.as_epsilon,
+        "kappa": g("numerics.kappa"), "as_epsilon": eng.s.as_epsilon, "plane": g("domain.plane"),
         "distribution": g("particles.masses.distribution"),
         "precrack_layout": g("particles.precrack"), "n_particles": sp.n,
         "n_zero_mass": int(np.sum(sp.mass == 0)),

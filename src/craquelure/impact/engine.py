@@ -72,10 +72,11 @@ def cache_dir() -> Path:
     return generated_dir("impact_kernels")
 
 
-def kernels_for(effects, periodic: bool = False):
+def kernels_for(effects, periodic: bool = False, plane_stress: bool = False):
     """The kernel module compiled for this effect set (generated once, then cached)."""
     flags = {flag: (name in effects) for name, flag in FLAG_OF_EFFECT.items()}
     flags["PERIODIC"] = bool(periodic)
+    flags["PLANE_STRESS"] = bool(plane_stress)
     template = inspect.getsource(kernels_template)
     start = template.index("# --- effect flags")
     end = template.index("# --- end of flags ---")
@@ -113,10 +114,14 @@ class Settings:
     energy_runaway_factor: float = 1.5
     neighbour_skin: float = 0.2  # units of max h
     periodic_box: tuple[float, float] | None = None
+    plane_stress: bool = False  # 2D plane stress (sigma_zz = 0) instead of plane strain
 
     @property
     def wave_speed(self) -> float:
+        """P-wave speed: plane strain sqrt((K + 4G/3)/rho), plane stress sqrt(E/((1-nu^2) rho))."""
         m = self.material
+        if self.plane_stress:
+            return math.sqrt(m.young / ((1.0 - m.poisson**2) * self.rho0))
         return math.sqrt((m.bulk + 4.0 * m.shear / 3.0) / self.rho0)
 
     def params(self, module) -> np.ndarray:
@@ -184,7 +189,8 @@ class Engine:
     def __init__(self, settings: Settings, state: State):
         self.s = settings
         self.state = state
-        self.k = kernels_for(settings.effects, settings.periodic_box is not None)
+        self.k = kernels_for(settings.effects, settings.periodic_box is not None,
+                             settings.plane_stress)
         self.prm = self.s.params(self.k)
         n = state.x.size
         self.ax = np.zeros(n)

@@ -8,7 +8,10 @@ r"""Hypo-elastic effective stress with the Jaumann rate, bulk/shear moduli K, G 
 with :math:`L_{ab} = \partial v_a/\partial x_b`, :math:`D = (L+L^T)/2`, :math:`\Omega = (L-L^T)/2`.
 Components stored: xx, yy, xy, zz (tension positive). Plane strain: :math:`D_{zz} = 0` and
 :math:`\tilde\sigma_{zz}` evolves (the material point driver of check 6 passes a non-zero
-:math:`D_{zz}` to make the z direction stress-free). With :math:`w = \Omega_{xy}`:
+:math:`D_{zz}` to make the z direction stress-free). Plane stress (``domain.plane: stress``, the
+spec's open doubt 5): the kernel passes the :math:`D_{zz}` that keeps :math:`\tilde\sigma_{zz} = 0`
+through the trial and the plastic return (``plane_stress_dzz`` in the kernel template); the P-wave
+speed is then :math:`\sqrt{E/((1-\nu^2)\rho)}`. With :math:`w = \Omega_{xy}`:
 :math:`(\Omega\sigma-\sigma\Omega)_{xx} = 2w\sigma_{xy}`, :math:`(\ldots)_{yy} = -2w\sigma_{xy}`,
 :math:`(\ldots)_{xy} = w(\sigma_{yy}-\sigma_{xx})`, zz unaffected by an in-plane spin.
 The increment is explicit (forward Euler over the step with the mid-step gradient).
