@@ -65,7 +65,7 @@ def plane_stress_dzz(sxx, syy, sxy, szz, dxx, dyy, dxy, w, dt, prm):
     σ_zz = 0 after the Jaumann trial and, with plasticity, after the Drucker-Prager return.
     Elastic: D_zz = −(λ(D_xx + D_yy) + σ_zz/Δt)/(λ + 2G), exact. Plastic: the return maps the
     trial's σ_zz to g(D_zz), piecewise smooth and increasing; secant iterations from the elastic
-    value until |g| < 1e-9 (|σ| + k_DP) (2-4 iterations in practice)."""
+    value until |g| < 1e-9 (|σ| + k_DP) (at most 30)."""
     bulk, shear = prm[P_BULK], prm[P_SHEAR]
     lam = bulk - 2.0 * shear / 3.0
     d0 = -(lam * (dxx + dyy) + szz / dt) / (lam + 2.0 * shear)
