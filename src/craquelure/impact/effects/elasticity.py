@@ -24,7 +24,7 @@ from craquelure.registry import Effect
 EFFECT = Effect(
     name="elasticity",
     models=("impact",),
-    description="hypo-elastic effective stress, Jaumann rate (K, G), plane strain s_zz",
+    description="hypo-elastic effective stress, Jaumann rate (K, G), plane strain or stress",
     requires={"impact": ("material.bulk_modulus", "material.shear_modulus")},
 )
 
