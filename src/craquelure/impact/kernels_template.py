@@ -99,8 +99,13 @@ def material_pass(x, y, vx, vy, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, ein
                   offsets, index, dt, prm):
     """Velocity gradient with the mid-step velocities, then per particle: ρ and h (exact
     exponential update), Jaumann trial → DP return → damage → nominal stress; stress power
-    (trapezoidal in the nominal stress) accumulated into the specific internal energy."""
+    (trapezoidal in the nominal stress) accumulated into the specific internal energy.
+    The pair sums read ρ and h of the step's start (copies): this loop updates ρ_i and h_i in
+    place, and reading a neighbour's value as it is being overwritten made the result depend
+    on the particle order and, with several threads, on their timing."""
     n = x.size
+    rho_start = rho.copy()
+    h_start = h.copy()
     for i in prange(n):
         lxx = 0.0
         lxy = 0.0
@@ -112,11 +117,11 @@ def material_pass(x, y, vx, vy, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, ein
                 continue
             dx, dy = pair_vector(x, y, i, j, prm)
             r = math.sqrt(dx * dx + dy * dy)
-            s = h[i] + h[j]  # support 2 h_ij
+            s = h_start[i] + h_start[j]  # support 2 h_ij
             if r >= s or r == 0.0:
                 continue
             dw = kernel_dwdr(KIND, r, s, DIM) / r
-            vol = m[j] / rho[j]
+            vol = m[j] / rho_start[j]
             dvx = vx[j] - vx[i]
             dvy = vy[j] - vy[i]
             lxx += vol * dvx * dw * dx
