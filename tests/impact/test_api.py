@@ -33,6 +33,7 @@ def test_run_dataset_is_complete_and_deterministic(tmp_path):
     assert a["mass"].sum() == pytest.approx(a.sizes["particle"] * 2400.0 * 0.01**2, rel=1e-12)
     assert abs(a.attrs["metric_energy_balance_error_max"]) < 0.02
     assert a.attrs["metric_as_epsilon"] == pytest.approx(0.15)  # as_epsilon: auto at kappa = 1
+    assert a.attrs["metric_contact_a"] == pytest.approx(6.27, abs=0.01)  # contact_a: auto
     c = open_dataset(run(scene, tmp_path / "c.nc", seed=4))
     assert not np.array_equal(a["mass"].values, c["mass"].values)
 
@@ -55,6 +56,25 @@ def test_artificial_stress_epsilon_rejects_bad_values(value):
     with pytest.raises(SceneError, match=r"numerics\.as_epsilon: .* not allowed; allowed: a "
                                          r"number >= 0, or auto"):
         load_scene("impact/ci", [f"numerics.as_epsilon={value}"])
+
+
+@pytest.mark.parametrize("overrides,expected", [
+    ([], 2 * 2**0.5 * (14.15 + 4 * 12.92 / 3) / 14.15),             # bulk, plane strain: 6.27
+    (["domain.plane=stress"], 2 * 2**0.5 * 30.41 / 14.15),         # E/(1-nu^2) = 30.41 GPa
+    (["effects=[elasticity, contact_mass]"], 0.1),                  # the spec's SOFSCL
+    (["numerics.contact_a=0.1"], 0.1)])
+def test_contact_scale_auto(overrides, expected):
+    """``contact_a: auto``: the half-cell stiffness a = 2 sqrt(2) M/K with the bulk formula,
+    0.1 with the mass-based one; a number is taken as given."""
+    scene = load_scene("impact/ci", overrides)
+    assert settings(scene).contact_a == pytest.approx(expected, rel=1e-3)
+
+
+@pytest.mark.parametrize("value", ["stiff", "0", "-1"])
+def test_contact_scale_rejects_bad_values(value):
+    with pytest.raises(SceneError, match=r"numerics\.contact_a: .* not allowed; allowed: a "
+                                         r"number > 0, or auto"):
+        load_scene("impact/ci", [f"numerics.contact_a={value}"])
 
 
 def test_divergence_stops_without_output(tmp_path):

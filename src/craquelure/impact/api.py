@@ -17,6 +17,8 @@ import xarray as xr
 
 from craquelure.errors import CraquelureError
 from craquelure.impact.effects.artificial_stress import auto_epsilon
+from craquelure.impact.effects.contact_bulk import half_cell_scale
+from craquelure.impact.effects.contact_mass import DEFAULT_SCALE
 from craquelure.impact.effects.damage import crack_band_width
 from craquelure.impact.engine import Engine, Settings, State
 from craquelure.impact.material import Concrete
@@ -54,6 +56,20 @@ def artificial_stress_epsilon(scene: Scene) -> float:
     return float(eps)
 
 
+def contact_scale(scene: Scene) -> float:
+    """Penalty scale factor a of the run: the scene's number, or for ``auto`` the spec's 0.1
+    with the mass-based formula and the half-cell stiffness a = 2√2 M/K with the bulk one
+    (:func:`~craquelure.impact.effects.contact_bulk.half_cell_scale`)."""
+    a = scene.get("numerics.contact_a", "auto")
+    if a != "auto":
+        return float(a)
+    if scene.has("contact_bulk"):
+        return half_cell_scale(scene.get("material.bulk_modulus"),
+                               scene.get("material.shear_modulus"),
+                               scene.get("domain.plane") == "stress")
+    return DEFAULT_SCALE
+
+
 def settings(scene: Scene) -> Settings:
     g = scene.get
     return Settings(
@@ -62,7 +78,7 @@ def settings(scene: Scene) -> Settings:
         av_alpha=g("numerics.av_alpha", 0.0), av_beta=g("numerics.av_beta", 0.0),
         as_epsilon=artificial_stress_epsilon(scene), as_n=g("numerics.as_n"),
         h_min=g("numerics.h_min"), h_max=g("numerics.h_max"), base_y=g("domain.base_y"),
-        contact_radius=g("numerics.contact_radius"), contact_a=g("numerics.contact_a", 0.1),
+        contact_radius=g("numerics.contact_radius"), contact_a=contact_scale(scene),
         kinematic_ratio=g("numerics.kinematic_ratio"),
         energy_runaway_factor=g("numerics.energy_runaway_factor"),
         neighbour_skin=g("numerics.neighbour_skin"), plane_stress=g("domain.plane") == "stress")
@@ -229,7 +245,8 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         "energy_initial": eng.e0, "steps": eng.step_count, "dt_min": eng.dt_min_seen,
         "max_penetration": eng.max_penetration, "kinematic_impulse": eng.impulse_kin,
         "min_y_final": float(st.y.min()), "spacing": sp.spacing, "radius": sp.radius,
-        "kappa": g("numerics.kappa"), "as_epsilon": eng.s.as_epsilon, "plane": g("domain.plane"),
+        "kappa": g("numerics.kappa"), "as_epsilon": eng.s.as_epsilon,
+        "contact_a": eng.s.contact_a, "plane": g("domain.plane"),
         "distribution": g("particles.masses.distribution"),
         "precrack_layout": g("particles.precrack"), "n_particles": sp.n,
         "n_zero_mass": int(np.sum(sp.mass == 0)),

@@ -9,7 +9,7 @@ file whose content never changes.
 
 One step of length Δt (the accelerations a_n at x_n are known):
 
-1. half kick v_{n+1/2} = v_n + a_n Δt/2;
+1. half kick v_{n+1/2} = v_n + a_n Δt/2; kinematic v_y ≥ 0 for constrained particles;
 2. material pass with v_{n+1/2} at x_n: L, ρ, h, stress, internal energy to n+1;
 3. drift x_{n+1} = x_n + v_{n+1/2} Δt; kinematic floor for constrained contact particles;
 4. neighbour list at x_{n+1} (radius 2 max h; r < 2 h_ij checked in the loops);
@@ -271,6 +271,9 @@ class Engine:
         self.e_as += dt * float(np.dot(st.m, self.pas))
         st.vx += 0.5 * dt * self.ax
         st.vy += 0.5 * dt * self.ay
+        # The constraint acts on the mid-step velocity too: the material pass and the drift
+        # must not see a motion into the base that the floor then undoes (unlogged work).
+        mom_half, ke_half = k.kinematic_velocity(st.y, st.vy, st.m, self.kinematic, self.prm)
         k.material_pass(st.x, st.y, st.vx, st.vy, st.m, st.rho, st.h, st.h0, st.sig, st.nom,
                         st.kap, st.dmg, st.epsp, st.wp, st.eint, st.eel, self.offsets,
                         self.index, dt, self.prm)
@@ -283,14 +286,16 @@ class Engine:
         st.vx += 0.5 * dt * self.ax
         st.vy += 0.5 * dt * self.ay
         mom, ke = k.kinematic_velocity(st.y, st.vy, st.m, self.kinematic, self.prm)
+        mom += mom_half
         self.impulse += 0.5 * (f_old + self.force) * dt + mom
         self.impulse_kin += mom
-        self.e_kin += ke
+        self.e_kin += ke + ke_half
         self.force_peak = max(self.force_peak, self.force)
         self.t += dt
         self.step_count += 1
-        self.dt_min_seen = min(self.dt_min_seen, dt)
         self.dt = self._time_step()
+        # the stability step, not the last step shortened to hit an output time
+        self.dt_min_seen = min(self.dt_min_seen, self.dt)
 
     # --- diagnostics --------------------------------------------------------------------
     def kinetic_energy(self) -> float:

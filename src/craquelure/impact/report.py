@@ -70,6 +70,7 @@ def summarise(paths, profile: str, scene: str, distribution: str) -> dict:
         out_cases[key] = {
             "seeds": [m["seed"] for m in ms],
             "as_epsilon": ms[0].get("as_epsilon"),
+            "contact_a": ms[0].get("contact_a"),
             "per_seed": {q: [m.get(q) for m in ms] for q in PER_RUN},
             "stats": {q: _stats([m.get(q) for m in ms]) for q in PER_RUN
                       if q not in ("precrack_angle_deg",)},
@@ -309,9 +310,11 @@ def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6.5, 4))
+    scales = set()
     for kappa, runs in sorted(runs_by_kappa.items()):
         for i, run in enumerate(runs):
             ds = open_dataset(run)
+            scales.add(f"{float(ds.attrs.get('metric_contact_a', float('nan'))):.3g}")
             t = ds["time"].values * 1e6
             f = ds["series_contact_force"].values / 1e6
             style = "-" if ds.attrs["metric_distribution"] == "homogeneous" else ":"
@@ -322,7 +325,7 @@ def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
     ax.set_xlabel("t [us]")
     ax.set_ylabel("contact force [MN/m]")
     ax.legend(fontsize=7)
-    ax.set_title(label, fontsize=8)
+    ax.set_title(f"{label}\npenalty scale factor a = {', '.join(sorted(scales))}", fontsize=8)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     plt.close(fig)

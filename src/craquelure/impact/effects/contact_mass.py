@@ -7,7 +7,7 @@ r"""Penalty contact with the rigid base, mass-based stiffness (source eq. 10; sp
 acceleration :math:`a g_i/\Delta t^2` does not depend on :math:`m_i`; but :math:`k_i \to 0` as
 :math:`m_i \to 0`, and at :math:`m_i = 0` the acceleration 0/0 is guarded to 0, so zero-mass
 particles pass through the base: the documented failure mode (check 10). Kept as the option
-the tests show failing.
+the tests show failing. ``numerics.contact_a: auto`` gives it the spec's a = 0.1.
 """
 
 from numba import njit
@@ -21,6 +21,9 @@ EFFECT = Effect(
     requires={"impact": ("numerics.contact_a",)},
     conflicts=("contact_bulk",),
 )
+
+# LS-DYNA's SOFSCL default (spec section 5), the value of ``contact_a: auto`` for this formula
+DEFAULT_SCALE = 0.1
 
 
 @njit(inline="always", cache=True)
