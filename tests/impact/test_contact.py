@@ -134,13 +134,16 @@ def test_homogeneous_disc_damage_is_mirror_symmetric():
     assert np.abs(d - d[mirror]).max() <= 0.05
 
 
-def test_kinematic_constraint_keeps_the_energy_balance():
-    """Uniform masses with the half-cell stiffness leave the lightest ~10 % of the particles
-    (m < 4 k dt^2 = 0.2 m_bar) to the kinematic constraint. It must act on the mid-step
-    velocity as well: otherwise the material pass and the drift see a motion into the base
-    that the floor undoes, and the unlogged work broke the balance by 37 % in 1 ms."""
+@pytest.mark.parametrize("kappa", [1.0, 1.5])
+def test_kinematic_constraint_keeps_the_energy_balance(kappa):
+    """Uniform masses with the half-cell stiffness leave the lightest 10-25 % of the particles
+    (m < 4 k dt^2) to the kinematic constraint. It must act on the mid-step velocity too
+    (else the material pass and the drift see a motion into the base that the floor undoes:
+    35 % balance error), and only a particle's arrival removes energy: the base's reaction to
+    the kick's pull does no work (logging ½ m (a dt/2)^2 per kick made 1.8 % at kappa = 1.5;
+    now 0.3 %). 1 % is the bound the workflow's runs meet with any penalty stiffness."""
     sp, eng, series, _ = run(["particles.diameter_cells=20",
                               "particles.masses.distribution=uniform", "outputs.t_end=4.0e-4",
-                              "outputs.snapshot_times=[]"], seed=0)
-    assert eng.impulse_kin > 0.01 * eng.impulse  # the constraint has done real work
-    assert np.abs(series["balance_error"]).max() < 0.02
+                              "outputs.snapshot_times=[]", f"numerics.kappa={kappa}"], seed=0)
+    assert eng.impulse_kin > 0.02 * eng.impulse  # the constraint has done real work
+    assert np.abs(series["balance_error"]).max() < 0.01

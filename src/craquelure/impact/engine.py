@@ -9,12 +9,13 @@ file whose content never changes.
 
 One step of length Δt (the accelerations a_n at x_n are known):
 
-1. half kick v_{n+1/2} = v_n + a_n Δt/2; kinematic v_y ≥ 0 for constrained particles;
+1. half kick v_{n+1/2} = v_n + a_n Δt/2; kinematic v_y ≥ 0 for constrained particles (before
+   the kick: arrival, energy removed; after it: the base's reaction, no work);
 2. material pass with v_{n+1/2} at x_n: L, ρ, h, stress, internal energy to n+1;
 3. drift x_{n+1} = x_n + v_{n+1/2} Δt; kinematic floor for constrained contact particles;
 4. neighbour list at x_{n+1} (radius 2 max h; r < 2 h_ij checked in the loops);
 5. artificial stress tensors, force pass (AV with v_{n+1/2}), base contact → a_{n+1};
-6. half kick v_{n+1} = v_{n+1/2} + a_{n+1} Δt/2; kinematic v_y ≥ 0 for constrained particles;
+6. half kick v_{n+1} = v_{n+1/2} + a_{n+1} Δt/2, constrained as in 1;
 7. next Δt = cfl min h/(c + |v| + 1.2(α c + β max|μ|)), ≤ dt_max.
 
 Energy balance: E = KE + Σ m e_int + E_AV + E_AS + E_pen + E_kin,removed, compared with E(0):
@@ -263,17 +264,25 @@ class Engine:
             np.mod(self.state.x, lx, out=self.state.x)
             np.mod(self.state.y, ly, out=self.state.y)
 
+    def _kick(self, dt):
+        """Half kick with the kinematic constraint on both sides of it; it acts on the
+        mid-step velocity too, so that the material pass and the drift never see a motion into
+        the base that the floor would undo. Returns (momentum to the base, energy removed)."""
+        st, k = self.state, self.k
+        mom, ke = k.kinematic_velocity(st.y, st.vy, st.m, self.kinematic, self.prm, True)
+        st.vx += 0.5 * dt * self.ax
+        st.vy += 0.5 * dt * self.ay
+        mom_reaction, _ = k.kinematic_velocity(st.y, st.vy, st.m, self.kinematic, self.prm,
+                                               False)
+        return mom + mom_reaction, ke
+
     def step(self, dt: float | None = None) -> None:
         st, k = self.state, self.k
         dt = self.dt if dt is None else dt
         f_old = self.force
         self.e_av += dt * float(np.dot(st.m, self.pav))
         self.e_as += dt * float(np.dot(st.m, self.pas))
-        st.vx += 0.5 * dt * self.ax
-        st.vy += 0.5 * dt * self.ay
-        # The constraint acts on the mid-step velocity too: the material pass and the drift
-        # must not see a motion into the base that the floor then undoes (unlogged work).
-        mom_half, ke_half = k.kinematic_velocity(st.y, st.vy, st.m, self.kinematic, self.prm)
+        mom_half, ke_half = self._kick(dt)
         k.material_pass(st.x, st.y, st.vx, st.vy, st.m, st.rho, st.h, st.h0, st.sig, st.nom,
                         st.kap, st.dmg, st.epsp, st.wp, st.eint, st.eel, self.offsets,
                         self.index, dt, self.prm)
@@ -283,9 +292,7 @@ class Engine:
         k.kinematic_position(st.y, self.kinematic, self.prm)
         self._neighbours(force=False)
         self._forces(dt)
-        st.vx += 0.5 * dt * self.ax
-        st.vy += 0.5 * dt * self.ay
-        mom, ke = k.kinematic_velocity(st.y, st.vy, st.m, self.kinematic, self.prm)
+        mom, ke = self._kick(dt)
         mom += mom_half
         self.impulse += 0.5 * (f_old + self.force) * dt + mom
         self.impulse_kin += mom

@@ -280,16 +280,22 @@ def kinematic_position(y, kinematic, prm):
 
 
 @njit(cache=True)
-def kinematic_velocity(y, vy, m, kinematic, prm):
-    """Kinematic fallback after the kick: v_y <- max(v_y, 0) for constrained particles in
-    contact; returns (momentum given to the base, kinetic energy removed)."""
+def kinematic_velocity(y, vy, m, kinematic, prm, arrival):
+    """Kinematic fallback, v_y <- max(v_y, 0) for constrained particles in contact; returns
+    (momentum given to the base, kinetic energy removed). Called before a kick with
+    ``arrival`` (a particle still moving into the base is stopped: inelastic, its kinetic
+    energy is removed) and after it without (the base's reaction cancels the kick's pull into
+    it: the particle does not move, so the reaction does no work and no energy is logged;
+    logging the kick's ½ m (a Δt/2)² would count energy the drift never took from the
+    stress)."""
     mom = 0.0
     ke = 0.0
     limit = prm[P_BASE] + prm[P_RC]
     for i in range(y.size):
         if kinematic[i] and y[i] < limit and vy[i] < 0.0:
             mom += m[i] * (-vy[i])
-            ke += 0.5 * m[i] * vy[i] * vy[i]
+            if arrival:
+                ke += 0.5 * m[i] * vy[i] * vy[i]
             vy[i] = 0.0
     return mom, ke
 
