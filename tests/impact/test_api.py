@@ -9,7 +9,8 @@ import yaml
 
 from craquelure.errors import SceneError, SimulationDiverged
 from craquelure.impact import workflow
-from craquelure.impact.api import artificial_stress_epsilon, run, settings, simulate
+from craquelure.impact.api import (artificial_stress_epsilon, derived_numbers, run, settings,
+                                   simulate)
 from craquelure.impact.specimen import build_specimen
 from craquelure.io import open_dataset
 from craquelure.scene import load_scene, project_root
@@ -115,3 +116,15 @@ def test_run_is_independent_of_the_thread_count():
             numba.set_num_threads(old)
     for key in ("x", "y", "vx", "vy", "rho", "h", "sig", "dmg"):
         assert np.array_equal(getattr(out[0], key), getattr(out[1], key)), key
+
+
+def test_derived_numbers_show_the_resolved_penalty():
+    """``craquelure check impact/default`` prints the penalty the run will use: a = 6.27,
+    k = a K/sqrt(2) = 6.28e10 N/m, and the kinematic fallback's mass bound 4 k dt^2 / m_bar."""
+    numbers = derived_numbers(load_scene("impact/default"))
+    a, k = numbers["penalty scale a, k [N/m]"]
+    assert a == pytest.approx(6.2718, rel=1e-4)
+    assert k == pytest.approx(a * 14.15e9 / 2**0.5, rel=1e-12)
+    dt = numbers["initial time step [s]"]
+    assert numbers["kinematic below m / m_bar"] == pytest.approx(
+        4 * k * dt**2 / (2400.0 * 0.004**2), rel=1e-12)

@@ -17,7 +17,7 @@ import xarray as xr
 
 from craquelure.errors import CraquelureError
 from craquelure.impact.effects.artificial_stress import auto_epsilon
-from craquelure.impact.effects.contact_bulk import half_cell_scale
+from craquelure.impact.effects.contact_bulk import bulk_stiffness, half_cell_scale
 from craquelure.impact.effects.contact_mass import DEFAULT_SCALE
 from craquelure.impact.effects.damage import crack_band_width
 from craquelure.impact.engine import Engine, Settings, State
@@ -115,6 +115,10 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "c_p, c_s [m/s]": (st.wave_speed, math.sqrt(mat.shear / st.rho0)),
         "h(0) [m]": h0,
         "artificial stress eps_AS": st.as_epsilon if scene.has("artificial_stress") else None,
+        "penalty scale a, k [N/m]": _penalty(scene, st),
+        "kinematic below m / m_bar": (4.0 * bulk_stiffness(st.contact_a, mat.bulk, st.spacing)
+                                      * dt**2 / (st.rho0 * st.spacing**2)
+                                      if scene.has("contact_bulk") else None),
         "Drucker-Prager alpha, k [Pa]": mat.dp,
         "kappa0, kappa_f": (mat.kappa0, mat.kappa_f),
         "Hillerborg length [m]": mat.hillerborg_length,
@@ -122,6 +126,14 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "steps (approx.)": steps,
         "estimated wall time, 1 thread [s]": steps / STEPS_PER_S * sp.n / 1264,
     }
+
+
+def _penalty(scene: Scene, st: Settings):
+    if scene.has("contact_bulk"):
+        return st.contact_a, bulk_stiffness(st.contact_a, st.material.bulk, st.spacing)
+    if scene.has("contact_mass"):
+        return st.contact_a, "a m_i / dt^2"
+    return None
 
 
 def softening(kap: np.ndarray, mat: Concrete) -> np.ndarray:
