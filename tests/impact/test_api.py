@@ -9,8 +9,13 @@ import yaml
 
 from craquelure.errors import SceneError, SimulationDiverged
 from craquelure.impact import workflow
-from craquelure.impact.api import (artificial_stress_epsilon, derived_numbers, run, settings,
-                                   simulate)
+from craquelure.impact.api import (
+    artificial_stress_epsilon,
+    derived_numbers,
+    run,
+    settings,
+    simulate,
+)
 from craquelure.impact.specimen import build_specimen
 from craquelure.io import open_dataset
 from craquelure.scene import load_scene, project_root
