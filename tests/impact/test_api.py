@@ -133,3 +133,12 @@ def test_derived_numbers_show_the_resolved_penalty():
     dt = numbers["initial time step [s]"]
     assert numbers["kinematic below m / m_bar"] == pytest.approx(
         4 * k * dt**2 / (2400.0 * 0.004**2), rel=1e-12)
+
+
+def test_dt_min_is_the_stability_step():
+    """``metric_dt_min`` is the smallest CFL step, not the last step shortened to end at t_end
+    (which gave 1e-9 s): within the CFL range of this run (AV term included: ~0.18 us)."""
+    scene = load_scene("impact/ci", ["outputs.t_end=1.0e-5", "outputs.snapshot_times=[]"])
+    _, eng, _, _ = simulate(scene, 0, progress=False)
+    h0, c = 1.2 * scene.get("particles.spacing"), eng.s.wave_speed
+    assert 0.5 * 0.3 * h0 / (2.2 * c) < eng.dt_min_seen <= 0.3 * h0 / (2.2 * c) * 1.001

@@ -213,10 +213,10 @@ class Engine:
         self.force_peak = 0.0
         self.max_penetration = 0.0
         self.dt = self.s.dt_max
-        self.dt_min_seen = np.inf
         self._neighbours()
         self._forces(self.dt)
         self.dt = self._time_step()
+        self.dt_min_seen = self.dt
         self.e0 = self.total_energy()
 
     # --- pieces of a step -------------------------------------------------------------
