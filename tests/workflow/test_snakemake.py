@@ -25,12 +25,15 @@ from craquelure.scene import project_root
 ROOT = project_root()
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 ALLOWED_LINT = "Specify a conda environment or container for each rule."
+# What Snakemake prints when it loads the embedded default profile (profiles/default/).
+DEFAULT_PROFILE_LINE = "Using workflow specific profile profiles/default"
 
 
 def workflow_copy(dest: Path) -> Path:
-    """Snakefile, workflow/ and config/ copied into ``dest`` (no results, no .snakemake)."""
+    """Snakefile, workflow/, config/ and profiles/ copied into ``dest`` (no results, no
+    .snakemake), as in a fresh clone."""
     shutil.copy2(ROOT / "Snakefile", dest / "Snakefile")
-    for folder in ("workflow", "config"):
+    for folder in ("workflow", "config", "profiles"):
         shutil.copytree(ROOT / folder, dest / folder,
                         ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
     return dest
@@ -70,6 +73,7 @@ def fresh(tmp_path_factory) -> Path:
 def test_dry_run_builds_the_dag(fresh, config):
     proc = snakemake(fresh, "-n", "--configfile", f"config/{config}.yaml")
     assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert DEFAULT_PROFILE_LINE in proc.stderr, proc.stderr[:2000]
     counts = job_stats(proc.stdout + proc.stderr)
     assert counts["all"] == 1
     # One mass-consistency job per seed of the profile (paper: Table I with 100 seeds).
@@ -78,6 +82,33 @@ def test_dry_run_builds_the_dag(fresh, config):
     if config == "paper":
         assert n_seeds == 100
     assert counts["total"] == sum(v for k, v in counts.items() if k != "total")
+
+
+def test_plain_snakemake_loads_the_default_profile(fresh):
+    """`snakemake` with no option at all: the default profile supplies the cores (else
+    Snakemake stops asking for --cores), keep-going and rerun-incomplete."""
+    proc = snakemake(fresh, "-n")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert DEFAULT_PROFILE_LINE in proc.stderr, proc.stderr[:2000]
+    settings = yaml.safe_load((ROOT / "profiles" / "default" / "config.yaml").read_text())
+    assert settings["cores"] == "all" and settings["keep-going"] and settings["rerun-incomplete"]
+    # Where Snakemake 9 never looks (the old place): nothing may be left there.
+    assert not list((ROOT / "workflow").glob("profiles/*/*.yaml"))
+
+
+def test_slurm_profile_is_one_workflow_profile_option(fresh):
+    """--workflow-profile profiles/slurm replaces the default profile (one workflow profile is
+    loaded, so its default-resources are not overwritten); the paper DAG builds with it."""
+    proc = snakemake(fresh, "-n", "--configfile", "config/paper.yaml",
+                     "--workflow-profile", "profiles/slurm")
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    assert "Using workflow specific profile profiles/slurm" in proc.stderr
+    assert "profiles/default" not in proc.stderr
+    settings = yaml.safe_load((ROOT / "profiles" / "slurm" / "config.yaml").read_text())
+    assert settings["executor"] == "slurm"
+    assert {"mem_mb", "runtime"} <= set(settings["default-resources"])
+    # No cpus_per_task: SLURM then allocates each job's `threads:`.
+    assert "cpus_per_task" not in settings["default-resources"]
 
 
 def test_profiles_have_the_same_sections():
@@ -147,7 +178,8 @@ def test_ci_outputs_are_valid(ci_run):
     # No temporary file survives (io.write_dataset names them .<name>.tmp-<pid>).
     assert [p for p in files if ".tmp" in p.name] == []
     # Everything is written under results/, logs/ and benchmarks/ (plus Snakemake's state).
-    allowed = {"Snakefile", "workflow", "config", "results", "logs", "benchmarks", ".snakemake"}
+    allowed = {"Snakefile", "workflow", "config", "profiles", "results", "logs", "benchmarks",
+               ".snakemake"}
     assert {p.name for p in work.iterdir()} <= allowed
     # The mass-consistency datasets carry what the issue asks for.
     for path in (results / "mass" / "ci").glob("seed*.nc"):

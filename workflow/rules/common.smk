@@ -6,7 +6,6 @@ from snakemake.utils import validate
 
 from craquelure.scene import load_scene
 
-
 validate(config, schema="../schemas/config.schema.yaml")
 
 # The CLI of the interpreter running Snakemake (the project's .venv), whatever PATH says.
@@ -70,4 +69,3 @@ def thickness_fragments(wildcards):
             f"results/drying/{folder}/fragments/seed{seed}.nc" for seed in sweep_seeds
         ]
     return files
-

@@ -5,9 +5,7 @@
 DRYING_FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
 DRYING_CAMPAIGN = f"results/drying/{config['drying']['scene']}/campaign.nc"
 # Run dataset of the first seed, drawn in the crack-pattern figure.
-DRYING_SNAPSHOT_RUN = (
-    f"results/drying/{config['drying']['scene']}/run/seed{seeds('drying')[0]}.nc"
-)
+DRYING_SNAPSHOT_RUN = f"results/drying/{config['drying']['scene']}/run/seed{seeds('drying')[0]}.nc"
 DRYING_PNG = {name: f"results/drying/figures/drying_{name}.png" for name in DRYING_FIGURES}
 DRYING_PDF = [f"results/drying/figures/drying_{name}.pdf" for name in DRYING_FIGURES]
 

@@ -5,8 +5,14 @@ from craquelure.impact import workflow as impact_workflow
 
 IMPACT = config["impact"]
 IMPACT_SCENE = IMPACT["scene"]
-IMPACT_FIGURES = ("masses", "damage_homogeneous", "damage_heterogeneous_kappa1",
-                  "damage_heterogeneous_kappa_low_high", "precracks", "contact_force")
+IMPACT_FIGURES = (
+    "masses",
+    "damage_homogeneous",
+    "damage_heterogeneous_kappa1",
+    "damage_heterogeneous_kappa_low_high",
+    "precracks",
+    "contact_force",
+)
 IMPACT_PNG = {name: f"results/impact/figures/impact_{name}.png" for name in IMPACT_FIGURES}
 IMPACT_FIGURE_RUNS = impact_workflow.figure_runs(IMPACT)
 
@@ -143,5 +149,8 @@ rule impact_accuracy:
 
 
 CLAIM_SOURCES["impact"] = ["results/impact/summary.json"]
-TARGETS["impact"] = ["results/impact/summary.json", *IMPACT_PNG.values(),
-                     "results/impact/figures/impact_accuracy.png"]
+TARGETS["impact"] = [
+    "results/impact/summary.json",
+    *IMPACT_PNG.values(),
+    "results/impact/figures/impact_accuracy.png",
+]

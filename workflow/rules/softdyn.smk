@@ -79,8 +79,12 @@ rule softdyn_sweep:
         points=softdyn_workflow.sweep_batch_files,
     output:
         data="results/softdyn/{scene}/sweep.nc",
-        figure=report("results/softdyn/{scene}/fig5.png", caption="../report/softdyn_fig5.rst",
-                      category="Soft Dynamics", subcategory="T1 duration"),
+        figure=report(
+            "results/softdyn/{scene}/fig5.png",
+            caption="../report/softdyn_fig5.rst",
+            category="Soft Dynamics",
+            subcategory="T1 duration",
+        ),
     params:
         overrides=softdyn_workflow.overrides(),
     log:
@@ -98,9 +102,12 @@ rule softdyn_accuracy:
         scene=softdyn_workflow.scene_path,
     output:
         data="results/softdyn/{scene}/accuracy.nc",
-        figure=report("results/softdyn/{scene}/accuracy.png",
-                      caption="../report/softdyn_accuracy.rst", category="Soft Dynamics",
-                      subcategory="accuracy vs cost"),
+        figure=report(
+            "results/softdyn/{scene}/accuracy.png",
+            caption="../report/softdyn_accuracy.rst",
+            category="Soft Dynamics",
+            subcategory="accuracy vs cost",
+        ),
     params:
         overrides=softdyn_workflow.overrides(),
     log:
@@ -119,8 +126,12 @@ rule softdyn_fig4:
     input:
         "results/softdyn/{scene}/run.nc",
     output:
-        report("results/softdyn/{scene}/fig4.png", caption="../report/softdyn_fig4.rst",
-               category="Soft Dynamics", subcategory="T1 in time"),
+        report(
+            "results/softdyn/{scene}/fig4.png",
+            caption="../report/softdyn_fig4.rst",
+            category="Soft Dynamics",
+            subcategory="T1 in time",
+        ),
     params:
         kind="fig4",
         scene="{scene}",
@@ -138,8 +149,12 @@ rule softdyn_fig3:
     input:
         "results/softdyn/{scene}/run.nc",
     output:
-        report("results/softdyn/{scene}/fig3.png", caption="../report/softdyn_fig3.rst",
-               category="Soft Dynamics", subcategory="T1 occurrence"),
+        report(
+            "results/softdyn/{scene}/fig3.png",
+            caption="../report/softdyn_fig3.rst",
+            category="Soft Dynamics",
+            subcategory="T1 occurrence",
+        ),
     params:
         kind="fig3",
         scene="{scene}",
@@ -157,8 +172,12 @@ rule softdyn_pair_figure:
     input:
         "results/softdyn/{scene}/run.nc",
     output:
-        report("results/softdyn/{scene}/gaps.png", caption="../report/softdyn_pair.rst",
-               category="Soft Dynamics", subcategory="two spheres"),
+        report(
+            "results/softdyn/{scene}/gaps.png",
+            caption="../report/softdyn_pair.rst",
+            category="Soft Dynamics",
+            subcategory="two spheres",
+        ),
     params:
         kind="pair",
         scene="{scene}",
