@@ -1,6 +1,7 @@
 # Helpers shared by all model files (config validation, scene paths, target registry).
 import shlex
 import sys
+from pathlib import Path
 
 from snakemake.utils import validate
 
@@ -20,12 +21,31 @@ TARGETS = {}
 CLAIM_SOURCES = {}
 
 
+# And its final datasets (runs and aggregates) beyond those two registries: rule archive packs
+# targets, claim sources and these.
+DATASETS = {}
+
+
 def claim_sources(wildcards):
     return {model: paths for model, paths in CLAIM_SOURCES.items() if paths}
 
 
 def all_targets():
     return [path for paths in TARGETS.values() for path in paths]
+
+
+def archive_outputs():
+    """Everything rule archive packs from results/: targets, claim sources, final datasets."""
+    registries = (TARGETS, CLAIM_SOURCES, DATASETS)
+    return sorted(
+        {path for registry in registries for paths in registry.values() for path in paths}
+    )
+
+
+def archive_configs():
+    """Config files, scenes and workflow profiles (what the outputs were made from)."""
+    paths = [*Path("config").rglob("*.yaml"), *Path("profiles").glob("*/config.yaml")]
+    return sorted(str(path) for path in paths)
 
 
 def scene_file(model, scene):

@@ -10,6 +10,17 @@ DRYING_PNG = {name: f"results/drying/figures/drying_{name}.png" for name in DRYI
 DRYING_PDF = [f"results/drying/figures/drying_{name}.pdf" for name in DRYING_FIGURES]
 
 
+# Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
+# process instead of waiting in a cluster queue.
+localrules:
+    drying_campaign,
+    drying_summary,
+    drying_figures,
+    drying_accuracy_figure,
+    drying_thickness,
+    drying_thickness_figure,
+
+
 rule drying_fragments:
     input:
         "results/drying/{scene}/run/seed{seed}.nc",
@@ -213,4 +224,14 @@ TARGETS["drying_thickness"] = [
     f"results/drying/figures/{config['drying']['scene']}_thickness.{ext}"
     for ext in ("png", "pdf")
     if config["drying"]["thickness"]["n_seeds"] > 0
+]
+
+DATASETS["drying"] = [
+    DRYING_CAMPAIGN,
+    "results/drying/accuracy.nc",
+    *expand(
+        "results/drying/{scene}/fragments/seed{seed}.nc",
+        scene=config["drying"]["scene"],
+        seed=seeds("drying"),
+    ),
 ]

@@ -17,6 +17,13 @@ IMPACT_PNG = {name: f"results/impact/figures/impact_{name}.png" for name in IMPA
 IMPACT_FIGURE_RUNS = impact_workflow.figure_runs(IMPACT)
 
 
+# Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
+# process instead of waiting in a cluster queue.
+localrules:
+    impact_summary,
+    impact_figures,
+
+
 wildcard_constraints:
     masses="homogeneous|uniform|normal|poisson",
     precrack="[a-z0-9]+",
@@ -154,3 +161,4 @@ TARGETS["impact"] = [
     *IMPACT_PNG.values(),
     "results/impact/figures/impact_accuracy.png",
 ]
+DATASETS["impact"] = impact_workflow.campaign_runs(IMPACT)

@@ -6,6 +6,15 @@ from craquelure.softdyn import workflow as softdyn_workflow
 softdyn_workflow.configure(config["softdyn"])
 
 
+# Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
+# process instead of waiting in a cluster queue.
+localrules:
+    softdyn_sweep,
+    softdyn_fig4,
+    softdyn_fig3,
+    softdyn_pair_figure,
+
+
 wildcard_constraints:
     scene="[A-Za-z0-9_]+",
     i="[0-9]+",
