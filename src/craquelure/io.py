@@ -1,5 +1,5 @@
-"""Dataset writing: compressed netCDF4, written to a temporary name and renamed, so a killed
-job never leaves a file that looks finished."""
+"""Dataset writing: compressed netCDF4 with CF-1.11 metadata (:mod:`craquelure.cf`), written
+to a temporary name and renamed, so a killed job never leaves a file that looks finished."""
 
 from __future__ import annotations
 
@@ -9,12 +9,17 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from craquelure import cf
+
 
 def _encoding(ds: xr.Dataset) -> dict[str, dict]:
     enc = {}
     for name, var in ds.variables.items():
         if var.dtype.kind in "fiub" and var.ndim > 0:
             enc[name] = {"zlib": True, "complevel": 4}
+        if var.dims == (name,) and var.dtype.kind == "f":
+            # CF 2.5.1: a coordinate variable has no missing values, so no _FillValue.
+            enc.setdefault(name, {})["_FillValue"] = None
     return enc
 
 
@@ -36,7 +41,7 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     """Write ``ds`` to ``path`` atomically (temporary file in the same folder, then rename)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    ds = ds.copy()
+    ds = cf.apply(ds.copy())
     ds.attrs = _clean_attrs(ds.attrs)
     for var in ds.variables.values():
         var.attrs = _clean_attrs(var.attrs)

@@ -14,6 +14,7 @@ import re
 import shutil
 import subprocess
 import sys
+import tarfile
 from pathlib import Path
 
 import pytest
@@ -213,3 +214,74 @@ def test_ci_report_builds(ci_run):
     assert report.returncode == 0, report.stdout[-3000:] + report.stderr[-3000:]
     html = (work / "results" / "report.html").read_bytes()
     assert len(html) > 10_000 and b"<html" in html[:2000].lower()
+
+
+# The one high-priority finding compliance-checker makes on our datasets: its §5.1 heuristic
+# takes any dimension named "time" for a calendar axis (standard_name "time", units
+# "<unit> since <date>"). Simulated time is no date: such units would make xarray decode it
+# into datetimes, and reduced-unit models (drying, softdyn) have no time in seconds at all.
+TIME_AXIS_HEURISTIC = "Coordinate variable 'time' should have standard_name='time'"
+
+
+def cf_findings(path: Path) -> list[str]:
+    """High-priority failures of IOOS compliance-checker's CF-1.11 suite on ``path``."""
+    from compliance_checker.runner import CheckSuite, ComplianceChecker
+
+    CheckSuite().load_all_available_checkers()
+    out = path.with_suffix(".cf.json")
+    ComplianceChecker.run_checker(str(path), ["cf:1.11"], 0, "normal",
+                                  output_filename=str(out), output_format="json")
+    report = json.loads(out.read_text())["cf:1.11"]
+    out.unlink()
+    return [msg for check in report["high_priorities"]
+            if check["value"][0] != check["value"][1] for msg in check["msgs"]]
+
+
+def test_ci_datasets_are_cf(ci_run, tmp_path):
+    """Every variable of every dataset the CI workflow writes has a long name and units that
+    UDUNITS parses; compliance-checker finds nothing high-priority on one dataset per model but
+    the time-axis heuristic above."""
+    import cf_units
+
+    work, proc = ci_run
+    assert proc.returncode == 0
+    datasets = sorted((work / "results").rglob("*.nc"))
+    per_model: dict[str, Path] = {}
+    for path in datasets:
+        with xr.open_dataset(path) as ds:
+            assert ds.attrs["Conventions"] == "CF-1.11", path
+            for key in ("title", "source", "history", "references"):
+                assert ds.attrs.get(key), (path, key)
+            assert re.match(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ \S", ds.attrs["history"])
+            for name, var in ds.variables.items():
+                assert var.attrs.get("long_name"), (path, name)
+                if var.dtype.kind in "fiub":
+                    cf_units.Unit(var.attrs["units"])  # raises ValueError if UDUNITS cannot
+                    if var.attrs["units"] == "1" and "reduced_units" in var.attrs:
+                        assert ds.attrs["reduced_unit_system"], (path, name)
+            per_model.setdefault(ds.attrs["model"], path)
+    assert set(per_model) == {"drying", "impact", "lattice", "softdyn"}
+    for model, path in per_model.items():
+        local = tmp_path / f"{model}.nc"
+        shutil.copy2(path, local)
+        findings = cf_findings(local)
+        assert all(f.startswith(TIME_AXIS_HEURISTIC) for f in findings), (model, findings)
+
+
+def test_ci_archive_verifies(ci_run):
+    """Rule archive after the run; craquelure verify finds every file as packed."""
+    work, proc = ci_run
+    assert proc.returncode == 0
+    packed = snakemake(work, "--cores", "1", "--configfile", "config/ci.yaml", "archive")
+    assert packed.returncode == 0, packed.stdout[-3000:] + packed.stderr[-3000:]
+    archives = list((work / "results" / "archive").glob("craquelure-ci-*.tar.gz"))
+    assert len(archives) == 1
+    check = subprocess.run([sys.executable, "-m", "craquelure", "verify", str(archives[0])],
+                           capture_output=True, text=True)
+    assert check.returncode == 0, check.stdout + check.stderr
+    with tarfile.open(archives[0]) as tar:
+        names = {n.split("/", 1)[1] for n in tar.getnames() if "/" in n}
+    assert {"MANIFEST.sha256", "resolved-config.yaml", "config/ci.yaml",
+            "results/validation.json", "profiles/slurm/config.yaml"} <= names
+    assert any(n.startswith("results/impact/ci/") and n.endswith(".nc") for n in names)
+    assert any(n.endswith(".png") for n in names)
