@@ -25,7 +25,8 @@ run: install
 
 test: install
 	$(BIN)/ruff check src tests workflow benchmarks
-	$(BIN)/pytest -q
+	$(BIN)/snakefmt --check Snakefile workflow/rules
+	$(BIN)/pytest -q -m "not slurm"
 
 # The CI config through the SLURM profile on a one-node cluster started on this machine
 # (needs root: installs and starts Debian's slurmctld, slurmd and munge).
