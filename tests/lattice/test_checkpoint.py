@@ -21,7 +21,7 @@ SCENES = {
              "outputs.frames=6", "numerics.checkpoint_every=2", "loads.top_shear_stress=0.05"],
 }
 # provenance attributes that differ between any two runs
-VOLATILE = {"wall_time_s", "start_time", "scene_overrides"}
+VOLATILE = {"wall_time_s", "start_time", "scene_overrides", "history"}
 
 
 def same_dataset(a, b):
