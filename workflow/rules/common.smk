@@ -35,7 +35,7 @@ def all_targets():
 
 
 def archive_outputs():
-    """Everything rule archive packs from results/: targets, claim sources, final datasets."""
+    """What the archive packs from results/ (targets, claim sources, final datasets)."""
     registries = (TARGETS, CLAIM_SOURCES, DATASETS)
     return sorted(
         {path for registry in registries for paths in registry.values() for path in paths}
