@@ -272,7 +272,7 @@ def test_ci_archive_verifies(ci_run):
     """Rule archive after the run; craquelure verify finds every file as packed."""
     work, proc = ci_run
     assert proc.returncode == 0
-    packed = snakemake(work, "--cores", "1", "--configfile", "config/ci.yaml", "archive")
+    packed = snakemake(work, "archive", "--cores", "1", "--configfile", "config/ci.yaml")
     assert packed.returncode == 0, packed.stdout[-3000:] + packed.stderr[-3000:]
     archives = list((work / "results" / "archive").glob("craquelure-ci-*.tar.gz"))
     assert len(archives) == 1
