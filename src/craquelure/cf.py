@@ -50,8 +50,8 @@ _AREA_DRYING = "(eta/sqrt(rho0 lambda))^2"
 DRYING = ModelMetadata(
     title="Drying paste: 2D SPH of a thin visco-elastic layer under a drying stress, cracks by "
           "particle removal",
-    references="arXiv:1209.6114 (drying-paste SPH); S. Ito, A. Nakahara, S. Yukawa, "
-               "arXiv:2009.13691; project spec ../shared/spec/drying.md",
+    references="the drying-paste SPH paper, arXiv:1209.6114 (equations reconstructed in the "
+               "project spec ../shared/spec/drying.md)",
     reduced_unit_system="nondimensionalised by rho0, lambda and eta (drying spec section 1): "
                         f"stress lambda, time {_TIME_DRYING}, length {_LENGTH_DRYING} "
                         "(written 'length'), velocity sqrt(lambda/rho0), density rho0",
