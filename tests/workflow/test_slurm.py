@@ -29,7 +29,11 @@ TEST_CLUSTER = ("--slurm-status-command", "squeue")
 def cluster_up() -> bool:
     if shutil.which("sinfo") is None:
         return False
-    proc = subprocess.run(["sinfo", "-h", "-N", "-o", "%T"], capture_output=True, text=True)
+    try:  # with no controller running, sinfo retries for a while: do not wait for it
+        proc = subprocess.run(["sinfo", "-h", "-N", "-o", "%T"], capture_output=True, text=True,
+                              timeout=15)
+    except subprocess.TimeoutExpired:
+        return False
     return proc.returncode == 0 and any(
         state.strip() in ("idle", "mixed", "allocated") for state in proc.stdout.splitlines())
 
