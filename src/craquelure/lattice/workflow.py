@@ -11,7 +11,7 @@ import numpy as np
 from craquelure.io import open_dataset, write_text_atomic
 from craquelure.lattice import accuracy, figures, fragments, glen, settlement
 from craquelure.lattice.geometry import ROW
-from craquelure.scene import load_scene, load_scene_text
+from craquelure.scene import load_scene, stored_scene
 
 SCENE_DIR = "config/scenes/lattice"
 
@@ -46,7 +46,7 @@ def glen_summary(runs: dict[str, list[str]], out_png, out_json, out_tsv, title) 
     for kind, paths in runs.items():
         for path in paths:
             ds = open_dataset(path)
-            tau = float(load_scene_text(ds.attrs["scene"]).get("loads.top_shear_stress"))
+            tau = float(stored_scene(ds.attrs["scene"]).get("loads.top_shear_stress"))
             height = float(ds.row.max()) * ROW * float(ds.attrs["L"])
             r = glen.strain_rate(ds.time.values, ds.load_ux.values, height)
             rows.append({"kind": kind, "tau": tau, **r, "mu": glen.viscosity(tau, r["gamma_dot"]),
@@ -74,7 +74,7 @@ def glen_summary(runs: dict[str, list[str]], out_png, out_json, out_tsv, title) 
 
 def gravity_summary(path, out_png, out_json, title) -> dict:
     ds = open_dataset(path)
-    scene = load_scene_text(ds.attrs["scene"])
+    scene = stored_scene(ds.attrs["scene"])
     ny = scene.get("domain.ny")
     want = settlement.predicted_settlement(float(ds.attrs["kn"]), float(ds.attrs["ks"]),
                                            float(ds.mass[0]), scene.get("material.g"), ny)
@@ -112,7 +112,7 @@ def calving_summary(path, out_png, out_json, title) -> dict:
 def platelets_per_cycle(ds) -> list[dict]:
     """Detached body fragments at the end of each tangential cycle (from the break times of
     the beams, so no frame is needed at the cycle ends)."""
-    scene = load_scene_text(ds.attrs["scene"])
+    scene = stored_scene(ds.attrs["scene"])
     pad = scene.get("domain.pad")
     times = ds.frame_time.values
     body = ds.body.values == 0

@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure.io import open_dataset
-from craquelure.scene import load_scene_text
+from craquelure.scene import stored_scene
 from craquelure.softdyn import theory
 from craquelure.validation import Claim, verdict_of
 
@@ -26,7 +26,7 @@ NEAR_LINE = 0.05
 
 
 def _material(ds: xr.Dataset) -> tuple[float, float]:
-    scene = load_scene_text(ds.attrs["scene"])
+    scene = stored_scene(ds.attrs["scene"])
     return float(scene.get("material.c_n")), float(scene.get("material.k_n"))
 
 
@@ -113,7 +113,7 @@ def approach_claims(ds: xr.Dataset) -> list[Claim]:
     hs = theory.h_star(float(ds.attrs["reduced_force"]), k_n)
     t, h = ds.time.values, ds.gap.values[:, 0]
     out = []
-    window = (h >= 100 * hs) & (t > 100 * float(load_scene_text(ds.attrs["scene"]).get(
+    window = (h >= 100 * hs) & (t > 100 * float(stored_scene(ds.attrs["scene"]).get(
         "loads.ramp_time")))
     if window.sum() >= 3:
         rate = -np.polyfit(t[window], np.log(h[window]), 1)[0] * c_n
@@ -174,7 +174,7 @@ def claims(sources: list[Path]) -> list[Claim]:
         elif "theta" in ds.data_vars:
             out.append(t1_claim(ds))
         elif "gap" in ds.data_vars:
-            direction = load_scene_text(ds.attrs["scene"]).get("loads.direction")
+            direction = stored_scene(ds.attrs["scene"]).get("loads.direction")
             out += approach_claims(ds) if direction == "compression" else [separation_claim(ds)]
         else:
             raise ValueError(f"softdyn claims: {path} is none of sweep, phase scan, accuracy "

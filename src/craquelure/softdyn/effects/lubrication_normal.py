@@ -19,6 +19,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="lubrication_normal",
+    flag=None,  # always compiled in or handled outside the kernel
     models=("softdyn",),
     description="Poiseuille squeeze film, zeta_n = c_n eta a^4 / h^3",
     requires={"softdyn": ("material.viscosity", "material.c_n")},
