@@ -77,6 +77,32 @@ def diverged(desc: str, bad: Divergence, step: int, time: float,
                               f"t = {time:.6g}{unit}: {bad.what}{where}")
 
 
+class EngineRun:
+    """Base of the models' adapters: ``time`` and ``steps`` read from ``self.engine`` (its
+    attributes named by ``TIME`` and ``STEPS``); nothing to record at the start, no check
+    and no sample unless overridden."""
+
+    TIME, STEPS = "t", "step_count"
+    engine: object
+
+    @property
+    def time(self) -> float:
+        return float(getattr(self.engine, self.TIME))
+
+    @property
+    def steps(self) -> int:
+        return int(getattr(self.engine, self.STEPS))
+
+    def start(self) -> None:
+        pass
+
+    def check(self) -> Divergence | None:
+        return None
+
+    def sample(self) -> None:
+        pass
+
+
 def non_finite(fields: dict[str, np.ndarray]) -> Divergence | None:
     """The first field with a NaN/inf, naming the particle (the last axis is the particle)."""
     for name, values in fields.items():

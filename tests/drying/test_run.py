@@ -102,3 +102,15 @@ def test_run_is_independent_of_the_thread_count(tmp_path, small_scene):
     assert int(out[1].n_removed.values[-1]) > 0  # fracture happened within the run
     for name in ("x", "y", "vx", "vy", "alive", "mass", "rho", "mean_stress", "n_removed"):
         np.testing.assert_array_equal(out[1][name].values, out[2][name].values)
+
+
+def test_killed_cli_run_resumes_bit_identically(tmp_path):
+    """SIGKILL after the first checkpoint, then ``--resume``: the uninterrupted dataset."""
+    from ..killed_run import kill_and_resume, same_dataset
+
+    full, resumed, err = kill_and_resume(tmp_path, [
+        "drying/ci", "--seed", "2", "--set", "outputs.t_end=1.0", "--set", "particles.n=144",
+        "--set", "numerics.checkpoint_every=25"])
+    assert "resumed from" in err
+    assert resumed.attrs["run_resumed_at_step"] > 0
+    same_dataset(full, resumed)

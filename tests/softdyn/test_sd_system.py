@@ -9,8 +9,8 @@ import pytest
 from craquelure import codegen
 from craquelure.errors import SceneError
 from craquelure.scene import load_scene, load_scene_text
+from craquelure.softdyn.engine import Flags, System, kernels
 from craquelure.softdyn.scenarios import build
-from craquelure.softdyn.system import Flags, System, kernels
 
 C_N, C_T = 1.5 * math.pi, math.pi
 

@@ -128,7 +128,7 @@ def _dataset(engine: DryingEngine, rec: Recorder, finished: bool) -> xr.Dataset:
     })
 
 
-class DryingRun:
+class DryingRun(runner.EngineRun):
     """The drying engine and its recorder as the runner sees them (:mod:`craquelure.runner`).
 
     One advance is one step. After it, in this order: the series every
@@ -144,14 +144,6 @@ class DryingRun:
         self.rebuild_every = int(scene.get("numerics.checkpoint_every"))
         self.spectral_every = int(scene.get("numerics.spectral_check_every"))
         self.n_particles = engine.n
-
-    @property
-    def time(self) -> float:
-        return self.engine.t
-
-    @property
-    def steps(self) -> int:
-        return self.engine.step_count
 
     def start(self) -> None:
         self.engine.control_time_step()

@@ -160,7 +160,7 @@ SERIES = ("time", "contact_force", "contact_force_penalty", "kinetic", "internal
 SNAPSHOT_FIELDS = ("x", "y", "damage", "softening", "plastic_strain")
 
 
-class ImpactRun:
+class ImpactRun(runner.EngineRun):
     """The impact engine as the runner sees it (:mod:`craquelure.runner`): one advance is one
     leapfrog step (the last one shortened to end at ``outputs.t_end``); the health checks run
     every 50 steps and at every series sample (``outputs.series_dt``); field snapshots at
@@ -182,14 +182,6 @@ class ImpactRun:
         self.last_t = self.last_impulse = 0.0
         self.next_sample = self.every
         self.n_particles = self.specimen.n
-
-    @property
-    def time(self) -> float:
-        return self.engine.t
-
-    @property
-    def steps(self) -> int:
-        return self.engine.step_count
 
     def start(self) -> None:
         self._sample()

@@ -35,11 +35,13 @@ def frame_marks(scene: Scene, dt: float) -> np.ndarray:
     return np.unique(np.linspace(0, n_steps, scene.get("outputs.frames") + 1).round().astype(int))
 
 
-class LatticeRun:
+class LatticeRun(runner.EngineRun):
     """The lattice engine as the runner sees it (:mod:`craquelure.runner`): one advance runs
     to the next frame mark and records the frame. The contact list is rebuilt every
     ``numerics.checkpoint_every`` frames (decision [D]: a fixed schedule of the trajectory;
     the checkpoints themselves hold the contact list and change nothing)."""
+
+    TIME, STEPS = "time", "step"
 
     def __init__(self, scene: Scene, engine: Engine) -> None:
         self.engine = engine
@@ -49,14 +51,6 @@ class LatticeRun:
         self.frames: dict[str, list] = {"time": [], "x": [], "y": [], "theta": []}
         self.n_particles = engine.system.n
         self._bad = None
-
-    @property
-    def time(self) -> float:
-        return self.engine.time
-
-    @property
-    def steps(self) -> int:
-        return self.engine.step
 
     def start(self) -> None:
         self._record()  # the frame at t = 0 (mark 0)

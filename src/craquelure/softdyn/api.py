@@ -68,7 +68,7 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     return out
 
 
-class StudyRun:
+class StudyRun(runner.EngineRun):
     """A Soft Dynamics study as the runner sees it (:mod:`craquelure.runner`): one advance runs
     one point (a sweep or phase grid point; a single run or the accuracy study is one point),
     so a checkpoint holds the finished points and ``--resume`` skips them. Within a point the
@@ -87,20 +87,13 @@ class StudyRun:
     def steps(self) -> int:
         return len(self.results)
 
-    def start(self) -> None:
-        pass
-
     def done(self) -> bool:
         return len(self.results) >= len(self.points)
 
     def advance(self) -> None:
         self.results.append(self.points[len(self.results)]())
 
-    def check(self):
-        return None  # the integrator checks every step of a point
-
-    def sample(self) -> None:
-        pass
+    # check(): none here, the integrator checks every step of a point
 
     def state(self) -> dict[str, np.ndarray]:
         # each finished point as its netCDF bytes: exact, and any layout
