@@ -107,8 +107,15 @@ class StudyRun(runner.EngineRun):
         return self.combine(self.results)
 
 
-def study(scene: Scene) -> StudyRun:
+def study(scene: Scene, batch: list[tuple[int, int]] | None = None) -> StudyRun:
+    """The scene's study as runner points; with ``batch``, those sweep points only (one
+    workflow job's batch file)."""
     kind = scene.get("study.kind")
+    if batch is not None:
+        if not batch:
+            raise CraquelureError("sweep batch: no points")
+        return StudyRun(scene, [partial(studies.run_sweep_point, scene, i, j) for i, j in batch],
+                        studies.batch_dataset)
     if kind == "single":
         def single():
             setup = build(scene)
@@ -125,20 +132,23 @@ def study(scene: Scene) -> StudyRun:
                     partial(studies.phase_dataset, scene))
 
 
-def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
+def run(scene: Scene, out: Path, seed: int | None = 0, init: Path | None = None,
         resume: bool = False, checkpoint_every: int | None = None,
         checkpoint_minutes: float | None = None,
-        stop_after_checkpoints: int | None = None) -> Path:
-    """Run the scene's study through the runner (checkpoints every ``checkpoint_every``
-    points, default every few minutes of wall time)."""
+        stop_after_checkpoints: int | None = None,
+        batch: list[tuple[int, int]] | None = None, attrs: dict | None = None) -> Path:
+    """Run the scene's study (or one sweep ``batch``) through the runner (checkpoints every
+    ``checkpoint_every`` points, default every few minutes of wall time). The runs are
+    deterministic: ``seed`` is only recorded (``None``: not at all); ``attrs`` are added to the
+    dataset."""
     if init is not None:
         raise CraquelureError("softdyn runs start from the scene's arrangement; --init is not "
                               "used")
     clock = WallClock()
     out = Path(out)
-    model = study(scene)
+    model = study(scene, batch)
     try:
-        summary = runner.run(model, scene, seed, t_end=len(model.points),
+        summary = runner.run(model, scene, seed or 0, t_end=len(model.points),
                              desc=f"softdyn {scene.name}", out=out, resume=resume,
                              every=checkpoint_every or 0, time_unit="points", clock=clock,
                              minutes=runner.minutes_or_default(checkpoint_minutes),
@@ -148,6 +158,8 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     ds = model.result()
     ds.attrs.update(provenance_attrs(scene, seed, clock,
                                      extra_wall_time=summary.earlier_wall_time_s))
+    ds.attrs.update(summary.attrs())
+    ds.attrs.update(attrs or {})
     path = write_dataset(ds, out)
     runner.finish(out)
     return path

@@ -102,8 +102,13 @@ def run_sweep_batch(scene, points: list[tuple[int, int]]) -> xr.Dataset:
     """Several sweep points in one process (one Snakemake job), stacked along ``point``."""
     if not points:
         raise SceneError("sweep batch: no points")
-    return xr.concat([run_sweep_point(scene, i, j).squeeze(("h0", "force"))
-                      .reset_coords(("h0", "force")) for i, j in points], dim="point")
+    return batch_dataset([run_sweep_point(scene, i, j) for i, j in points])
+
+
+def batch_dataset(points: list[xr.Dataset]) -> xr.Dataset:
+    """Sweep point datasets stacked along ``point`` (the layout of a batch file)."""
+    return xr.concat([p.squeeze(("h0", "force")).reset_coords(("h0", "force")) for p in points],
+                     dim="point")
 
 
 SWEEP_ATTRS = {
