@@ -70,35 +70,12 @@ def test_checkpoint_of_another_seed_is_ignored(tmp_path, capsys):
 def test_killed_cli_run_resumes_bit_identically(tmp_path):
     """A real interruption: ``craquelure run`` is killed (SIGKILL) once its first checkpoint
     exists; ``--resume`` completes it to the dataset of an uninterrupted run."""
-    import os
-    import signal
-    import subprocess
-    import sys
-    import time
+    from ..killed_run import kill_and_resume
 
     sets = ["domain.nx=24", "domain.ny=8", "domain.water_level=5.0", "material.g=0.02",
             "fracture.start_time=30.0", "numerics.mass_damping_until=30.0",
             "outputs.t_end=1500.0", "outputs.frames=30", "numerics.checkpoint_every=1"]
-    args = [a for s in sets for a in ("--set", s)]
-    env = {**os.environ, "NUMBA_NUM_THREADS": "1"}
-
-    def cli(out, *extra):
-        return [sys.executable, "-m", "craquelure", "run", "lattice/calving", "--seed", "4",
-                "--out", str(out), *args, *extra]
-
-    out = tmp_path / "killed.nc"
-    ck = checkpoint_path(out)
-    proc = subprocess.Popen(cli(out), env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 600
-    while not ck.exists() and proc.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.02)
-    os.kill(proc.pid, signal.SIGKILL)
-    proc.wait()
-    assert ck.exists() and not out.exists()  # killed after a checkpoint, before the end
-    assert read_checkpoint(ck)["engine_step"] > 0
-    subprocess.run(cli(out, "--resume"), env=env, check=True, capture_output=True)
-    assert out.exists() and not ck.exists()
-    full = tmp_path / "full.nc"
-    subprocess.run(cli(full), env=env, check=True, capture_output=True)
-    same_dataset(open_dataset(full), open_dataset(out))
+    full, resumed, err = kill_and_resume(
+        tmp_path, ["lattice/calving", "--seed", "4", *[a for s in sets for a in ("--set", s)]])
+    assert "resumed from" in err and resumed.attrs["run_resumed_at_step"] > 0
+    same_dataset(full, resumed)
