@@ -108,7 +108,8 @@ def test_batched_sweep_equals_the_serial_sweep():
     serial = studies.run_sweep(sc)
     batches = [studies.run_sweep_batch(sc, b) for b in studies.sweep_batches(sc, 2)]
     assert all(b.sizes["point"] >= 1 for b in batches)
-    merged = studies.aggregate_sweep(sc, batches)
+    # a job beyond the number of grid points writes an empty batch, which adds nothing
+    merged = studies.aggregate_sweep(sc, [*batches, studies.batch_dataset([])])
     assert merged.duration.dims == ("h0", "force")
     np.testing.assert_array_equal(merged.duration.values, serial.duration.values)
     np.testing.assert_array_equal(merged.finished.values, serial.finished.values)

@@ -1,5 +1,6 @@
 """One batch of T1 sweep points, run serially in one process (Snakemake script) through the
-runner (a process start (imports, kernel cache load) costs more than most points)."""
+runner (a process start (imports, kernel cache load) costs more than most points). A batch
+beyond the number of grid points writes an empty batch."""
 
 import numba
 
@@ -10,6 +11,7 @@ from craquelure.softdyn.studies import sweep_batches
 sm = snakemake  # noqa: F821
 numba.set_num_threads(sm.threads)
 scene = load_scene(sm.input.scene, sm.params.overrides)
-points = sweep_batches(scene, sm.params.n_batches)[int(sm.wildcards.b)]
+batches = sweep_batches(scene, sm.params.n_batches)
+points = batches[int(sm.wildcards.b)] if int(sm.wildcards.b) < len(batches) else []
 run(scene, sm.output[0], seed=None, batch=points,
     attrs={"batch": f"{int(sm.wildcards.b)} of {sm.params.n_batches}"})

@@ -112,8 +112,6 @@ def study(scene: Scene, batch: list[tuple[int, int]] | None = None) -> StudyRun:
     workflow job's batch file)."""
     kind = scene.get("study.kind")
     if batch is not None:
-        if not batch:
-            raise CraquelureError("sweep batch: no points")
         return StudyRun(scene, [partial(studies.run_sweep_point, scene, i, j) for i, j in batch],
                         studies.batch_dataset)
     if kind == "single":

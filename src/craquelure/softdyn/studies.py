@@ -106,7 +106,10 @@ def run_sweep_batch(scene, points: list[tuple[int, int]]) -> xr.Dataset:
 
 
 def batch_dataset(points: list[xr.Dataset]) -> xr.Dataset:
-    """Sweep point datasets stacked along ``point`` (the layout of a batch file)."""
+    """Sweep point datasets stacked along ``point`` (the layout of a batch file; no points:
+    an empty batch)."""
+    if not points:
+        return xr.Dataset(coords={"point": ("point", np.zeros(0, np.int64))})
     return xr.concat([p.squeeze(("h0", "force")).reset_coords(("h0", "force")) for p in points],
                      dim="point")
 

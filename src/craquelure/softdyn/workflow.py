@@ -3,9 +3,6 @@ to rules in a Snakefile), bound to the config's ``softdyn`` section (no module s
 
 from __future__ import annotations
 
-from craquelure.scene import load_scene
-from craquelure.softdyn.studies import sweep_batches, sweep_points
-
 
 class Jobs:
     """Config-bound helpers for the Snakemake rules (input functions take ``wildcards``)."""
@@ -24,13 +21,8 @@ class Jobs:
         return int(self.section.get("sweep_batches", 1))
 
     def sweep_batch_files(self, wildcards) -> list[str]:
-        """One dataset per batch of grid points (``sweep_batches`` jobs, balanced by cost)."""
-        scene = load_scene(self.scene_path(wildcards), self.overrides())
-        n = len(sweep_batches(scene, self.n_batches()))
-        return [f"results/softdyn/{wildcards.scene}/batches/b{b}.nc" for b in range(n)]
-
-    def sweep_point_files(self, wildcards) -> list[str]:
-        """One dataset per grid point inside the scene's window."""
-        scene = load_scene(self.scene_path(wildcards), self.overrides())
-        return [f"results/softdyn/{wildcards.scene}/points/p{i}_{j}.nc"
-                for i, j in sweep_points(scene)]
+        """One dataset per batch (``sweep_batches`` jobs): as many as the config asks for; the
+        jobs split the scene's grid points by cost when they run (a batch beyond the number
+        of points is empty), so no scene is read while the DAG is built."""
+        return [f"results/softdyn/{wildcards.scene}/batches/b{b}.nc"
+                for b in range(self.n_batches())]
