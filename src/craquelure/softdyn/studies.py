@@ -98,13 +98,6 @@ def sweep_batches(scene, n_batches: int) -> list[list[tuple[int, int]]]:
     return [sorted(b) for b in batches]
 
 
-def run_sweep_batch(scene, points: list[tuple[int, int]]) -> xr.Dataset:
-    """Several sweep points in one process (one Snakemake job), stacked along ``point``."""
-    if not points:
-        raise SceneError("sweep batch: no points")
-    return batch_dataset([run_sweep_point(scene, i, j) for i, j in points])
-
-
 def batch_dataset(points: list[xr.Dataset]) -> xr.Dataset:
     """Sweep point datasets stacked along ``point`` (the layout of a batch file; no points:
     an empty batch)."""
@@ -181,17 +174,6 @@ def _single_points(datasets):
                 yield ds.isel(point=k)
         else:
             yield ds
-
-
-def run_sweep(scene) -> xr.Dataset:
-    """The whole sweep, serially (Snakemake runs batches of points as parallel jobs)."""
-    return aggregate_sweep(scene, [run_sweep_point(scene, i, j)
-                                   for i, j in sweep_points(scene)])
-
-
-def run_phase(scene) -> xr.Dataset:
-    """Occurrence of the T1 over (F_h/F_v, F~)."""
-    return phase_dataset(scene, [phase_point(scene, r, f) for r, f in phase_points(scene)])
 
 
 def phase_points(scene) -> list[tuple[float, float]]:
