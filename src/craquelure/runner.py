@@ -35,7 +35,7 @@ import numpy as np
 
 from craquelure.errors import SimulationDiverged
 from craquelure.progress import Progress
-from craquelure.provenance import WallClock
+from craquelure.provenance import WallClock, provenance_attrs
 
 # wall-time checkpoint interval when a scene gives none (minutes)
 DEFAULT_CHECKPOINT_MINUTES = 10.0
@@ -292,3 +292,17 @@ def finish(out: Path) -> None:
     ck = checkpoint_path(out)
     if ck.exists():
         os.unlink(ck)
+
+
+def write_run(ds, out: Path, scene, seed: int | None, summary: Summary,
+              clock: WallClock) -> Path:
+    """Write the finished run dataset with its provenance (wall time of all parts of a resumed
+    run) and the run summary (``run_*`` attributes), atomically; then drop the checkpoint."""
+    from craquelure.io import write_dataset
+
+    ds.attrs.update(provenance_attrs(scene, seed, clock,
+                                     extra_wall_time=summary.earlier_wall_time_s))
+    ds.attrs.update(summary.attrs())
+    path = write_dataset(ds, out)
+    finish(out)
+    return path

@@ -24,8 +24,8 @@ from craquelure import runner
 from craquelure.drying.engine import NVAR, VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.errors import CraquelureError
-from craquelure.io import open_dataset, write_dataset
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.io import open_dataset
+from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 
 SNAPSHOT_VARS = {
@@ -245,10 +245,5 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     except runner.Stopped:
         return runner.checkpoint_path(out)
     model.finish()
-    ds = _dataset(model.engine, model.rec, finished=True)
-    ds.attrs.update(provenance_attrs(scene, seed, clock,
-                                     extra_wall_time=summary.earlier_wall_time_s))
-    ds.attrs.update(summary.attrs())
-    write_dataset(ds, out)
-    runner.finish(out)
-    return out
+    return runner.write_run(_dataset(model.engine, model.rec, finished=True), out, scene, seed,
+                            summary, clock)

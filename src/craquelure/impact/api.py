@@ -26,7 +26,6 @@ from craquelure.impact.engine import Engine, Settings, State
 from craquelure.impact.material import Concrete
 from craquelure.impact.measure import contact_metrics, run_metrics
 from craquelure.impact.specimen import Specimen, build_specimen, initial_smoothing_length
-from craquelure.io import write_dataset
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 
@@ -293,13 +292,8 @@ def run(scene: Scene, out: Path, seed: int, init: Path | None = None,
             checkpoint_minutes=checkpoint_minutes)
     except runner.Stopped:
         return runner.checkpoint_path(out)
-    ds = run_dataset(scene, seed, sp, eng, series, snapshots)
-    ds.attrs.update(provenance_attrs(scene, seed, clock,
-                                     extra_wall_time=summary.earlier_wall_time_s))
-    ds.attrs.update(summary.attrs())
-    path = write_dataset(ds, out)
-    runner.finish(out)
-    return path
+    return runner.write_run(run_dataset(scene, seed, sp, eng, series, snapshots), out, scene,
+                            seed, summary, clock)
 
 
 def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:

@@ -22,11 +22,10 @@ import numpy as np
 import xarray as xr
 
 from craquelure import runner
-from craquelure.io import write_dataset
 from craquelure.lattice import beam
 from craquelure.lattice.build import beam_constants, make_engine
 from craquelure.lattice.engine import Engine
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 
 
@@ -92,8 +91,9 @@ class LatticeRun(runner.EngineRun):
         return {k: np.array(v) for k, v in self.frames.items()}
 
 
-def to_dataset(scene: Scene, seed: int, engine: Engine, labels: dict, frames: dict,
-               clock: WallClock, wall_before: float = 0.0) -> xr.Dataset:
+def to_dataset(scene: Scene, engine: Engine, labels: dict, frames: dict) -> xr.Dataset:
+    """The run dataset's variables and the lattice's derived constants (the runner adds the
+    provenance)."""
     s = engine.system
     series = engine.series_array()
     names = engine.kernel.SERIES
@@ -116,7 +116,6 @@ def to_dataset(scene: Scene, seed: int, engine: Engine, labels: dict, frames: di
         "n_particles": s.n, "n_bonds_final": int(s.bi.size),
         "water_level": float(scene.get("domain.water_level", np.nan)),
         "bed_level": float(scene.get("domain.bed_level", np.nan))})
-    ds.attrs.update(provenance_attrs(scene, seed, clock, extra_wall_time=wall_before))
     return ds
 
 
@@ -139,9 +138,5 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
                              stop_after_checkpoints=stop_after_checkpoints)
     except runner.Stopped:
         return runner.checkpoint_path(out)
-    ds = to_dataset(scene, seed, engine, labels, model.result(), clock,
-                    summary.earlier_wall_time_s)
-    ds.attrs.update(summary.attrs())
-    path = write_dataset(ds, out)
-    runner.finish(out)
-    return path
+    return runner.write_run(to_dataset(scene, engine, labels, model.result()), out, scene, seed,
+                            summary, clock)

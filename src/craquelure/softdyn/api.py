@@ -18,8 +18,7 @@ import xarray as xr
 
 from craquelure import runner
 from craquelure.errors import CraquelureError
-from craquelure.io import write_dataset
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 from craquelure.softdyn import studies
 from craquelure.softdyn.accuracy import run_accuracy
@@ -154,10 +153,5 @@ def run(scene: Scene, out: Path, seed: int | None = 0, init: Path | None = None,
     except runner.Stopped:
         return runner.checkpoint_path(out)
     ds = model.result()
-    ds.attrs.update(provenance_attrs(scene, seed, clock,
-                                     extra_wall_time=summary.earlier_wall_time_s))
-    ds.attrs.update(summary.attrs())
     ds.attrs.update(attrs or {})
-    path = write_dataset(ds, out)
-    runner.finish(out)
-    return path
+    return runner.write_run(ds, out, scene, seed, summary, clock)
