@@ -18,6 +18,8 @@ import sys
 from pathlib import Path
 from types import ModuleType
 
+from craquelure.threads import single_threaded_libraries
+
 
 def generated_dir(engine: str) -> Path:
     """``$CRAQUELURE_CACHE/<engine>`` (default ``~/.cache/craquelure/<engine>``), created."""
@@ -30,6 +32,7 @@ def generated_dir(engine: str) -> Path:
 def import_generated(source: str, module_name: str, path: Path) -> ModuleType:
     """Write ``source`` to ``path`` (unless it already holds exactly that) and import it as
     ``module_name`` (reusing an already imported module of that name)."""
+    single_threaded_libraries()  # no library thread pool inside a time step (threads.py)
     if module_name in sys.modules:
         return sys.modules[module_name]
     path.parent.mkdir(parents=True, exist_ok=True)

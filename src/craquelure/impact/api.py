@@ -85,6 +85,9 @@ def settings(scene: Scene) -> Settings:
 
 
 def initial_state(scene: Scene, specimen: Specimen) -> State:
+    if specimen.vx is not None:  # rings: each moves along x towards the other
+        return State.grid(specimen.x, specimen.y, specimen.vx, 0.0, specimen.mass,
+                          scene.get("material.rho0"), initial_smoothing_length(scene))
     return State.grid(specimen.x, specimen.y, 0.0, -scene.get("particles.impact_velocity"),
                       specimen.mass, scene.get("material.rho0"), initial_smoothing_length(scene))
 

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from numba import njit
 
 from craquelure.codegen import generated_dir, import_generated
 from craquelure.errors import SimulationDiverged
@@ -90,6 +91,15 @@ def kernels_for(effects, periodic: bool = False, plane_stress: bool = False):
     module = import_generated(source, f"craquelure_impact_kernels_{name}",
                               cache_dir() / f"{name}.py")
     return module
+
+
+@njit(cache=True)
+def mass_sum(m, q):
+    """Σ m_i q_i in a plain loop: inside a step, np.dot would start BLAS's own thread pool."""
+    total = 0.0
+    for i in range(m.size):
+        total += m[i] * q[i]
+    return total
 
 
 @dataclass
@@ -280,8 +290,8 @@ class Engine:
         st, k = self.state, self.k
         dt = self.dt if dt is None else dt
         f_old = self.force
-        self.e_av += dt * float(np.dot(st.m, self.pav))
-        self.e_as += dt * float(np.dot(st.m, self.pas))
+        self.e_av += dt * mass_sum(st.m, self.pav)
+        self.e_as += dt * mass_sum(st.m, self.pas)
         mom_half, ke_half = self._kick(dt)
         k.material_pass(st.x, st.y, st.vx, st.vy, st.m, st.rho, st.h, st.h0, st.sig, st.nom,
                         st.kap, st.dmg, st.epsp, st.wp, st.eint, st.eel, self.offsets,
