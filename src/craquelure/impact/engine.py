@@ -126,6 +126,7 @@ class Settings:
     neighbour_skin: float = 0.2  # units of max h
     periodic_box: tuple[float, float] | None = None
     plane_stress: bool = False  # 2D plane stress (sigma_zz = 0) instead of plane strain
+    flush_below: float = 1e-100  # accelerations, stresses, pair powers below this -> 0 (SI)
 
     @property
     def wave_speed(self) -> float:
@@ -151,6 +152,7 @@ class Settings:
         p[module.P_CONTACT_A] = self.contact_a
         p[module.P_K_BULK] = bulk_stiffness(self.contact_a, m.bulk, self.spacing)
         p[module.P_KIN_RATIO] = self.kinematic_ratio
+        p[module.P_FLUSH] = self.flush_below
         if self.periodic_box is not None:
             p[module.P_LX], p[module.P_LY] = self.periodic_box
         return p
