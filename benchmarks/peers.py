@@ -86,7 +86,7 @@ PYSPH_DRIVER = textwrap.dedent('''
 
     app = Bench()
     t0 = time.perf_counter()
-    app.run()
+    app.run(sys.argv[4:])
     wall = time.perf_counter() - t0
     pa = app.particles[0]
     n = int(pa.get_number_of_particles())
