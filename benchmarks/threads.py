@@ -58,7 +58,7 @@ def impact(n: int):
     from craquelure.impact.specimen import build_specimen
 
     # the rings at the spacing that gives about n particles (17 592 at 5e-4 m)
-    spacing = 5e-4 * math.sqrt(17592 / n)
+    spacing = 5e-4 if abs(n - 17592) <= 100 else 5e-4 * math.sqrt(17592 / n)
     scene = load_scene("impact/rings", [f"particles.spacing={spacing}"])
     sp = build_specimen(scene, 0)
     engine = Engine(settings(scene), initial_state(scene, sp))
