@@ -12,11 +12,12 @@ Then, at equal particle counts and about equal neighbour counts, it runs alterna
 times, at 1 and 2 threads (PySPH: OpenMP threads; LAMMPS: MPI ranks; craquelure: numba threads):
 
 - PySPH's ``solid_mech.rings`` (two colliding elastic rings, Δ = 5e-4 m: 17 592 particles;
-  2.5e-4 m: 70 320; cubic spline h = 1.5 Δ, 2Δ... support 3Δ: ~23 neighbours; PEC integrator, two
+  2.5e-4 m: 70 320; cubic spline h = 1.5 Δ, support 3Δ: ~22.5 neighbours; PEC integrator, two
   evaluations per step, fixed Δt = 1e-8 s as in the example);
 - LAMMPS ``smd/tlsph`` (total-Lagrangian SPH, MACHDYN) on a 2D strip of the same particle
   count (733 x 24 or 1172 x 60 on a square lattice), kernel radius 2.98 lattice spacings (24
-  neighbours inside, fewer on the edges), linear elastic, ends pulled apart;
+  partners inside, 22.7 on average with the edges), the rings' E, nu and rho, linear elastic,
+  ends pulled apart at 1 m/s, Δt = 1e-8 s;
 - craquelure's impact engine on the ``impact/rings`` scene (same grid, constants, velocities).
 
 Each timing is the steady cost of ``--steps`` steps: every code runs a short and a long run
@@ -30,9 +31,12 @@ peer, with the issue's targets (2 threads: >= 3x PySPH, >= 2x LAMMPS).
 and compares the left ring's centre-of-mass path x_cm(t) and its velocity at the end (the
 rebound speed): agreement within 5 % of the initial approach is the acceptance.
 
-    python benchmarks/peers.py                     # 17 592 particles, ~25 min idle (1st: +install)
-    python benchmarks/peers.py --n 70320           # ~1 h
-    python benchmarks/peers.py --physics --skip-speed
+    python benchmarks/peers.py                     # 17 592 particles, ~5 min idle
+    python benchmarks/peers.py --n 70320           # ~20 min idle
+    python benchmarks/peers.py --physics --skip-speed   # Δ = 1 mm to 3.2e-4 s, ~8 min idle
+
+The first call installs the peers (PySPH builds from source: ~10 min idle, 35 min at load 20)
+and PySPH compiles its kernels at its first run (~1 min).
 """
 
 from __future__ import annotations
