@@ -88,7 +88,9 @@ def softdyn(_n: int):
             "step": lambda: sysm.rhs(0.0, y), "unit": "particle-RHS/s"}
 
 
-ENGINES = {"drying SPH": drying, "impact SPH": impact, "lattice": lattice, "softdyn": softdyn}
+ENGINES = {"drying": drying, "impact": impact, "lattice": lattice, "softdyn": softdyn}
+LABEL = {"drying": "drying SPH", "impact": "impact SPH", "lattice": "lattice",
+         "softdyn": "softdyn"}
 CANNOT = {"softdyn": "serial model: 4 spheres, scipy's integrators call one RHS at a time"}
 
 
@@ -158,7 +160,7 @@ def main() -> None:
                        f"machine")
         else:
             verdict = f"below the {TARGET}x target with {cores:.2f} cores busy"
-        print(f"{name:<11} {r['n']:>6} {r['neighbours']:>6.1f} {r['rate1']:>10.3g} "
+        print(f"{LABEL[name]:<11} {r['n']:>6} {r['neighbours']:>6.1f} {r['rate1']:>10.3g} "
               f"{r['rate2']:>10.3g} {r['ratio']:>6.2f} {r['cpu1'] * 1e3:>15.2f} "
               f"{r['cpu2'] * 1e3:>7.2f}  {r['unit']}; {verdict}", flush=True)
 
