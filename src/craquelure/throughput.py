@@ -77,7 +77,8 @@ def prediction_lines(engine: str, workload: dict) -> dict[str, object]:
     model = cost_model(engine)
     return {
         f"work: {model.unit}, particles, neighbours": (
-            workload["units"], workload["particles"], round(float(workload["neighbours"]), 2)),
+            round(workload["units"], 1), workload["particles"],
+            round(float(workload["neighbours"]), 2)),
         "predicted wall time [s], 1 / 2 threads": (
             round(predicted_wall_time(engine, workload, 1), 1),
             round(predicted_wall_time(engine, workload, 2), 1)),
