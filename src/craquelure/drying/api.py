@@ -8,8 +8,6 @@ from craquelure.drying.initial_state import build_initial_state
 from craquelure.scene import Scene
 from craquelure.throughput import prediction_lines
 
-CHECKPOINTS = True  # craquelure.drying.run writes <out>.checkpoint.nc
-
 RK4_REAL_AXIS, ABM4_REAL_AXIS = 2.785, 1.285
 EVALS_PER_STEP = {"rk4": 4, "abm4": 2, "rk2": 2}
 
@@ -66,7 +64,7 @@ def workload(scene: Scene) -> dict[str, float]:
             "neighbours": 1.21 * (n * math.pi * h * h / length**2 - 1)}
 
 
-def run(scene: Scene, out, seed: int = 0, init=None, resume: bool = False):
+def run(scene: Scene, out, seed: int = 0, init=None, resume: bool = False, **checkpoints):
     from craquelure.drying.run import run as run_drying
 
-    return run_drying(scene, out, seed=seed, init=init, resume=resume)
+    return run_drying(scene, out, seed=seed, init=init, resume=resume, **checkpoints)

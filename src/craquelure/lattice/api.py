@@ -15,8 +15,6 @@ from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 from craquelure.throughput import prediction_lines
 
-CHECKPOINTS = True  # craquelure.lattice.run writes <out>.checkpoint.nc
-
 __all__ = ["build_initial_state", "derived_numbers", "run"]
 
 
@@ -55,8 +53,8 @@ def workload(scene: Scene) -> dict[str, float]:
 
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
-        resume: bool = False) -> Path:
+        resume: bool = False, **checkpoints) -> Path:
     if init is not None:
         raise CraquelureError("lattice runs build their initial state from the scene and seed: "
                               "run without --init")
-    return _run(scene, out, seed=seed, resume=resume)
+    return _run(scene, out, seed=seed, resume=resume, **checkpoints)
