@@ -38,3 +38,9 @@ def test_every_built_in_scene_gets_a_prediction(ref):
     assert work["units"] > 0 and work["particles"] > 0 and work["neighbours"] >= 0
     one, two = (predicted_wall_time(scene.model, work, t) for t in (1, 2))
     assert 0 < two <= one < 1e7
+
+
+def test_serial_workload_gains_nothing_from_threads():
+    work = {"units": 1000, "particles": 5000, "neighbours": 6.0}
+    assert predicted_wall_time("lattice", {**work, "serial": True}, 2) == \
+        predicted_wall_time("lattice", work, 1)

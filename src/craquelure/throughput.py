@@ -66,7 +66,10 @@ def cost_model(engine: str) -> CostModel:
 
 
 def predicted_wall_time(engine: str, workload: dict, threads: int = 1) -> float:
-    """Seconds of ``craquelure run`` for a workload dict (units, particles, neighbours)."""
+    """Seconds of ``craquelure run`` for a workload dict (units, particles, neighbours; with
+    ``serial: True`` when the engine runs its serial kernels whatever the thread count)."""
+    if workload.get("serial"):
+        threads = 1
     return cost_model(engine).seconds(workload["units"], workload["particles"],
                                       workload["neighbours"], threads)
 

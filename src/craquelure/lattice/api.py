@@ -10,6 +10,7 @@ import xarray as xr
 from craquelure.errors import CraquelureError
 from craquelure.lattice import beam
 from craquelure.lattice.build import beam_constants, build_system, engine_params
+from craquelure.lattice.engine import PARALLEL_MIN_BONDS
 from craquelure.lattice.run import run as _run
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
@@ -40,16 +41,17 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "particles": s.n, "bonds": int(s.bi.size), "k_n": c.kn, "k_s": c.ks,
         "E_b": c.E_b, "beam width": c.width, "lattice E": m["E"], "lattice nu": m["nu"],
         "P-wave speed": math.sqrt(m["M"] / rho2), "time step": p["dt"], "steps": steps,
-        **prediction_lines("lattice", {"units": steps, "particles": s.n,
-                                       "neighbours": 2.0 * s.bi.size / s.n}),
+        **prediction_lines("lattice", workload(scene)),
     }
 
 
 def workload(scene: Scene) -> dict[str, float]:
-    """Steps, particles and bonds per particle (2 x bonds / N) of a run."""
+    """Steps, particles and bonds per particle (2 x bonds / N) of a run; serial below
+    the engine's parallel threshold (the serial kernel runs whatever the thread count)."""
     s, _ = build_system(scene, 0)
     steps = math.ceil(scene.get("outputs.t_end") / engine_params(scene, s)["dt"])
-    return {"units": steps, "particles": s.n, "neighbours": 2.0 * s.bi.size / s.n}
+    return {"units": steps, "particles": s.n, "neighbours": 2.0 * s.bi.size / s.n,
+            "serial": s.bi.size < PARALLEL_MIN_BONDS}
 
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
