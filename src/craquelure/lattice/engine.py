@@ -13,7 +13,6 @@ omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, 
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, field
 
 import numba
@@ -26,12 +25,8 @@ from craquelure.periodic import minimum_image
 from craquelure.runner import Divergence, diverged, non_finite
 from craquelure.sph.neighbours import Box, neighbour_list
 
-# Waiting OpenMP threads sleep instead of spinning [D]: on this shared 2-core machine a
-# spinning thread steals the core its partner needs, and the parallel kernel ran 8x slower
-# (27 ms vs 3.2 ms per step at 6e4 bonds, load average 7). Must be set before numba starts its
-# OpenMP pool (the first parallel call); an explicit OMP_WAIT_POLICY in the environment wins.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-
+# Waiting OpenMP threads sleep instead of spinning: set for every engine by
+# craquelure.threads (imported through craquelure.codegen before any kernel runs).
 # below this many bonds a serial kernel is faster (thread start-up per parallel region);
 # measured with benchmarks/lattice_engine.py on this 2-core machine
 PARALLEL_MIN_BONDS = 20000
