@@ -25,11 +25,12 @@ import xarray as xr
 
 from craquelure.drying.engine import NVAR, VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
-from craquelure.errors import CraquelureError
-from craquelure.io import open_dataset, write_dataset
+from craquelure.errors import CraquelureError, SceneError
+from craquelure.io import read_checkpoint, read_dataset, write_dataset
 from craquelure.progress import Progress
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
+from craquelure.scene_rules import initial_state_problems
 
 SNAPSHOT_VARS = {
     "x": ("position x (wrapped into the box)", "length"),
@@ -48,6 +49,11 @@ SERIES_VARS = {
     "momentum_x": ("total momentum x", "rho0 length^2 sqrt(lambda/rho0)"),
     "momentum_y": ("total momentum y", "rho0 length^2 sqrt(lambda/rho0)"),
 }
+
+
+INITIAL_STATE_VARS = ("x", "y", "mass", "rho", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy")
+CHECKPOINT_VARS = ("state", "x0", "y0", "mass_now", "alive_now", "history", *SNAPSHOT_VARS,
+                   *SERIES_VARS)
 
 
 def output_times(scene: Scene) -> np.ndarray:
@@ -189,7 +195,11 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     clock = WallClock()
     out = Path(out)
     if init is not None:
-        init_ds = open_dataset(init)
+        init_ds = read_dataset(init, "drying initial state", model="drying",
+                               variables=INITIAL_STATE_VARS)
+        problems = initial_state_problems(scene, init_ds, init)
+        if problems:
+            raise SceneError("--init does not match the scene:\n  " + "\n  ".join(problems))
         seed = int(init_ds.attrs.get("seed", seed))
     else:
         init_ds = build_initial_state(scene, seed)
@@ -198,11 +208,8 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     ck_path = checkpoint_path(out)
     wall_before = 0.0
     fingerprint = _fingerprint(scene, init_ds)
-    checkpoint = open_dataset(ck_path) if resume and ck_path.exists() else None
-    if checkpoint is not None and checkpoint.attrs.get("fingerprint") != fingerprint:
-        print(f"ignoring checkpoint {ck_path}: made from another scene or initial state",
-              file=sys.stderr)
-        checkpoint = None
+    checkpoint = read_checkpoint(ck_path, fingerprint, "drying checkpoint",
+                                 CHECKPOINT_VARS) if resume else None
     if checkpoint is not None:
         wall_before = _restore(engine, rec, checkpoint)
         print(f"resumed from {ck_path} at t = {engine.t:g} (step {engine.step_count})",

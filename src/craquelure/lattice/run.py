@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from craquelure.io import open_dataset, write_dataset
+from craquelure.io import read_checkpoint, write_dataset
 from craquelure.lattice import beam
 from craquelure.lattice.build import beam_constants, make_engine
 from craquelure.lattice.engine import Engine
@@ -92,15 +92,13 @@ def simulate(scene: Scene, seed: int, progress: bool = True, out: Path | None = 
     wall_before = 0.0
     ck_every = int(scene.get("numerics.checkpoint_every")) if out is not None else 0
     ck_path = checkpoint_path(Path(out)) if out is not None else None
-    if resume and ck_path is not None and ck_path.exists():
-        ck = open_dataset(ck_path)
-        if ck.attrs.get("fingerprint") != fingerprint(scene, seed):
-            print(f"ignoring checkpoint {ck_path}: made by another scene or seed",
-                  file=sys.stderr)
-        else:
-            frames, wall_before = _restore(engine, ck)
-            print(f"resumed from {ck_path} at t = {engine.time:g} (step {engine.step})",
-                  file=sys.stderr)
+    ck = read_checkpoint(ck_path, fingerprint(scene, seed), "lattice checkpoint",
+                         ("ck_q", "ck_qm", "ck_step", "frame_time")) \
+        if resume and ck_path is not None else None
+    if ck is not None:
+        frames, wall_before = _restore(engine, ck)
+        print(f"resumed from {ck_path} at t = {engine.time:g} (step {engine.step})",
+              file=sys.stderr)
     bar = Progress(t_end, f"lattice {scene.name}") if progress else None
     written = 0
     for k, mark in enumerate(marks):
