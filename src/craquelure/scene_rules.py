@@ -18,8 +18,11 @@ consistency and the memory a run needs.
 
 from __future__ import annotations
 
+import copy
 import math
 from typing import Any
+
+from craquelure.errors import SceneError
 
 # Step counts beyond this are not runs but typos (1e12 steps of the cheapest model take
 # years on this machine); above 2**53 a float step counter stops advancing.
@@ -71,6 +74,24 @@ class SceneView:
 
     def has(self, effect: str) -> bool:
         return effect in self.data["effects"]
+
+    @property
+    def model(self) -> str:
+        return self.data["model"]
+
+    @property
+    def effects(self) -> tuple[str, ...]:
+        return tuple(self.data["effects"])
+
+    name = "scene"
+
+    def with_overrides(self, overrides):
+        from craquelure.scene import apply_override
+
+        data = copy.deepcopy(self.data)
+        for item in overrides:
+            apply_override(data, item)
+        return SceneView(data)
 
 
 def _steps_problem(key: str, t_end: float, dt: float) -> str | None:
@@ -135,6 +156,21 @@ def _impact_rules(data: dict) -> list[str]:
     h_min, h_max = _get(data, "numerics.h_min"), _get(data, "numerics.h_max")
     if h_min >= h_max:
         out.append(f"numerics.h_min: {h_min!r} must be below numerics.h_max = {h_max!r}")
+    precrack = _get(data, "particles.precrack")
+    layouts = _get(data, "precracks") or {}
+    if precrack != "none" and precrack not in layouts:
+        out.append(f"particles.precrack: {precrack!r} is not allowed; allowed values: none, "
+                   f"{', '.join(layouts)} (the layouts under precracks)")
+    if "damage" in data["effects"]:
+        from craquelure.impact.api import concrete
+
+        try:
+            concrete(SceneView(data)).check()
+        except ArithmeticError as exc:
+            out.append(f"material.f_t, material.G_F: the softening law cannot be computed from "
+                       f"these magnitudes ({exc})")
+        except SceneError as exc:
+            out.append(str(exc))
     series = _get(data, "outputs.series_dt")
     if t_end / series > MAX_STEPS:
         out.append(f"outputs.series_dt: {series!r} gives {t_end / series:.3g} samples")
@@ -156,9 +192,16 @@ def lattice_step_estimate(data: dict) -> float:
 
 
 def _lattice_rules(data: dict) -> list[str]:
+    out = []
+    if _get(data, "domain.pad") is not None and _get(data, "domain.periodic_x"):
+        out.append("domain.pad cannot be used with domain.periodic_x")
+    if _get(data, "material.youngs_modulus") is not None \
+            and _get(data, "material.poisson_ratio") is None:
+        out.append("material.youngs_modulus needs material.poisson_ratio")
+        return out
     t_end = float(_get(data, "outputs.t_end"))
     problem = _steps_problem("numerics.dt_factor", t_end, lattice_step_estimate(data))
-    return [problem] if problem else []
+    return out + ([problem] if problem else [])
 
 
 def _softdyn_rules(data: dict) -> list[str]:
@@ -175,7 +218,33 @@ def _softdyn_rules(data: dict) -> list[str]:
     window = _get(data, "study.window")
     if window and window[0] >= window[1]:
         out.append(f"study.window: {window!r} must be increasing")
+    out += _model_checks(data, _softdyn_setup)
     return out
+
+
+def _softdyn_setup(view: SceneView) -> None:
+    """What Soft Dynamics checks while building a run (effects, stop rule, loads, study
+    lists), done here so that ``check`` refuses what ``run`` would."""
+    from craquelure.softdyn import studies
+    from craquelure.softdyn.scenarios import build
+
+    kind = view.get("study.kind")
+    build(view).stop_function()
+    if kind == "sweep":
+        studies.sweep_grid(view)
+    elif kind == "phase" and not (view.get("study.fh_over_fv", None)
+                                  and view.get("study.reduced_force", None)):
+        raise SceneError("study.fh_over_fv and study.reduced_force: a phase scan needs both")
+    elif kind == "accuracy" and not (view.get("study.rtol", None) or view.get("study.dt", None)):
+        raise SceneError("study.rtol / study.dt: an accuracy study needs at least one list")
+
+
+def _model_checks(data: dict, check) -> list[str]:
+    try:
+        check(SceneView(data))
+    except SceneError as exc:
+        return [str(exc)]
+    return []
 
 
 RULES = {"drying": _drying_rules, "impact": _impact_rules, "lattice": _lattice_rules,
@@ -199,10 +268,15 @@ def _drying_memory(data: dict) -> tuple[float, str]:
     shepard = float(_get(data, "numerics.mass_solve.shepard_spacing", 0.02)) * h
     mesh = (length / shepard) ** 2
     snaps = len(_get(data, "outputs.times") or range(10)) + 1
+    rsa = 0.0
+    if _get(data, "particles.placement") == "rsa":  # cell grid of side min-separation / sqrt 2
+        rsa = 2 * n / float(_get(data, "particles.rsa_min_separation")) ** 2
+        mesh = max(mesh, rsa)
     # state (9 vars) x (4 ABM4 history + 4 stages + working copies) + 30 per-particle arrays;
     # pair list and kernel values (3 x 8 bytes); mesh field and its labels; snapshots
     need = n * 8 * (9 * 12 + 30) + pairs * 24 + mesh * 8 * 3 + snaps * n * 8 * 8
-    return need, f"{n} particles, {pairs:.3g} neighbour pairs, a {mesh:.3g}-cell Shepard mesh"
+    what = "RSA grid" if rsa >= mesh and rsa > 0 else "Shepard mesh"
+    return need, f"{n} particles, {pairs:.3g} neighbour pairs, a {mesh:.3g}-cell {what}"
 
 
 def _impact_memory(data: dict) -> tuple[float, str]:
