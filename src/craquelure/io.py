@@ -45,7 +45,9 @@ def _encoding(ds: xr.Dataset) -> dict[str, dict]:
     enc = {}
     for name, var in ds.variables.items():
         if var.dtype.kind in "fiub" and var.ndim > 0:
-            enc[name] = {"zlib": True, "complevel": 4}
+            # fletcher32: a checksum per chunk, so a damaged file fails to read instead of
+            # returning altered numbers
+            enc[name] = {"zlib": True, "complevel": 4, "fletcher32": True}
     return enc
 
 
