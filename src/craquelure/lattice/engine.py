@@ -33,6 +33,9 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 # below this many bonds a serial kernel is faster (thread start-up per parallel region);
 # measured with benchmarks/lattice_engine.py on this 2-core machine
 PARALLEL_MIN_BONDS = 20000
+# per-step displacements within this many rounding units of the positions: the energy budget
+# is lost to round-off (the guard then says to raise the step, not to lower it)
+ROUND_OFF_STEPS = 1000
 
 PARAM_NAMES = ("dt", "beta", "gamma", "area", "inertia", "width", "sigma0", "tau0",
                "fracture_start", "melt_rate_factor", "E_b", "block", "frozen_rate",
@@ -301,6 +304,15 @@ class Engine:
                 last = self.series[-1] if self.series else None
                 what = ("NaN/inf in the energy" if status == k.NAN else
                         f"energy ran away: E_tot = {last[10]:.6g} vs E_0 = {self.acc[6]:.6g}")
+                step = float(np.abs(self.q[:2] - self.qm[:2]).max())
+                size = float(np.abs(self.q[:2]).max())
+                if status == k.RUNAWAY and step < ROUND_OFF_STEPS * np.finfo(float).eps * size:
+                    raise SimulationDiverged(
+                        f"lattice run stopped at t = {self.time:.6g} (step {self.step}, "
+                        f"dt = {self.dt:.6g}): {what}, but the step is too small for the "
+                        f"positions to resolve the motion (largest displacement per step "
+                        f"{step:.3g} against positions up to {size:.3g}, within "
+                        f"{ROUND_OFF_STEPS} rounding units): increase numerics.dt_factor")
                 raise SimulationDiverged(
                     f"lattice run diverged at t = {self.time:.6g} (step {self.step}, "
                     f"dt = {self.dt:.6g}): {what}; reduce numerics.dt_factor or check loads")
