@@ -140,6 +140,12 @@ def _drying_rules(data: dict) -> list[str]:
         problem = _steps_problem("numerics.dt", t_end, drying_run_step(data))
         if problem:
             out.append(problem)
+    h, length = float(_get(data, "numerics.h")), float(_get(data, "domain.box_length"))
+    radius = h * (1 + float(_get(data, "numerics.neighbour_skin", 0.1)))
+    if _get(data, "domain.periodic", True) and length < 2 * radius:
+        out.append(f"domain.box_length: {length!r} is not allowed; the periodic box must be at "
+                   f"least twice the neighbour search radius numerics.h x (1 + "
+                   f"numerics.neighbour_skin) = {radius:g}")
     for k, band in enumerate(_get(data, "particles.excluded_bands") or []):
         if band["lo"] >= band["hi"]:
             out.append(f"particles.excluded_bands[{k}]: lo = {band['lo']!r} must be below "

@@ -282,7 +282,6 @@ class Engine:
 
     def run(self, n_steps: int) -> None:
         """Advance n_steps; appends energy-series rows to ``self.series``."""
-        s = self.system
         k = self.kernel
         remaining = int(n_steps)
         buf = np.zeros((remaining // self.series_every + 2, k.N_SERIES))
@@ -290,13 +289,14 @@ class Engine:
             chunk = remaining
             if self.freeze_every and self.flags["HAS_MELTING"]:
                 chunk = min(chunk, self.freeze_every - self.step % self.freeze_every)
-            status, done, rows = k.advance(
-                self.qm, self.q, self.qref, self.qbuild, s.mass, s.inertia,
-                s.diameter, s.fix, s.drive, s.load, s.bi, s.bj, self.bref, self.bk, s.state,
-                s.unbreakable, self.bprev, self.bforce, self.benergy, self.bratio, self.tbreak,
-                self.poff, self.pidx, self.cb, self.crange, self.cn, self.fn, self.cpi,
-                self.cpj, self.fc, self.p, self.acc, self.seed, self.step, chunk,
-                self.series_every, buf)
+            try:
+                status, done, rows = self._advance(chunk, buf)
+            except ArithmeticError as exc:  # numba raises division by zero as Python does
+                raise SimulationDiverged(
+                    f"lattice run diverged at t = {self.time:.6g} (step {self.step}, dt = "
+                    f"{self.dt:.6g}): the state can no longer be computed "
+                    f"({type(exc).__name__}: {exc}); check the loads and numerics.dt_factor"
+                ) from exc
             self.series.extend(buf[:rows].copy())
             self.step += done
             remaining -= done
@@ -323,6 +323,16 @@ class Engine:
                 self.refreeze()
                 if self.flags["HAS_CONTACT"]:
                     self.rebuild_contacts()
+
+    def _advance(self, chunk: int, buf: np.ndarray):
+        s, k = self.system, self.kernel
+        return k.advance(
+            self.qm, self.q, self.qref, self.qbuild, s.mass, s.inertia,
+            s.diameter, s.fix, s.drive, s.load, s.bi, s.bj, self.bref, self.bk, s.state,
+            s.unbreakable, self.bprev, self.bforce, self.benergy, self.bratio, self.tbreak,
+            self.poff, self.pidx, self.cb, self.crange, self.cn, self.fn, self.cpi,
+            self.cpj, self.fc, self.p, self.acc, self.seed, self.step, chunk,
+            self.series_every, buf)
 
     # bond-indexed arrays of the engine (rows, bond) and of the system (bond) in a checkpoint
     BOND_STATE = ("bref", "bk", "bprev", "bforce", "benergy", "bratio", "tbreak")
