@@ -100,3 +100,50 @@ def test_absurd_speed_longer():
         simulate(["particles.impact_velocity=1.0e7", "outputs.t_end=2.0e-5"])
     except SimulationDiverged as exc:
         assert "t = " in str(exc)
+
+
+def min_pair_distance(s, st) -> float:
+    dx = st.x[:, None] - st.x[None, :]
+    dy = st.y[:, None] - st.y[None, :]
+    dx -= s.periodic_box[0] * np.rint(dx / s.periodic_box[0])
+    dy -= s.periodic_box[1] * np.rint(dy / s.periodic_box[1])
+    d = np.hypot(dx, dy)
+    np.fill_diagonal(d, np.inf)
+    return float(d.min() / s.spacing)
+
+
+def stretched_block(as_epsilon, steps=8000):
+    """Periodic 16 x 16 block held in biaxial tension 10 f_t (elastic, no damage, no
+    artificial viscosity), h(0) = 0.84 Delta (kappa 0.7, the fastest linear growth of the
+    tensile instability in the table of craquelure.impact.effects.artificial_stress), 1 %
+    position noise: the smallest pair distance over the run, in units of Delta."""
+    from craquelure.impact.engine import Engine
+    from tests.impact.test_engine import MAT, periodic_block
+
+    s, st = periodic_block(16, 16, effects=("elasticity", "artificial_stress"),
+                           as_epsilon=as_epsilon, noise=0.01, kappa=0.7)
+    st.sig[:, 0] = st.nom[:, 0] = st.sig[:, 1] = st.nom[:, 1] = 10 * MAT.f_t
+    eng = Engine(s, st)
+    smallest = np.inf
+    for n in range(steps):
+        eng.step()
+        if n % 100 == 99:
+            eng.check()
+            smallest = min(smallest, min_pair_distance(s, st))
+    return smallest
+
+
+@pytest.mark.hard_slow
+def test_stretched_block_with_and_without_artificial_stress(capsys):
+    """With the project's artificial stress (auto: eps_AS = 0.2 at kappa 0.7) no clumping:
+    pairs stay >= 0.7 Delta. Without it the issue expects clumping; measured 2026-12-01: the
+    smallest distance only drops to 0.93 Delta in 8000 steps (0.93 with eps_AS too), so this
+    SPH does not clump in this test: reported, not asserted (an honest miss)."""
+    from craquelure.impact.effects.artificial_stress import auto_epsilon
+
+    without = stretched_block(0.0)
+    with_as = stretched_block(auto_epsilon(0.84))
+    with capsys.disabled():
+        print(f"\n[stretched block] smallest pair distance: without AS {without:.3f} Delta, "
+              f"with AS {with_as:.3f} Delta")
+    assert with_as >= 0.7
