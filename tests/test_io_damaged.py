@@ -19,7 +19,7 @@ import pytest
 import xarray as xr
 import yaml
 
-from craquelure import cli
+from craquelure import cli, runner
 from craquelure.io import (
     DatasetError,
     diagnose_file,
@@ -140,17 +140,27 @@ def test_campaign_names_the_file_and_the_damage(files, case, expected, capsys, t
 
 
 @pytest.mark.parametrize("damage, reason", [
-    ("text", "not a netCDF file"),
-    ("truncated", "truncated"),
-    ("init", "it is a drying initial state, not a drying checkpoint"),
+    ("text", "damaged or truncated, cannot be read"),
+    ("truncated", "damaged or truncated, cannot be read"),
+    ("empty_npz", "not a checkpoint of this package: missing runner_fingerprint"),
 ])
 def test_damaged_drying_checkpoint_is_refused_with_the_reason(files, damage, reason, capsys,
                                                               tmp_path):
     """`run --resume` next to a damaged checkpoint says why it is refused, starts from the
     beginning and gives the dataset of an uninterrupted run."""
     out = tmp_path / "run.nc"
-    ck = tmp_path / "run.nc.checkpoint.nc"
-    ck.write_bytes(files[damage].read_bytes())
+    ck = runner.checkpoint_path(out)
+    if damage == "empty_npz":
+        with open(ck, "wb") as fh:
+            np.savez(fh, something=np.zeros(3))
+    elif damage == "truncated":
+        from craquelure.drying.run import run
+        from craquelure.scene import load_scene
+
+        run(load_scene(files["scene"]), out, init=files["init"], stop_after_checkpoints=1)
+        ck.write_bytes(ck.read_bytes()[:200])
+    else:
+        ck.write_bytes(files[damage].read_bytes())
     argv = ["run", str(files["scene"]), "--init", str(files["init"]), "--out", str(out),
             "--resume"]
     assert cli.main(argv) == 0
@@ -168,8 +178,8 @@ def test_checkpoint_of_another_run_is_refused_with_the_reason(files, capsys, tmp
     from craquelure.scene import load_scene
 
     scene = load_scene(files["scene"])
-    run(scene, out, init=files["init"], stop_after_steps=5)
-    assert (tmp_path / "run.nc.checkpoint.nc").exists()
+    run(scene, out, init=files["init"], stop_after_checkpoints=1)
+    assert runner.checkpoint_path(out).exists()
     other = scene.with_overrides(["material.drying_rate=1e-3"])
     run(other, out, init=files["init"], resume=True)
     err = capsys.readouterr().err
@@ -198,15 +208,17 @@ def test_stale_temporaries_of_dead_processes_are_removed(tmp_path):
 KILL_WHILE_CHECKPOINTING = r"""
 import sys, time
 from pathlib import Path
-import xarray as xr
-original = xr.Dataset.to_netcdf
-def slow(self, path=None, *args, **kwargs):
-    result = original(self, path, *args, **kwargs)
-    if ".checkpoint.nc.tmp-" in str(path):
-        Path(sys.argv[2]).write_text(str(path))  # the temporary is written, not yet renamed
+import numpy as np
+original = np.savez
+def slow(file, *args, **kwargs):
+    result = original(file, *args, **kwargs)
+    name = str(getattr(file, "name", file))
+    if ".checkpoint.npz.tmp-" in name:
+        file.flush()
+        Path(sys.argv[2]).write_text(name)  # the temporary is written, not yet renamed
         time.sleep(600)
     return result
-xr.Dataset.to_netcdf = slow
+np.savez = slow
 from craquelure import cli
 cli.main(["run", "lattice/glen", "--out", sys.argv[1], "--set", "domain.nx=8",
           "--set", "domain.ny=6", "--set", "outputs.t_end=60.0", "--set", "outputs.frames=6",
@@ -215,7 +227,7 @@ cli.main(["run", "lattice/glen", "--out", sys.argv[1], "--set", "domain.nx=8",
 
 
 def test_temporaries_of_a_run_killed_while_checkpointing_are_removed(tmp_path):
-    """SIGKILL a lattice run while it writes `.<out>.checkpoint.nc.tmp-<pid>`; the next run
+    """SIGKILL a lattice run while it writes `.<out>.checkpoint.npz.tmp-<pid>`; the next run
     of the same output removes it and finishes."""
     out = tmp_path / "run.nc"
     marker = tmp_path / "marker"
@@ -234,7 +246,7 @@ def test_temporaries_of_a_run_killed_while_checkpointing_are_removed(tmp_path):
         if proc.poll() is None:
             proc.kill()
     tmp = Path(marker.read_text())
-    assert tmp.exists() and tmp.name == f".run.nc.checkpoint.nc.tmp-{proc.pid}"
+    assert tmp.exists() and tmp.name == f".run.nc.checkpoint.npz.tmp-{proc.pid}"
     assert cli.main(["run", "lattice/glen", "--out", str(out), "--set", "domain.nx=8",
                      "--set", "domain.ny=6", "--set", "outputs.t_end=60.0", "--set",
                      "outputs.frames=6", "--set", "numerics.checkpoint_every=2"]) == 0

@@ -28,10 +28,8 @@ CLASSIC_SIGNATURES = (b"CDF\x01", b"CDF\x02", b"CDF\x05")
 # Variables that tell the datasets of this package apart (for "a <kind>, not a <kind>").
 KIND_SIGNATURES = {
     "drying initial state": ("sigma_e_xx", "sigma_e_yy", "sigma_e_xy", "mass", "rho"),
-    "drying checkpoint": ("state", "history", "x0", "mass_now"),
     "drying run dataset": ("alive", "mean_stress", "n_removed", "mass"),
     "fragment dataset": ("fragment_area", "n_fragments", "paste_fraction"),
-    "lattice checkpoint": ("ck_q", "ck_qm"),
     "lattice run dataset": ("bond_state", "theta", "bond_i"),
     "impact run dataset": ("series_contact_force", "snap_damage"),
 }
@@ -82,30 +80,6 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
         if tmp.exists():
             tmp.unlink()
     return path
-
-
-def read_checkpoint(path: str | Path, fingerprint: str, kind: str,
-                    variables: Iterable[str] = ()) -> xr.Dataset | None:
-    """The checkpoint at ``path`` if it can be resumed from, else None after saying why on
-    stderr: missing, unreadable or damaged, of another kind, or made by another run (its
-    ``fingerprint`` attribute differs). A refused checkpoint is never resumed from; the run
-    starts from the beginning and overwrites it."""
-    import sys
-
-    path = Path(path)
-    if not path.exists():
-        return None
-    try:
-        ck = read_dataset(path, kind, variables=variables)
-    except DatasetError as exc:
-        print(f"refusing checkpoint {exc}; starting from the beginning", file=sys.stderr)
-        return None
-    if ck.attrs.get("fingerprint") != fingerprint:
-        print(f"refusing checkpoint {path}: its fingerprint does not match this run (made by "
-              f"another scene, initial state or seed); starting from the beginning",
-              file=sys.stderr)
-        return None
-    return ck
 
 
 def _pid_alive(pid: int) -> bool:
