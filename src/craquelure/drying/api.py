@@ -38,7 +38,9 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     length, n, h = (scene.get("domain.box_length"), scene.get("particles.n"),
                     scene.get("numerics.h"))
     neighbours = n * math.pi * h * h / length**2 - 1
-    dt = scene.get("numerics.dt")
+    from craquelure.scene_rules import drying_run_step
+
+    dt = drying_run_step(scene.data)  # the step the run takes (numerics.adapt_dt halves it)
     steps = math.ceil(scene.get("outputs.t_end") / dt)
     evals = EVALS_PER_STEP[scene.get("numerics.integrator")]
     return {
@@ -47,7 +49,8 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "neighbours per particle": neighbours,
         "viscous spectral radius": viscous_spectral_radius(scene),
         "stable time step": stable_time_step(scene),
-        "time step": dt,
+        "time step (numerics.dt)": scene.get("numerics.dt"),
+        "time step of the run (halved below 0.6 of the viscous limit)": dt,
         "steps": steps,
         "rate evaluations": steps * evals,
         **prediction_lines("drying", workload(scene)),

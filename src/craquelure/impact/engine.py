@@ -33,6 +33,7 @@ import numpy as np
 from numba import njit
 
 from craquelure.codegen import effect_flags, pack_parameters, specialise
+from craquelure.errors import SimulationDiverged
 from craquelure.impact import kernels_template
 from craquelure.impact.effects.contact_bulk import bulk_stiffness
 from craquelure.impact.material import Concrete
@@ -238,6 +239,17 @@ class Engine:
         return mom + mom_reaction, ke
 
     def step(self, dt: float | None = None) -> None:
+        """One KDK step. A kernel's arithmetic failure (a division by a density or length
+        that collapsed to zero, an overflow: numba raises these as Python errors) is the
+        guard's stop, :class:`SimulationDiverged`, not a traceback."""
+        try:
+            self._step(dt)
+        except ArithmeticError as exc:
+            raise SimulationDiverged(
+                f"t = {self.t:.6g} s, step {self.step_count}: the state can no longer be "
+                f"computed ({type(exc).__name__}: {exc}); the run diverged") from exc
+
+    def _step(self, dt: float | None) -> None:
         st, k = self.state, self.k
         dt = self.dt if dt is None else dt
         f_old = self.force
