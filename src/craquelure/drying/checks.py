@@ -38,26 +38,26 @@ is >= 0.8; otherwise inconclusive.
 
 **Check 15, collapse** (source Figs. 5-6). :math:`X = S/\langle S\rangle_t` at the window's
 first and last snapshot. Equivalence: the 95 % bootstrap upper bounds of the KS distance
-:math:`D(X_{first}, X_{last})` (<= 0.15) and of the coefficient of variation of
-:math:`\langle X^2\rangle_t` over the window's snapshots (<= 0.10; ddof = 1); in each replicate
-:math:`\langle S\rangle_t` is the replicate's pooled mean. Non-trivial:
-:math:`D(S_{first}, S_{last}) \ge 0.3`. Power: synthetic campaigns with the measured counts per
-sample and snapshot, sizes :math:`S = \langle S\rangle_t X'` with X drawn from the measured
-window-pooled X and :math:`X' = 1 + (X - 1) w_t`, the width factor :math:`w_t` falling linearly
-from 1 to 0.75 across the window (a 25 % drift of the scale about the mean, mean kept: the
-width as a scale parameter); power = fraction of draws whose equivalence criterion fails. The
-large-sample limit of both statistics under that drift is reported (when it lies inside the
-tolerances, no sample size gives power: then the verdict names that instead of a seed count),
-and, for the record, the limit under a drift that keeps the small sizes
-(:math:`X' \propto X^p`, same 25 % fall of the coefficient of variation): measured on gamma
-sizes it gives KS about 0.10 and CV about 0.07, inside the tolerances, i.e. the spec's
-tolerances cannot see such a drift at any sample size. An equivalence criterion is decided only if the sample could also
-show a collapse: the confirmation rate, the same simulation with :math:`w_t = 1`, must reach 0.8
-too [D: the general rule "inconclusive whenever the sample is below the size the test's power
-needs"; with 3 seeds the bounds fail on an exact collapse, and that is no evidence against
-it]. A failure of the equivalence bounds is therefore "not reproduced" only when the
-confirmation rate is >= 0.8; otherwise inconclusive with the sample needed (smallest seed count
-N', samples resampled from the campaign's, where both rates reach 0.8).
+:math:`D(X_{first}, X_{last})` (<= 0.15) and of the coefficient of variation of :math:`\langle
+X^2\rangle_t` over the window's snapshots (<= 0.10; ddof = 1); in each replicate :math:`\langle
+S\rangle_t` is the replicate's pooled mean. Non-trivial: :math:`D(S_{first}, S_{last}) \ge 0.3`.
+Power: synthetic campaigns with the measured counts per sample and snapshot, sizes :math:`S =
+\langle S\rangle_t X'` with X drawn from the measured window-pooled X and :math:`X' = 1 + (X -
+1) w_t`, the width factor :math:`w_t` falling linearly from 1 to 0.75 across the window (a 25 %
+drift of the scale about the mean, mean kept: the width as a scale parameter); power = fraction
+of draws whose equivalence criterion fails. The large-sample limit of both statistics under that
+drift is reported (when it lies inside the tolerances, no sample size gives power: then the
+verdict names that instead of a seed count), and, for the record, the limit under a drift that
+keeps the small sizes (:math:`X' \propto X^p`, same 25 % fall of the coefficient of variation):
+measured on gamma sizes it gives KS about 0.10 and CV about 0.07, inside the tolerances, i.e.
+the spec's tolerances cannot see such a drift at any sample size. An equivalence criterion is
+decided only if the sample could also show a collapse: the confirmation rate, the same
+simulation with :math:`w_t = 1`, must reach 0.8 too [D: the general rule "inconclusive whenever
+the sample is below the size the test's power needs"; with 3 seeds the bounds fail on an exact
+collapse, and that is no evidence against it]. A failure of the equivalence bounds is therefore
+"not reproduced" only when the confirmation rate is >= 0.8; otherwise inconclusive with the
+sample needed (smallest seed count N', samples resampled from the campaign's, where both rates
+reach 0.8).
 
 **Check 16, onset** (source: fragments from t = 90 = 0.40 t*, some samples unbroken until
 0.66 t*, collapse from 0.79 t*). Per sample: first removal time and break time (first snapshot

@@ -11,7 +11,8 @@ time scale, so in window mode ``paper`` every window is rescaled by :math:`t^*/t
 retardation time :math:`\tau = \eta/(2\mu) = 5` (Voigt) is then no longer small against
 :math:`t^*`: :math:`\Pi = \tau/t^*` is 0.022 in the paper and 0.66 at 30x its rate, where the
 crack network forms later in units of :math:`t^*` (measured: about 3 t*, against < 0.8 t* in
-the paper). Every summary and caption states the run's :math:`\Pi` (:func:`drying_number`). The faster profiles therefore use window mode ``all_broken`` [D], the paper's own
+the paper). Every summary and caption states the run's :math:`\Pi` (:func:`drying_number`).
+The faster profiles therefore use window mode ``all_broken`` [D], the paper's own
 definition of the end of the initial stage ("when some samples are still unbroken"): the window
 runs from the first snapshot from which on every sample has at least two fragments to the last
 snapshot, and the collapse times :math:`t_k` are 7 snapshots evenly spread over it. The mode
@@ -46,8 +47,8 @@ Quantities (all from data):
 Checks 14-16 as revised (statistic, bootstrap interval, power against a named alternative by
 simulation at the run's noise and counts, and a verdict that is "inconclusive" when the sample
 cannot decide) are in :mod:`craquelure.drying.checks`; the fits above are descriptive. The
-spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at N = 1e4) is reported as well, since a
-pass or miss on a smaller campaign is indicative only.
+spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at N = 1e4) is
+reported as well, since a pass or miss on a smaller campaign is indicative only.
 """
 
 from __future__ import annotations
