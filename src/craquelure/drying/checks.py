@@ -486,7 +486,9 @@ def check_onset(times: np.ndarray, n_fragments: np.ndarray, first_removal: np.nd
         f = {"min": np.min, "median": np.median, "max": np.max}[how]
         point = float(f(values))
         boot = f(values[picks], axis=1)
-        lo, hi = np.percentile(boot, [2.5, 97.5])
+        # Never-broken samples are inf: nearest-rank percentiles keep them without nan.
+        lo = np.percentile(boot, 2.5, method="lower")
+        hi = np.percentile(boot, 97.5, method="higher")
 
         def over(v: float) -> float | None:
             return float(v / t_star) if np.isfinite(v) else None
