@@ -42,6 +42,7 @@ SCENE_NUMBERS = {  # campaign attribute -> scene path
     "thickness": "material.thickness",
     "lame_lambda": "material.lame_lambda",
     "lame_mu": "material.lame_mu",
+    "viscosity": "material.eta",
     "rho0": "material.rho0",
     "n_particles": "particles.n",
 }
