@@ -22,7 +22,7 @@ LOCAL_RULES = {
     "drying_thickness", "drying_thickness_figure",
     "impact_summary", "impact_figures",
     "lattice_glen_figure", "lattice_scene_figure",
-    "softdyn_sweep", "softdyn_fig4", "softdyn_fig3", "softdyn_pair_figure",
+    "softdyn_sweep", "softdyn_fig4", "softdyn_fig3", "softdyn_pair_figure", "softdyn_summary",
 }
 
 
