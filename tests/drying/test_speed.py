@@ -75,3 +75,17 @@ def test_one_speed_is_rejected():
 
     with pytest.raises(CraquelureError, match="at least two drying speeds"):
         speed_study({1e-3: speed_campaign(1.0, 1.0, n_seeds=2)}, [1.0])
+
+
+def test_speed_figure_is_drawn_with_pi_in_the_caption(study, tmp_path):
+    from matplotlib.image import imread
+
+    from craquelure.drying.figures import fig_speed, save_figure
+
+    fig = fig_speed(study, "test")
+    assert any("Pi = 0.022, 0.05, 0.2, 0.66 (paper 0.022)" in t.get_text() for t in fig.texts)
+    png, pdf = save_figure(fig, tmp_path / "speed.png")
+    image = imread(png)
+    assert image.shape[1] > 1000
+    assert np.unique(image.reshape(-1, image.shape[-1]), axis=0).shape[0] > 20
+    assert pdf.read_bytes().startswith(b"%PDF")

@@ -22,6 +22,7 @@ The paper's values for comparison (source: fragments from 0.40 t*, all samples b
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -97,15 +98,16 @@ def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
     return out
 
 
-def speed_study(fragments: Mapping[float, Sequence[xr.Dataset]],
+def speed_study(fragments: Mapping[Any, Sequence[xr.Dataset]],
                 fixed_over_t_star: Sequence[float], n_boot: int = N_BOOT) -> xr.Dataset:
     """Study dataset (dims ``speed``, ``fixed_time``) from fragment datasets grouped by drying
-    rate v_r (each group one campaign: same scene, its own seeds)."""
+    speed (any key; each group one campaign: same scene, its own seeds; Pi is read from the
+    data)."""
     if len(fragments) < 2:
         raise CraquelureError(f"speed study: needs at least two drying speeds, got "
                               f"{sorted(fragments)}")
     fixed = np.asarray(fixed_over_t_star, float)
-    rows = [_one_speed(sets, fixed, n_boot) for _, sets in sorted(fragments.items())]
+    rows = [_one_speed(sets, fixed, n_boot) for sets in fragments.values()]
     rows.sort(key=lambda r: r["pi"])
     scalars = [k for k in rows[0] if k not in ("fragments_per_area", "fragments_per_area_lo",
                                                "fragments_per_area_hi", "pi")]
