@@ -375,6 +375,7 @@ def fig_speed(study: xr.Dataset, profile: str):
     ax_n.set_title("Fragment density at fixed t/t*", fontsize=9)
     for ax in (ax_o, ax_f, ax_n):
         ax.set_xscale("log")
+        ax.set_xlim(min(pi.min(), a["paper_pi"]) / 1.5, max(pi.max(), a["paper_pi"]) * 1.5)
         ax.axvline(a["paper_pi"], color="k", ls="--", lw=0.8, label="paper's Pi = 0.022")
         ax.set_xlabel("Pi = tau / t*  (tau = eta/(2 mu), t* = sigma_Y/v_r)")
         ax.legend(fontsize=6)
