@@ -47,6 +47,7 @@ SERIES_VARS = {
     "elastic_energy": ("elastic energy of sigma_e", "lambda length^2"),
     "momentum_x": ("total momentum x", "rho0 length^2 sqrt(lambda/rho0)"),
     "momentum_y": ("total momentum y", "rho0 length^2 sqrt(lambda/rho0)"),
+    "time_step": ("size of the last time step", "eta/lambda"),
 }
 
 
@@ -87,10 +88,11 @@ class Recorder:
         self.series["elastic_energy"].append(engine.elastic_energy())
         self.series["momentum_x"].append(px)
         self.series["momentum_y"].append(py)
+        self.series["time_step"].append(engine.dt)
 
     def maybe_snapshot(self, engine: DryingEngine) -> None:
         while (self.next_output < self.times.size
-               and engine.t >= self.times[self.next_output] - 0.5 * engine.dt):
+               and engine.t >= self.times[self.next_output] - engine.time_tolerance()):
             length = engine.box_length
             s = engine.state
             values = {
@@ -103,6 +105,10 @@ class Recorder:
                 self.snapshots[key].append(value)
             self.snapshot_times.append(engine.t)
             self.next_output += 1
+
+    def next_stop(self, t_end: float) -> float:
+        """The next output time (adaptive steps end exactly on it), else t_end."""
+        return float(self.times[self.next_output]) if not self.done() else t_end
 
     def done(self) -> bool:
         return self.next_output >= self.times.size
@@ -128,6 +134,9 @@ def _dataset(engine: DryingEngine, rec: Recorder, finished: bool) -> xr.Dataset:
         "dt_final": engine.dt, "steps": engine.step_count,
         "rate_evaluations": engine.evaluations, "neighbour_builds": engine.neighbour_builds,
         "integrator": engine.stepper.name, "finished": int(finished),
+        "rkc_stage_evaluations": engine.stage_evaluations,
+        "spectral_radius_evaluations": engine.viscous_evaluations,
+        "rejected_steps": engine.controller.rejected if engine.controller else 0,
     })
 
 
@@ -144,6 +153,7 @@ def _checkpoint_dataset(engine: DryingEngine, rec: Recorder, wall: float) -> xr.
     ds.attrs.update(t=engine.t, step=engine.step_count, dt=engine.dt, rk4_left=rk4_left,
                     n_removed=engine.n_removed, evaluations=engine.evaluations,
                     next_output=rec.next_output, wall_time_so_far=wall)
+    ds.attrs.update({f"step_control_{k}": v for k, v in engine.step_control_state().items()})
     return ds
 
 
@@ -154,8 +164,10 @@ def _restore(engine: DryingEngine, rec: Recorder, ck: xr.Dataset) -> float:
     engine.alive = ck["alive_now"].values.astype(np.bool_)
     engine.t, engine.step_count = float(ck.attrs["t"]), int(ck.attrs["step"])
     engine.dt, engine.n_removed = float(ck.attrs["dt"]), int(ck.attrs["n_removed"])
-    engine.evaluations = int(ck.attrs["evaluations"])
     engine.stepper.set_state(list(ck["history"].values), int(ck.attrs["rk4_left"]))
+    prefix = "step_control_"
+    engine.set_step_control_state({k[len(prefix):]: v for k, v in ck.attrs.items()
+                                   if k.startswith(prefix)})
     rec.next_output = int(ck.attrs["next_output"])
     rec.snapshot_times = [float(t) for t in ck["time"].values]
     for key in SNAPSHOT_VARS:
@@ -164,6 +176,8 @@ def _restore(engine: DryingEngine, rec: Recorder, ck: xr.Dataset) -> float:
     for key in SERIES_VARS:
         rec.series[key] = [float(v) for v in ck[key].values]
     engine.rebuild()
+    # counted after the rebuild, which the uninterrupted run also did before writing it
+    engine.evaluations = int(ck.attrs["evaluations"])
     return float(ck.attrs["wall_time_so_far"])
 
 
@@ -218,7 +232,8 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     progress = Progress(t_end, f"drying {scene.name} seed {seed}", initial=engine.t,
                         stream=sys.stderr)
     steps_this_process = 0
-    while engine.t < t_end - 0.5 * engine.dt:
+    while engine.t < t_end - engine.time_tolerance():
+        engine.stop_at = rec.next_stop(t_end)
         engine.step()
         steps_this_process += 1
         engine.check_health()
