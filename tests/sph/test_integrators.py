@@ -93,7 +93,7 @@ def _integrate(dt, t_end=4.0):
 def test_second_order_far_beyond_the_explicit_limit():
     """Steps 50-200x the forward-Euler limit 2/1000: stable, error / 4 per halving (+-30 %)."""
     errors = [_integrate(dt) for dt in (0.4, 0.2, 0.1)]
-    for (coarse, _), (fine, _) in zip(errors, errors[1:]):
+    for (coarse, _), (fine, _) in zip(errors, errors[1:], strict=False):
         assert coarse / fine == pytest.approx(4.0, rel=0.3)
     assert errors[0][1] <= 1 + int(math.sqrt(1 + 1.54 * 400))
 

@@ -6,6 +6,7 @@ import math
 
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.scene import Scene
+from craquelure.sph.integrators import RKC_SPECTRAL_SAFETY, rkc_stages
 
 CHECKPOINTS = True  # craquelure.drying.run writes <out>.checkpoint.nc
 
@@ -26,9 +27,12 @@ def viscous_spectral_radius(scene: Scene) -> float:
 
 
 def stable_time_step(scene: Scene) -> float:
-    """Largest stable step of the scene's integrator, from the viscous and acoustic limits."""
+    """Largest stable step of the scene's integrator, from the viscous and acoustic limits
+    (rkc2: its stages cover the viscous spectrum, so the cap ``step_control.dt_max``)."""
     radius = viscous_spectral_radius(scene)
     integrator = scene.get("numerics.integrator")
+    if integrator == "rkc2":
+        return float(scene.get("numerics.step_control")["dt_max"])
     axis = {"rk4": RK4_REAL_AXIS, "abm4": ABM4_REAL_AXIS, "rk2": 2.0}[integrator]
     limits = [axis / radius] if radius > 0 else []
     if scene.has("elasticity"):
@@ -44,8 +48,14 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
                     scene.get("numerics.h"))
     neighbours = n * math.pi * h * h / length**2 - 1
     dt = scene.get("numerics.dt")
+    if scene.get("numerics.integrator") == "rkc2":
+        # between removal events the controlled step sits at dt_max (steps shrink around them)
+        if scene.get("numerics.adapt_dt"):
+            dt = float(scene.get("numerics.step_control")["dt_max"])
+        evals = rkc_stages(dt, RKC_SPECTRAL_SAFETY * viscous_spectral_radius(scene))
+    else:
+        evals = EVALS_PER_STEP[scene.get("numerics.integrator")]
     steps = math.ceil(scene.get("outputs.t_end") / dt)
-    evals = EVALS_PER_STEP[scene.get("numerics.integrator")]
     # two pair passes per evaluation over the Verlet list (radius 1.1 h: 1.21x the pairs in h)
     pair_visits = steps * evals * 2 * n * 1.21 * neighbours
     return {

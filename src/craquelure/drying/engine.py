@@ -43,8 +43,8 @@ from craquelure.sph.codegen import specialise
 from craquelure.sph.integrators import (
     REAL_AXIS_LIMIT,
     RKC_SPECTRAL_SAFETY,
-    Stepper,
     StepController,
+    Stepper,
     rkc2_error,
     rkc_stages,
 )
