@@ -141,7 +141,8 @@ def test_killed_cli_run_resumes_bit_identically(tmp_path):
 
     full, resumed, err = kill_and_resume(tmp_path, [
         "drying/ci", "--seed", "2", "--set", "outputs.t_end=1.0",
-        "--set", "outputs.times=[0.5, 1.0]", "--set", "particles.n=144",
+        "--set", "outputs.times=[0.5, 1.0]", "--set", "domain.box_length=1.0",
+        "--set", "particles.n=400",
         "--set", "numerics.checkpoint_every=25"])
     assert "resumed from" in err
     assert resumed.attrs["run_resumed_at_step"] > 0

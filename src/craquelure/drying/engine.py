@@ -37,6 +37,7 @@ import math
 import numpy as np
 
 from craquelure.codegen import effect_flags, pack_parameters, specialise
+from craquelure.errors import SimulationDiverged
 from craquelure.runner import Divergence, diverged, non_finite, runaway
 from craquelure.scene import Scene
 from craquelure.sph import drying_rate as template
@@ -268,7 +269,18 @@ class DryingEngine:
 
     # -- stepping ------------------------------------------------------------------------------
     def step(self) -> int:
-        """Advance one step; returns the number of particles removed in it."""
+        """Advance one step; returns the number of particles removed in it. A kernel's
+        arithmetic failure (numba raises division by zero and overflow as Python does) is the
+        guard's stop, :class:`SimulationDiverged`, not a traceback."""
+        try:
+            return self._step()
+        except ArithmeticError as exc:
+            raise SimulationDiverged(
+                f"drying run diverged at t = {self.t:.6g} (step {self.step_count}, dt = "
+                f"{self.dt:.6g}): the state can no longer be computed ({type(exc).__name__}: "
+                f"{exc})") from exc
+
+    def _step(self) -> int:
         if self.stepper.adaptive:
             return self._rkc_step()
         new = self.stepper.step(self.state, self.f_current, self.t, self.dt, self._stage_rate)

@@ -23,10 +23,11 @@ import xarray as xr
 from craquelure import runner
 from craquelure.drying.engine import NVAR, VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
-from craquelure.errors import CraquelureError
-from craquelure.io import open_dataset
+from craquelure.errors import CraquelureError, SceneError
+from craquelure.io import read_dataset
 from craquelure.provenance import WallClock
 from craquelure.scene import Scene
+from craquelure.scene_rules import initial_state_problems
 
 SNAPSHOT_VARS = {
     "x": ("position x (wrapped into the box)", "length"),
@@ -46,6 +47,9 @@ SERIES_VARS = {
     "momentum_y": ("total momentum y", "rho0 length^2 sqrt(lambda/rho0)"),
     "time_step": ("size of the last time step", "eta/lambda"),
 }
+
+
+INITIAL_STATE_VARS = ("x", "y", "mass", "rho", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy")
 
 
 def output_times(scene: Scene) -> np.ndarray:
@@ -246,7 +250,11 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     clock = WallClock()
     out = Path(out)
     if init is not None:
-        init_ds = open_dataset(init)
+        init_ds = read_dataset(init, "drying initial state", model="drying",
+                               variables=INITIAL_STATE_VARS)
+        problems = initial_state_problems(scene, init_ds, init)
+        if problems:
+            raise SceneError("--init does not match the scene:\n  " + "\n  ".join(problems))
         seed = int(init_ds.attrs.get("seed", seed))
     else:
         init_ds = build_initial_state(scene, seed)

@@ -3,16 +3,19 @@
 Source: ``results/impact/summary.json`` (:mod:`craquelure.impact.analysis`), whose ``findings``
 already carry the spec's check-12 criteria and ``reproduced`` flags computed from the runs;
 this module only words them as claims and adds the robustness demand (every variant to the end,
-closed energy balance).
+closed energy balance). A finding that did not run, or that is stated as a fraction of seeds
+whose exact binomial 95 % interval at this seed count straddles the threshold, is inconclusive
+(with the seed count that would decide), never reproduced or not reproduced.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
-from craquelure.validation import Claim, verdict_of
+from craquelure.validation import Claim, fraction_decision, verdict_of
 
 MODEL = "impact"
 # Spec check 9's energy-balance tolerance, applied to every run of the campaign.
@@ -33,9 +36,35 @@ def _number(value) -> str:
     return str(value)
 
 
-def finding_claim(finding: dict, caveat: str) -> Claim:
+# Findings stated as a fraction of seeds ("in >= 60 % of seeds"): value key -> threshold.
+FRACTION_KEYS = ("fraction_N_mc_1", "fraction_1_crossing")
+
+
+def _undecided(finding: dict, n_seeds: int) -> dict[str, str]:
+    """What the seeds cannot decide: a finding that did not run, or a fraction of seeds whose
+    exact binomial interval straddles the finding's threshold."""
+    if finding["reproduced"] is None:
+        return {"not run": "the case's runs"}
+    out = {}
+    for key in FRACTION_KEYS:
+        value = finding["values"].get(key)
+        match = re.search(r">= (\d+) % of seeds", finding["criterion"])
+        if value is None or match is None or n_seeds <= 0:
+            continue
+        threshold = float(match.group(1)) / 100.0
+        decided, need = fraction_decision(round(value * n_seeds), n_seeds, threshold)
+        if decided is None:
+            out[f"{key} = {value:.2f} of {n_seeds} seeds against {threshold:.0%}"] = need
+    return out
+
+
+def finding_claim(finding: dict, caveat: str, n_seeds: int = 0) -> Claim:
     measured = "; ".join(f"{k} = {_number(v)}" for k, v in finding["values"].items())
-    verdict, note = verdict_of({finding["criterion"]: bool(finding["reproduced"])})
+    undecided = _undecided(finding, n_seeds)
+    if undecided:  # the seeds cannot decide this finding: no pass or miss on it
+        verdict, note = verdict_of({}, undecided)
+    else:
+        verdict, note = verdict_of({finding["criterion"]: bool(finding["reproduced"])})
     return Claim(MODEL, finding["finding"], "impact spec section 7; check 12",
                  finding["criterion"], measured, verdict,
                  f"{note}; {caveat}" if note else caveat)
@@ -62,6 +91,7 @@ def claims(sources: list[Path]) -> list[Claim]:
         summary = json.loads(path.read_text())
         caveat = (f"profile {summary['profile']}, 2D, {summary['n_seeds_heterogeneous']} "
                   f"heterogeneous specimens per kappa")
-        out += [finding_claim(f, caveat) for f in summary["findings"]]
+        n_het = int(summary.get("n_seeds_heterogeneous") or 0)
+        out += [finding_claim(f, caveat, n_het) for f in summary["findings"]]
         out.append(robustness_claim(summary))
     return out
