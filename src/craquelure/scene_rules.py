@@ -108,13 +108,17 @@ def _steps_problem(key: str, t_end: float, dt: float) -> str | None:
 def drying_run_step(data: dict) -> float:
     """The step a drying run takes: ``numerics.dt`` halved while above 0.6 of the viscous
     stability limit (``numerics.adapt_dt``, drying spec section 8); as the engine does, with the
-    spec's estimate 6.7 eta/(rho0 h^2) of the viscous spectral radius."""
+    spec's estimate 6.7 eta/(rho0 h^2) of the viscous spectral radius. rkc2 with adapt_dt:
+    ``step_control.dt_max``, the step between removal events."""
     from craquelure.drying.api import viscous_spectral_radius
     from craquelure.sph.integrators import REAL_AXIS_LIMIT
 
     dt = float(_get(data, "numerics.dt"))
     if not _get(data, "numerics.adapt_dt", True):
         return dt
+    if _get(data, "numerics.integrator") == "rkc2":
+        # error-controlled, not bound by the viscous limit: at dt_max between removal events
+        return float((_get(data, "numerics.step_control", None) or {}).get("dt_max", 0.2))
     radius = viscous_spectral_radius(SceneView(data))
     if not radius > 0:
         return dt

@@ -266,6 +266,13 @@ def fig_accuracy(study: xr.Dataset, profile: str):
         for w, e, dt in zip(wall, err, study["dt"].values, strict=True):
             ax.annotate(f"{dt:g}", (w, e), fontsize=6, xytext=(3, 3),
                         textcoords="offset points")
+    if "rkc2_error" in study:  # error-controlled RKC2, labelled by its tolerance
+        ax.loglog(study["rkc2_wall_time"].values, study["rkc2_error"].values, "s--",
+                  color="black", label="rkc2, error-controlled (labels: tolerance)")
+        for w, e, tol in zip(study["rkc2_wall_time"].values, study["rkc2_error"].values,
+                             study["tolerance"].values, strict=True):
+            ax.annotate(f"tol {tol:g}", (w, e), fontsize=6, xytext=(3, -8),
+                        textcoords="offset points")
     ax.set_xlabel("wall time of the stepping loop [s]")
     ax.set_ylabel("relative L2 error of the final velocity field")
     ax.legend(fontsize=7)
