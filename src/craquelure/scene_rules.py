@@ -31,9 +31,12 @@ MAX_STEPS = 1e12
 MEMORY_FRACTION = 0.8
 
 
+INT64_MAX = 2**63 - 1
+
+
 def non_finite_values(node: Any, path: str = "") -> list[tuple[str, float]]:
     """(dotted path such as ``outputs.times[2]``, value) of every NaN or infinite number under
-    ``node``."""
+    ``node``, and of every integer beyond 64 bits."""
     bad: list[tuple[str, float]] = []
     if isinstance(node, dict):
         for key, value in node.items():
@@ -43,6 +46,8 @@ def non_finite_values(node: Any, path: str = "") -> list[tuple[str, float]]:
             bad += non_finite_values(value, f"{path}[{k}]")
     elif isinstance(node, float) and not math.isfinite(node):
         bad.append((path or "(top level)", node))
+    elif isinstance(node, int) and not isinstance(node, bool) and abs(node) > INT64_MAX:
+        bad.append((path or "(top level)", node))  # no machine integer holds it (numba, numpy)
     return bad
 
 
@@ -108,13 +113,17 @@ def _steps_problem(key: str, t_end: float, dt: float) -> str | None:
 def drying_run_step(data: dict) -> float:
     """The step a drying run takes: ``numerics.dt`` halved while above 0.6 of the viscous
     stability limit (``numerics.adapt_dt``, drying spec section 8); as the engine does, with the
-    spec's estimate 6.7 eta/(rho0 h^2) of the viscous spectral radius."""
+    spec's estimate 6.7 eta/(rho0 h^2) of the viscous spectral radius. rkc2 with adapt_dt:
+    ``step_control.dt_max``, the step between removal events."""
     from craquelure.drying.api import viscous_spectral_radius
     from craquelure.sph.integrators import REAL_AXIS_LIMIT
 
     dt = float(_get(data, "numerics.dt"))
     if not _get(data, "numerics.adapt_dt", True):
         return dt
+    if _get(data, "numerics.integrator") == "rkc2":
+        # error-controlled, not bound by the viscous limit: at dt_max between removal events
+        return float((_get(data, "numerics.step_control", None) or {}).get("dt_max", 0.2))
     radius = viscous_spectral_radius(SceneView(data))
     if not radius > 0:
         return dt

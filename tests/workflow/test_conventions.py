@@ -19,7 +19,8 @@ ROOT = project_root()
 LOCAL_RULES = {
     "all", "archive", "validation_report",
     "drying_campaign", "drying_summary", "drying_figures", "drying_accuracy_figure",
-    "drying_thickness", "drying_thickness_figure",
+    "drying_thickness", "drying_thickness_figure", "drying_speed", "drying_speed_figure",
+    "drying_speed_study",
     "impact_summary", "impact_figures",
     "lattice_glen_figure", "lattice_scene_figure",
     "softdyn_sweep", "softdyn_fig4", "softdyn_fig3", "softdyn_pair_figure", "softdyn_summary",
@@ -90,8 +91,10 @@ def test_rules_are_snakefmt_clean():
 def declared_local_rules() -> set[str]:
     names = set()
     for path in [ROOT / "Snakefile", *(ROOT / "workflow/rules").glob("*.smk")]:
-        for block in re.findall(r"^localrules:\n((?:    \w+,?\n)+)", path.read_text(), re.M):
+        text = path.read_text()
+        for block in re.findall(r"^localrules:\n((?:    \w+,?\n)+)", text, re.M):
             names |= set(re.findall(r"\w+", block))
+        names |= set(re.findall(r"^rule (\w+):\n    localrule: True", text, re.M))
     return names
 
 

@@ -45,6 +45,7 @@ SERIES_VARS = {
     "elastic_energy": ("elastic energy of sigma_e", "lambda length^2"),
     "momentum_x": ("total momentum x", "rho0 length^2 sqrt(lambda/rho0)"),
     "momentum_y": ("total momentum y", "rho0 length^2 sqrt(lambda/rho0)"),
+    "time_step": ("size of the last time step", "eta/lambda"),
 }
 
 
@@ -88,10 +89,11 @@ class Recorder:
         self.series["elastic_energy"].append(engine.elastic_energy())
         self.series["momentum_x"].append(px)
         self.series["momentum_y"].append(py)
+        self.series["time_step"].append(engine.dt)
 
     def maybe_snapshot(self, engine: DryingEngine) -> None:
         while (self.next_output < self.times.size
-               and engine.t >= self.times[self.next_output] - 0.5 * engine.dt):
+               and engine.t >= self.times[self.next_output] - engine.time_tolerance()):
             length = engine.box_length
             s = engine.state
             values = {
@@ -104,6 +106,10 @@ class Recorder:
                 self.snapshots[key].append(value)
             self.snapshot_times.append(engine.t)
             self.next_output += 1
+
+    def next_stop(self, t_end: float) -> float:
+        """The next output time (adaptive steps end exactly on it), else t_end."""
+        return float(self.times[self.next_output]) if not self.done() else t_end
 
     def done(self) -> bool:
         return self.next_output >= self.times.size
@@ -129,6 +135,9 @@ def _dataset(engine: DryingEngine, rec: Recorder, finished: bool) -> xr.Dataset:
         "dt_final": engine.dt, "steps": engine.step_count,
         "rate_evaluations": engine.evaluations, "neighbour_builds": engine.neighbour_builds,
         "integrator": engine.stepper.name, "finished": int(finished),
+        "rkc_stage_evaluations": engine.stage_evaluations,
+        "spectral_radius_evaluations": engine.viscous_evaluations,
+        "rejected_steps": engine.controller.rejected if engine.controller else 0,
     })
 
 
@@ -155,9 +164,11 @@ class DryingRun(runner.EngineRun):
         self.rec.record_series(self.engine)
 
     def done(self) -> bool:
-        return self.engine.t >= self.t_end - 0.5 * self.engine.dt
+        return self.engine.t >= self.t_end - self.engine.time_tolerance()
 
     def advance(self) -> None:
+        # adaptive steps (rkc2) end exactly on the next output time
+        self.engine.stop_at = self.rec.next_stop(self.t_end)
         self.engine.step()
 
     def check(self):
@@ -191,6 +202,8 @@ class DryingRun(runner.EngineRun):
                                       else np.zeros((0, engine.n)))
         for key in SERIES_VARS:
             out[f"series_{key}"] = np.asarray(rec.series[key], float)
+        for key, value in engine.step_control_state().items():
+            out[f"step_control_{key}"] = np.asarray(value, float)
         return out
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
@@ -207,6 +220,9 @@ class DryingRun(runner.EngineRun):
             rec.snapshots[key] = list(state[f"snapshot_{key}"])
         for key in SERIES_VARS:
             rec.series[key] = state[f"series_{key}"].tolist()
+        prefix = "step_control_"
+        engine.set_step_control_state({k[len(prefix):]: float(v) for k, v in state.items()
+                                       if k.startswith(prefix)})
 
 
 # everything of the engine that evolves (with the neighbour list and the current rate, so
