@@ -112,3 +112,18 @@ def test_dataset_without_model_gets_global_attributes_only():
     ds = cf.apply(xr.Dataset({"a": ("i", [1.0])}), ["tool"])
     assert ds.attrs["Conventions"] == "CF-1.11" and ds.attrs["history"].endswith(" tool")
     assert ds["a"].attrs == {}
+
+
+def test_drying_speed_study_is_cf():
+    """The drying-speed study is off in the CI config, so the end-to-end check never sees it:
+    its dataset (synthetic campaigns) gets a long name and parsable units on every variable."""
+    from craquelure.drying.speed import speed_study
+    from tests.drying.test_speed import speed_campaign
+
+    groups = {pi: speed_campaign(pi, onset) for pi, onset in ((0.01, 0.5), (0.05, 0.3))}
+    ds = speed_study(groups, fixed_over_t_star=[1.5, 2.0], n_boot=50)
+    ds.attrs["model"] = "drying"
+    cf.apply(ds, ["test"])
+    for name, var in ds.variables.items():
+        assert var.attrs.get("long_name"), name
+        assert parses(var.attrs["units"]), (name, var.attrs.get("units"))

@@ -97,6 +97,16 @@ DRYING = ModelMetadata(
         "usable": ("1 if every thickness has every sample broken", "1"),
         "exponent": ("beta_t: slope of log <S> against log H", "1"),
         "late": ("1 if usable and in the last third of the run", "1"),
+        # drying-speed study (craquelure.drying.speed): times in units of t*, slopes of b*
+        "speed": ("Pi = tau/t*, tau = eta/(2 mu)", "1"),
+        "fixed_time": ("t/t*", "1"),
+        "t_star": ("t* = sigma_Y/v_r", _TIME_DRYING),
+        "drying_rate": ("drying rate v_r", "lambda^2/eta"),
+        **{f"{base}{end}": (f"{base.replace('_', ' ')}, in t*", "1")
+           for base in ("first_removal_earliest", "first_removal_median", "first_sample_broken",
+                        "half_samples_broken", "all_samples_broken", "t0_over_t_star")
+           for end in ("", "_lo", "_hi")},
+        **{f"b_over_b_star{end}": ("slope b of 1/<S>_t, in b*", "1") for end in ("", "_lo", "_hi")},
     },
 )
 
