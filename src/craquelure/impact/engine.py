@@ -42,11 +42,14 @@ from craquelure.impact import kernels_template
 from craquelure.impact.effects import (
     artificial_stress,
     artificial_viscosity,
+    cap_plasticity,
+    compressive_damage,
     contact_bulk,
     contact_mass,
     damage,
     elasticity,
     plasticity,
+    rate_effects,
     variable_smoothing_length,
 )
 from craquelure.impact.effects.contact_bulk import bulk_stiffness
@@ -57,6 +60,9 @@ from craquelure.sph.neighbours import Box, neighbour_list
 FLAG_OF_EFFECT = {
     "elasticity": "ELASTICITY",
     "plasticity": "PLASTICITY",
+    "cap_plasticity": "CAP_PLASTICITY",
+    "compressive_damage": "COMPRESSIVE_DAMAGE",
+    "rate_effects": "RATE_EFFECTS",
     "damage": "DAMAGE",
     "artificial_viscosity": "ARTIFICIAL_VISCOSITY",
     "artificial_stress": "ARTIFICIAL_STRESS",
@@ -66,7 +72,7 @@ FLAG_OF_EFFECT = {
 }
 _FRAGMENTS = (kernels_template, artificial_stress, artificial_viscosity, contact_bulk,
               contact_mass, damage, elasticity, plasticity, variable_smoothing_length,
-              sph_kernels)
+              cap_plasticity, compressive_damage, rate_effects, sph_kernels)
 
 
 def cache_dir() -> Path:
@@ -141,6 +147,8 @@ class Settings:
         p[module.P_CONTACT_A] = self.contact_a
         p[module.P_K_BULK] = bulk_stiffness(self.contact_a, m.bulk, self.spacing)
         p[module.P_KIN_RATIO] = self.kinematic_ratio
+        if any(e in self.effects for e in ("cap_plasticity", "rate_effects")):
+            p[module.P_CAP:module.P_CAP + 18] = m.cap_vector()
         if self.periodic_box is not None:
             p[module.P_LX], p[module.P_LY] = self.periodic_box
         return p
@@ -164,6 +172,7 @@ class State:
     dmg: np.ndarray = field(default=None)
     epsp: np.ndarray = field(default=None)
     wp: np.ndarray = field(default=None)    # plastic work per unit mass
+    epsv: np.ndarray = field(default=None)  # plastic compaction (cap model)
     eint: np.ndarray = field(default=None)  # internal energy per unit mass
     eel: np.ndarray = field(default=None)   # elastic energy per unit mass
 
@@ -173,7 +182,7 @@ class State:
             # always a private copy: the engine updates these arrays in place
             setattr(self, name, np.array(getattr(self, name), dtype=np.float64, copy=True))
         for name, shape in (("sig", (n, 4)), ("nom", (n, 4)), ("kap", n), ("dmg", n),
-                            ("epsp", n), ("wp", n), ("eint", n), ("eel", n)):
+                            ("epsp", n), ("wp", n), ("epsv", n), ("eint", n), ("eel", n)):
             if getattr(self, name) is None:
                 setattr(self, name, np.zeros(shape))
 
@@ -284,7 +293,7 @@ class Engine:
         self.e_as += dt * float(np.dot(st.m, self.pas))
         mom_half, ke_half = self._kick(dt)
         k.material_pass(st.x, st.y, st.vx, st.vy, st.m, st.rho, st.h, st.h0, st.sig, st.nom,
-                        st.kap, st.dmg, st.epsp, st.wp, st.eint, st.eel, self.offsets,
+                        st.kap, st.dmg, st.epsp, st.wp, st.epsv, st.eint, st.eel, self.offsets,
                         self.index, dt, self.prm)
         st.x += dt * st.vx
         st.y += dt * st.vy
