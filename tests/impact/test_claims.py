@@ -9,22 +9,35 @@ from craquelure.impact import claims
 SUMMARY = {
     "profile": "default", "n_runs": 21, "n_seeds_heterogeneous": 3, "all_runs_finished": True,
     "max_energy_balance_error": 0.0088,
+    "material_model": ["cap+compressive_damage"],
     "findings": [
-        {"finding": "pf2: failure follows the zero-mass line", "criterion": ">= 80 %",
-         "values": {"fraction": 0.9625, "angles": [41.0, 29.6]}, "reproduced": True},
-        {"finding": "pf1: failure follows the zero-mass line", "criterion": ">= 80 %",
-         "values": {"fraction": 0.2045}, "reproduced": False},
+        {"finding": "pf2: failure follows the zero-mass line", "criterion": ">= 70 %",
+         "dim": "2D", "values": {"fraction": 0.9625, "angles": [41.0, 29.6]},
+         "status": "reproduced", "reproduced": True, "failed": [], "n_seeds": 1,
+         "min_seeds": 8},
+        {"finding": "pf1: failure follows the zero-mass line", "criterion": ">= 70 %",
+         "dim": "2D", "values": {"coverage": {"median": 0.2, "ci95": [0.2, 0.2],
+                                              "agreement": 1.0, "n": 1}},
+         "status": "not reproduced", "reproduced": False, "failed": ["covers"],
+         "n_seeds": 1, "min_seeds": 8},
+        {"finding": "kappa = 1: several main cracks", "criterion": "median >= 2", "dim": "2D",
+         "values": {}, "status": "inconclusive", "reproduced": None, "failed": [],
+         "n_seeds": 3, "min_seeds": 8},
     ],
 }
 
 
-def test_findings_keep_their_computed_flags(tmp_path):
+def test_findings_keep_their_computed_status(tmp_path):
     path = tmp_path / "summary.json"
     path.write_text(json.dumps(SUMMARY))
     out = claims.claims([path])
-    assert [c.verdict for c in out] == ["reproduced", "not reproduced", "reproduced"]
-    assert "fraction = 0.963; angles = [41, 29.6]" == out[0].measured
-    assert "3 heterogeneous specimens" in out[1].note
+    assert [c.verdict for c in out[:2]] == ["reproduced", "not reproduced"]
+    assert out[0].measured == "fraction = 0.963; angles = [41, 29.6]"
+    assert out[1].measured.startswith("coverage = median 0.2 [95 % 0.2, 0.2], n = 1")
+    assert "3 heterogeneous specimens" in out[1].note and "fails: covers" in out[1].note
+    assert out[0].claim.startswith("[2D]")
+    # too few seeds: never printed as reproduced
+    assert out[2].verdict != "reproduced" and out[2].note.startswith("inconclusive: 3 seeds")
 
 
 def test_energy_balance_above_the_tolerance_is_reported():

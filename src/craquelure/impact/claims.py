@@ -12,7 +12,7 @@ import json
 import math
 from pathlib import Path
 
-from craquelure.validation import Claim, verdict_of
+from craquelure.validation import VERDICTS, Claim, verdict_of
 
 MODEL = "impact"
 # Spec check 9's energy-balance tolerance, applied to every run of the campaign.
@@ -33,12 +33,38 @@ def _number(value) -> str:
     return str(value)
 
 
+def _brief(value) -> str:
+    """Medians with their interval for the report: {median, ci95, agreement, n}."""
+    if isinstance(value, dict) and "median" in value and "ci95" in value:
+        if value["median"] is None:
+            return "no data"
+        lo, hi = value["ci95"]
+        return (f"median {_number(value['median'])} [95 % {_number(lo)}, {_number(hi)}], "
+                f"n = {value['n']}, bootstrap agreement {value['agreement']:.2f}")
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k}: {_brief(v)}" for k, v in value.items()) + "}"
+    return _number(value)
+
+
 def finding_claim(finding: dict, caveat: str) -> Claim:
-    measured = "; ".join(f"{k} = {_number(v)}" for k, v in finding["values"].items())
-    verdict, note = verdict_of({finding["criterion"]: bool(finding["reproduced"])})
-    return Claim(MODEL, finding["finding"], "impact spec section 7; check 12",
-                 finding["criterion"], measured, verdict,
-                 f"{note}; {caveat}" if note else caveat)
+    """A check-12 finding of :mod:`.check12` (status computed there); the per-seed values stay
+    in summary.json."""
+    measured = "; ".join(f"{k} = {_brief(v)}" for k, v in finding["values"].items())
+    status = finding.get("status")
+    dim = finding.get("dim", "2D")
+    notes = [f"{dim}; {caveat}"]
+    if finding.get("failed"):
+        notes.insert(0, "fails: " + ", ".join(finding["failed"]))
+    if status == "inconclusive":
+        notes.insert(0, f"inconclusive: {finding['n_seeds']} seeds, the profile needs >= "
+                        f"{finding['min_seeds']} per heterogeneous case to decide")
+        if "inconclusive" not in VERDICTS:
+            # the validation report cannot print the verdict yet: never "reproduced"
+            status = "partly" if finding["reproduced"] is not False else "not reproduced"
+    elif status not in VERDICTS:
+        status, _ = verdict_of({finding["criterion"]: bool(finding["reproduced"])})
+    return Claim(MODEL, f"[{dim}] {finding['finding']}", "impact spec section 7; check 12 "
+                 "(revised 2026-12)", finding["criterion"], measured, status, "; ".join(notes))
 
 
 def robustness_claim(summary: dict) -> Claim:
@@ -60,8 +86,9 @@ def claims(sources: list[Path]) -> list[Claim]:
         if path.name != "summary.json":
             raise ValueError(f"impact claims: unexpected source {path} (summary.json)")
         summary = json.loads(path.read_text())
-        caveat = (f"profile {summary['profile']}, 2D, {summary['n_seeds_heterogeneous']} "
-                  f"heterogeneous specimens per kappa")
+        caveat = (f"profile {summary['profile']}, {summary['n_seeds_heterogeneous']} "
+                  f"heterogeneous specimens per kappa, concrete model "
+                  f"{', '.join(summary.get('material_model', ['drucker_prager']))}")
         out += [finding_claim(f, caveat) for f in summary["findings"]]
         out.append(robustness_claim(summary))
     return out
