@@ -47,6 +47,13 @@ def test_few_seeds_are_inconclusive_whatever_the_values():
     assert by_name(findings, "homogeneous")["status"] == "inconclusive"
 
 
+def test_a_failed_deterministic_condition_is_not_hidden_by_few_seeds():
+    cases = {"homogeneous/none/kappa1": homogeneous(n_main_cracks_revised=[3]),
+             "uniform/none/kappa1": heterogeneous(3, 3, 0.3)}
+    f = by_name(check12.evaluate(cases, "uniform")[0], "homogeneous")
+    assert f["status"] == "partly" and "one main crack" in f["failed"]
+
+
 def test_a_fan_from_the_contact_fails_the_homogeneous_finding():
     cases = {"homogeneous/none/kappa1": homogeneous(n_main_cracks_revised=[3],
                                                     main_crack_x_mid=[0.02]),

@@ -53,17 +53,17 @@ def median_with_interval(values, decide, seed: int = 12) -> dict:
 
 
 def verdict(conditions: dict[str, bool | None], enough: bool) -> str:
-    """reproduced / partly / not reproduced / inconclusive. A deterministic condition that fails
-    fails; a heterogeneous case with too few seeds is inconclusive whatever its values say."""
+    """reproduced / partly / not reproduced / inconclusive. A heterogeneous case with too few
+    seeds is inconclusive whatever its medians say (the failing conditions are still named); a
+    deterministic case fails on a failed condition even if another cannot be decided yet, and is
+    inconclusive only when everything it can decide passes."""
     if not enough:
         return "inconclusive"
     decided = {k: v for k, v in conditions.items() if v is not None}
-    if len(decided) < len(conditions):
-        return "inconclusive"
     failed = [k for k, v in decided.items() if not v]
-    if not failed:
-        return "reproduced"
-    return "not reproduced" if len(failed) == len(decided) else "partly"
+    if failed:
+        return "not reproduced" if len(failed) == len(conditions) else "partly"
+    return "reproduced" if len(decided) == len(conditions) else "inconclusive"
 
 
 def _per_seed(case: dict | None, quantities) -> dict:

@@ -159,8 +159,9 @@ def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
 # "Main crack": a connected cracked cluster reaching from the contact zone at least 0.5 D
 # towards the far rim. Decisions [D]: cracked = cracked and not crushed (as above); the contact
 # zone is the crushed zone plus the two lowest grid rows; a cluster starts at the contact zone
-# if one of its particles lies within 1.5 Delta of it; its reach is the reference height of its
-# highest particle above the lowest row. A cluster that splits into several branches above the
+# if one of its particles lies within 1.5 Delta of it; its reach is its own vertical extent (from
+# where it leaves the contact zone towards the far rim: a crack sitting on top of a tall crushed
+# zone does not reach far because the zone is tall). A cluster that splits into branches above the
 # contact counts one main crack per separate cracked run along the centre row (a fan joined at
 # the contact zone is several cracks, as in centre_line_crossings).
 
@@ -203,7 +204,7 @@ def revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked=0.9,
     for c in clusters(x0, y0, member, spacing):
         pts = np.column_stack([x0[c], y0[c]])
         extent, angle, _ = principal_axis(x0[c], y0[c])
-        reach = float(y0[c].max() - y0.min())
+        reach = float(np.ptp(y0[c])) + spacing
         starts = bool(_near(pts, zone_pts, 1.5 * spacing).any())
         info = {"idx": c, "length": extent + spacing, "angle": angle, "reach": reach,
                 "crossings": _runs(x0[c][row[c]], spacing)}

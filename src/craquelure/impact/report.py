@@ -43,9 +43,34 @@ def _num(v):
     return v
 
 
+def crack_metrics(ds) -> dict:
+    """The revised check-12 measurements recomputed from a run dataset's final fields (the
+    run's own ``metric_*`` were computed with the measurement code of its day), with the
+    thresholds of the run's resolved scene."""
+    import yaml
+
+    from craquelure.impact.measure import precrack_following, revised_cracks
+
+    material = yaml.safe_load(ds.attrs["scene"]).get("material", {})
+    cracked = material.get("cracked_threshold", 0.9)
+    crushed = material.get("crushed_strain", 0.0035)
+    field = "damage" if material.get("cracked_measure") == "damage" else "softening"
+    x0, y0 = ds["x0"].values, ds["y0"].values
+    crack, plastic = ds[field].values, ds["plastic_strain"].values
+    precrack = ds["precrack"].values.astype(bool)
+    spacing = float(ds.attrs["metric_spacing"])
+    centre_y = 0.5 * (y0.min() + y0.max())
+    out = revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked, crushed)
+    if precrack.any():
+        out.update(precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y,
+                                      cracked, crushed))
+    return out
+
+
 def read_metrics(path: Path) -> dict:
     ds = open_dataset(path)
     out = {k[len("metric_"):]: _num(v) for k, v in ds.attrs.items() if k.startswith("metric_")}
+    out.update({k: _num(v) for k, v in crack_metrics(ds).items()})
     out["wall_time_s"] = _num(ds.attrs.get("wall_time_s"))
     out["seed"] = int(ds.attrs.get("seed", 0))
     out["path"] = str(path)
