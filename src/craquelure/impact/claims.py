@@ -46,10 +46,36 @@ def _brief(value) -> str:
     return _number(value)
 
 
+SHORT = {"n_main_cracks_revised": "N", "cracked_fraction": "phi_c", "crushed_area": "A_cr",
+         "n_secondary_cracks": "short", "cracked_fraction_near_main": "phi_near",
+         "main_crossings_x_mm": "x_mm", "precrack_coverage": "coverage",
+         "main_cracks_elsewhere": "elsewhere", "as_epsilon": "eps_AS",
+         "crack_band_width": "l_c"}
+
+
+def per_seed_text(per_seed: dict) -> str:
+    """Every seed's values, compact: 'seed 1: N 5, phi_c 0.63, ...' (nested by kappa where a
+    finding compares two cases)."""
+    def one(values: dict) -> str:
+        return ", ".join(f"{SHORT[q]} {_number(v)}" for q, v in values.items() if q in SHORT)
+
+    parts = []
+    for key, val in per_seed.items():
+        if val and all(isinstance(v, dict) for v in val.values()):
+            parts.append(f"kappa {key}: " + "; ".join(f"seed {s}: {one(v)}"
+                                                     for s, v in val.items()))
+        elif isinstance(val, dict):
+            parts.append(f"seed {key}: {one(val)}")
+    return " | ".join(parts)
+
+
 def finding_claim(finding: dict, caveat: str) -> Claim:
-    """A check-12 finding of :mod:`.check12` (status computed there); the per-seed values stay
-    in summary.json."""
+    """A check-12 finding of :mod:`.check12` (status computed there), with every seed's values
+    (all of them are in summary.json too)."""
     measured = "; ".join(f"{k} = {_brief(v)}" for k, v in finding["values"].items())
+    seeds = per_seed_text(finding.get("per_seed", {}))
+    if seeds and finding.get("n_seeds", 1) > 1:
+        measured += f"; per seed: {seeds}"
     status = finding.get("status")
     dim = finding.get("dim", "2D")
     notes = [f"{dim}; {caveat}"]
