@@ -23,14 +23,17 @@ def classify(n_main: int) -> str:
 
 
 def regime_row(path: Path) -> dict:
+    from craquelure.impact.report import crack_metrics
+
     ds = open_dataset(path)
     a = ds.attrs
-    n_main = int(a["metric_n_main_cracks_revised"])
-    x_mid = float(a.get("metric_main_crack_x_mid", float("nan")))
+    cracks = crack_metrics(ds)  # the current measurement code, from the final fields
+    n_main = int(cracks["n_main_cracks_revised"])
+    x_mid = float(cracks["main_crack_x_mid"])
     return {"f_t": float(a["metric_f_t"]), "contact_a": float(a["metric_contact_a"]),
             "impact_velocity": float(a["metric_impact_velocity"]),
             "t_end": float(ds["time"].values[-1]), "n_main_cracks": n_main,
-            "main_crossings_x_mm": str(a.get("metric_main_crossings_x_mm", "")),
+            "main_crossings_x_mm": cracks["main_crossings_x_mm"],
             "main_crack_x_mid_mm": None if math.isnan(x_mid) else 1e3 * x_mid,
             "centre_crossings": int(a["metric_centre_crossings"]),
             "cracked_fraction": float(a["metric_cracked_fraction"]),
