@@ -65,8 +65,10 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> None:
         ax.set_xlabel("tensile strength f_t [MPa]")
         ax.set_ylabel("impact speed [m/s]")
         ax.set_title(f"penalty scale a = {a:.3g}", fontsize=9)
-        ax.legend(fontsize=7, loc="upper left")
         ax.margins(0.2)
+        low, high = ax.get_ylim()
+        ax.set_ylim(low, high + 0.3 * (high - low))  # room for the legend above the points
+        ax.legend(fontsize=7, loc="upper center", ncol=3)
     t_end = max(r["t_end"] for r in rows)
     fig.suptitle(f"homogeneous disc at {t_end * 1e6:.0f} us: main cracks from the contact zone "
                  f"(centre-row crossings)\n{label}", fontsize=8)
