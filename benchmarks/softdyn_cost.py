@@ -28,9 +28,8 @@ import numpy as np
 
 from craquelure.scene import load_scene
 from craquelure.softdyn.accuracy import run_accuracy
-from craquelure.softdyn.compile import Flags
+from craquelure.softdyn.engine import Flags, System
 from craquelure.softdyn.scenarios import build
-from craquelure.softdyn.system import System
 
 H0 = 1e-2
 

@@ -2,7 +2,13 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
+import pytest
+
 from craquelure import codegen
+from craquelure.errors import SceneError
+from craquelure.registry import known_effects
 
 
 def test_generated_dir_is_a_subfolder_of_the_cache_root(tmp_path, monkeypatch):
@@ -18,3 +24,87 @@ def test_import_generated_writes_atomically_and_imports(tmp_path):
     assert module.VALUE == 42
     assert path.read_text() == "VALUE = 42\n"
     assert [p.name for p in tmp_path.iterdir()] == ["mod_a.py"]  # no temporary file left
+
+
+def _package(root, fragment_body):
+    pkg = root / "craquelure_codegen_probe"
+    pkg.mkdir(exist_ok=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "fragment.py").write_text(fragment_body)
+    (pkg / "template.py").write_text(
+        "from craquelure_codegen_probe.fragment import term\n\n"
+        "# BEGIN FLAGS\nGRAVITY = True\n# END FLAGS\n\n\n"
+        "def rate(x):\n    return term(x) if GRAVITY else 0.0\n")
+
+
+def test_changed_fragment_source_makes_a_new_module(tmp_path, monkeypatch):
+    monkeypatch.setenv("CRAQUELURE_CACHE", str(tmp_path / "cache"))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    _package(tmp_path, "def term(x):\n    return 2.0 * x\n")
+    codegen.specialise.cache_clear()
+    first = codegen.specialise("craquelure_codegen_probe.template", {"GRAVITY": True}, "probe")
+    assert codegen.specialise("craquelure_codegen_probe.template", {"GRAVITY": True},
+                              "probe") is first
+    _package(tmp_path, "def term(x):\n    return 3.0 * x\n")  # edit the fragment only
+    codegen.specialise.cache_clear()
+    second = codegen.specialise("craquelure_codegen_probe.template", {"GRAVITY": True}, "probe")
+    assert second.__name__ != first.__name__
+    assert Path(second.__file__) != Path(first.__file__)
+    # same template text: the new name comes from the fragment's source alone
+    assert Path(second.__file__).read_text() == Path(first.__file__).read_text()
+    assert sorted(p.name for p in (tmp_path / "cache" / "probe").glob("*.py")) == sorted(
+        [Path(first.__file__).name, Path(second.__file__).name])
+    codegen.specialise.cache_clear()
+
+
+def test_flags_must_match_the_template(tmp_path, monkeypatch):
+    monkeypatch.syspath_prepend(str(tmp_path))
+    _package(tmp_path, "def term(x):\n    return x\n")
+    with pytest.raises(RuntimeError, match="GRAVITY"):
+        codegen.generate("craquelure_codegen_probe.template", {"GRAVITY": True, "DRAG": False})
+    with pytest.raises(RuntimeError, match="flag block"):
+        codegen.generate("craquelure_codegen_probe.template", {})
+
+
+TEMPLATES = {
+    "drying": ("craquelure.sph.drying_rate", {"KERNEL": 0}),
+    "impact": ("craquelure.impact.kernels_template", {"PERIODIC": False, "PLANE_STRESS": False}),
+    "lattice": ("craquelure.lattice.kernel_template", {
+        "PERIODIC_X": False, "NODE_AVERAGED": False, "BENDING": False, "PARALLEL": False}),
+    "softdyn": ("craquelure.softdyn._rhs_template", {"LITERAL_DEFLECTION": False}),
+}
+
+
+@pytest.mark.parametrize("model", sorted(TEMPLATES))
+def test_absent_effect_flag_is_false_in_the_generated_module(model, tmp_path, monkeypatch):
+    monkeypatch.setenv("CRAQUELURE_CACHE", str(tmp_path))
+    template, options = TEMPLATES[model]
+    flagged = {name: e.flag for name, e in known_effects(model).items() if e.flag}
+    present = sorted(flagged)[0]
+    flags = {**codegen.effect_flags(model, [present]), **options}
+    module = codegen.specialise(template, flags, model)
+    assert getattr(module, flagged[present]) is True
+    for name, flag in flagged.items():
+        if name != present:
+            assert getattr(module, flag) is False, (name, flag)
+
+
+def test_every_effect_flag_is_a_template_flag():
+    """The registry and the templates agree: each declared flag exists in its template."""
+    for model, (template, options) in TEMPLATES.items():
+        flags = {**codegen.effect_flags(model, []), **options}
+        codegen.generate(template, flags)  # raises if the flag sets differ
+
+
+def test_unknown_effect_is_rejected():
+    with pytest.raises(SceneError, match="unknown effect 'gravity'"):
+        codegen.effect_flags("softdyn", ["lubrication_normal", "gravity"])
+
+
+def test_pack_parameters_orders_by_name_and_rejects_unknown_names():
+    p = codegen.pack_parameters(("a", "b", "c"), {"c": 3, "a": 1}, defaults={"b": 2})
+    assert p.tolist() == [1.0, 2.0, 3.0]
+    with pytest.raises(KeyError, match="unknown kernel parameters"):
+        codegen.pack_parameters(("a",), {"a": 1, "z": 2})
+    with pytest.raises(KeyError, match="without a value"):
+        codegen.pack_parameters(("a", "b"), {"a": 1})

@@ -1,22 +1,44 @@
-"""Generated-source modules shared by every engine's effects-on-demand mechanism.
+"""Effects on demand, one mechanism for every engine.
 
-An engine writes a copy of its kernel template with its effect flags set as module constants
-(numba folds them, so absent effects compile out), names it by a hash of the generated text and
-of the fragment sources, and imports it here. The file is written atomically (temporary name,
-then rename), so Snakemake jobs that generate the same module at once never read half a file;
-``@njit(cache=True)`` then caches the machine code beside it for later processes.
+A kernel template is an ordinary module with one flag block::
 
-All engines keep their generated modules under one root, ``$CRAQUELURE_CACHE`` (default
-``~/.cache/craquelure``), one folder per engine (:func:`generated_dir`).
+    # BEGIN FLAGS
+    ELASTICITY = True
+    KERNEL = 0
+    # END FLAGS
+
+:func:`specialise` copies the template with that block rewritten for one scene (the effect
+flags come from the registry, :func:`effect_flags`; each :class:`~craquelure.registry.Effect`
+declares its flag) and imports the copy. Numba treats module globals as compile-time
+constants, so ``if ELASTICITY:`` with ``ELASTICITY = False`` is pruned: an absent effect is
+compiled out, not skipped at run time.
+
+The copy is named by one hash of the generated text and of every craquelure module the template
+imports (followed transitively: fragments, kernels, shared helpers), so editing any of them gives
+a new module and a fresh numba cache. It is written atomically (temporary name, then rename), so
+Snakemake jobs that generate the same module at once never read half a file, and
+``@njit(cache=True)`` caches the machine code beside it for later processes. Generated modules
+live under ``$CRAQUELURE_CACHE`` (default ``~/.cache/craquelure``), one folder per engine.
 """
 
 from __future__ import annotations
 
+import hashlib
 import importlib.util
 import os
+import re
 import sys
+from collections.abc import Iterable, Mapping
+from functools import cache
 from pathlib import Path
 from types import ModuleType
+
+import numpy as np
+
+_FLAG_BLOCK = re.compile(r"^# BEGIN FLAGS[^\n]*\n(.*?)^# END FLAGS[^\n]*$", re.S | re.M)
+_FLAG_LINE = re.compile(r"^([A-Z][A-Z0-9_]*) = ", re.M)
+_IMPORT = re.compile(r"^(?:from (craquelure[\w.]*) import (\([^)]*\)|[^\n]*)"
+                     r"|import (craquelure[\w.]*))", re.M)
 
 
 def generated_dir(engine: str) -> Path:
@@ -42,3 +64,104 @@ def import_generated(source: str, module_name: str, path: Path) -> ModuleType:
     sys.modules[module_name] = module
     spec.loader.exec_module(module)
     return module
+
+
+def effect_flags(model: str, effects: Iterable[str]) -> dict[str, bool]:
+    """``{flag: effect is in the scene}`` for every effect of ``model`` that declares a flag."""
+    from craquelure.registry import get_effect, known_effects
+
+    chosen = set(effects)
+    known = known_effects(model)
+    for name in sorted(chosen - set(known)):
+        get_effect(model, name)  # raises SceneError naming the known effects
+    return {e.flag: name in chosen for name, e in known.items() if e.flag}
+
+
+def _module_file(name: str) -> Path | None:
+    try:
+        spec = importlib.util.find_spec(name)
+    except (ImportError, ValueError):
+        return None
+    return Path(spec.origin) if spec is not None and spec.origin else None
+
+
+def dependency_files(template: str) -> list[Path]:
+    """The template's file and every craquelure module it imports, transitively, sorted."""
+    seen: dict[str, Path] = {}
+    todo = [template]
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        path = _module_file(name)
+        if path is None or path.suffix != ".py":
+            continue
+        seen[name] = path
+        for frm, names, imp in _IMPORT.findall(path.read_text()):
+            if imp:
+                todo.append(imp)
+                continue
+            todo.append(frm)
+            package = _module_file(frm)
+            if package is not None and package.name == "__init__.py":
+                # ``from package import module``: the names may be submodules
+                todo += [f"{frm}.{n}" for n in re.findall(r"\w+", names)
+                         if _module_file(f"{frm}.{n}") is not None]
+    return sorted(seen.values())
+
+
+def generate(template: str, flags: Mapping[str, bool | int]) -> tuple[str, str]:
+    """``(source, digest)`` of ``template`` (a module name) with ``flags`` in its flag block.
+
+    ``flags`` must set exactly the template's flags: a flag the template lacks or a template
+    flag left unset is an error (the registry, the engine and the template disagree)."""
+    files = dependency_files(template)
+    path = _module_file(template)
+    text = path.read_text()
+    match = list(_FLAG_BLOCK.finditer(text))
+    if len(match) != 1:
+        raise RuntimeError(f"{template}: needs exactly one '# BEGIN FLAGS' ... '# END FLAGS' block")
+    declared = set(_FLAG_LINE.findall(match[0].group(1)))
+    if declared != set(flags):
+        raise RuntimeError(f"{template}: flags {sorted(flags)} do not match the template's "
+                           f"flag block {sorted(declared)}")
+    block = "\n".join([f"# BEGIN FLAGS (generated from {template})"]
+                      + [f"{name} = {value!r}" for name, value in sorted(flags.items())]
+                      + ["# END FLAGS"])
+    source = ("# Generated by craquelure.codegen; do not edit.\n"
+              + text[:match[0].start()] + block + text[match[0].end():])
+    digest = hashlib.sha256(source.encode())
+    for dep in files:
+        digest.update(dep.read_bytes())
+    return source, digest.hexdigest()[:16]
+
+
+@cache
+def _specialise(template: str, key: tuple[tuple[str, bool | int], ...], engine: str) -> ModuleType:
+    source, digest = generate(template, dict(key))
+    name = f"craquelure_{engine}_{digest}"
+    return import_generated(source, name, generated_dir(engine) / f"{name}.py")
+
+
+def specialise(template: str, flags: Mapping[str, bool | int], engine: str) -> ModuleType:
+    """The imported copy of ``template`` (a module name) compiled for ``flags``; generated at
+    most once per process, written once per content under ``generated_dir(engine)``."""
+    return _specialise(template, tuple(sorted(flags.items())), engine)
+
+
+specialise.cache_clear = _specialise.cache_clear  # tests: a new process in miniature
+
+
+def pack_parameters(names: tuple[str, ...], values: Mapping[str, float],
+                    defaults: Mapping[str, float] | None = None) -> np.ndarray:
+    """The kernel's parameter vector: ``values`` (over ``defaults``) in the order of ``names``,
+    the one tuple a template declares its parameters in; an unknown or missing name is an
+    error."""
+    given = {**(defaults or {}), **values}
+    unknown = sorted(set(given) - set(names))
+    if unknown:
+        raise KeyError(f"unknown kernel parameters {unknown}; known: {', '.join(names)}")
+    missing = [name for name in names if name not in given]
+    if missing:
+        raise KeyError(f"kernel parameters without a value: {missing}")
+    return np.array([float(given[name]) for name in names])

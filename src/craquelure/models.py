@@ -3,8 +3,8 @@
 An API module may define (each optional, the CLI says so when one is missing):
 ``build_initial_state(scene, seed) -> xarray.Dataset``,
 ``derived_numbers(scene) -> dict`` and
-``run(scene, out, seed, init=None, resume=False, threads=None) -> Path`` and
-``CHECKPOINTS = True`` when its runs write checkpoints that ``--resume`` continues from.
+``run(scene, out, seed, init=None, resume=False) -> Path`` (through
+:func:`craquelure.runner.run`, so every model checkpoints and ``--resume`` continues a run).
 """
 
 from __future__ import annotations
@@ -26,11 +26,6 @@ def model_api(model: str) -> ModuleType:
         if exc.name == f"craquelure.{model}.api" or exc.name == f"craquelure.{model}":
             raise CraquelureError(f"model {model!r} has no implementation yet") from exc
         raise
-
-
-def checkpoints(model: str) -> bool:
-    """Whether the model's runs checkpoint (so that ``--resume`` means something)."""
-    return bool(getattr(model_api(model), "CHECKPOINTS", False))
 
 
 def stage(model: str, name: str):

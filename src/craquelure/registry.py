@@ -21,6 +21,9 @@ class Effect:
 
     ``requires`` maps a model name to the dotted scene paths the effect needs in that model
     (e.g. ``{"drying": ("material.eta",)}``); ``conflicts`` names effects it cannot run with.
+    ``flag`` is the compile-time constant of the engine's kernel template that switches the
+    effect on (:func:`craquelure.codegen.effect_flags`); ``None`` for an effect that is always
+    compiled in or acts outside the kernel.
     """
 
     name: str
@@ -28,6 +31,7 @@ class Effect:
     description: str
     requires: dict[str, tuple[str, ...]] = field(default_factory=dict)
     conflicts: tuple[str, ...] = ()
+    flag: str | None = None
 
     def required_paths(self, model: str) -> tuple[str, ...]:
         return tuple(self.requires.get(model, ()))

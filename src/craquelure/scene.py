@@ -139,6 +139,21 @@ def load_scene_text(
                  path=path, text=resolved)
 
 
+def stored_scene(text: str, name: str = "scene") -> Scene:
+    """The resolved scene a dataset carries (its ``scene`` attribute), read back as it was
+    written: not re-validated against today's schema (a key renamed since must not make an
+    archived dataset unreadable) and with nothing filled in (the run wrote every value it used).
+    """
+    try:
+        data = _load_yaml(text)
+    except yaml.YAMLError as exc:
+        raise SceneError(f"stored scene {name}: not valid YAML: {exc}") from exc
+    if not isinstance(data, dict) or "model" not in data:
+        raise SceneError(f"stored scene {name}: not a resolved scene (no `model` section)")
+    data.setdefault("effects", [])
+    return Scene(name=name, data=data, source_text=text, text=text)
+
+
 def parse_override(item: str) -> tuple[list[str], Any]:
     if "=" not in item:
         raise SceneError(f"--set {item!r}: expected key.path=value")

@@ -7,7 +7,9 @@ from skimage.measure import label as sk_label
 
 from craquelure.cli import main as cli_main
 from craquelure.drying.fragments import analyse_run, fragment_areas, label_periodic
+from craquelure.errors import SceneError
 from craquelure.io import open_dataset, write_dataset
+from craquelure.scene import load_scene_text
 
 from .synthetic_run import lattice_run
 
@@ -198,3 +200,17 @@ def test_labels_numbered_in_raster_order_of_first_pixel():
     values, first = np.unique(labels.ravel(), return_index=True)
     assert values.tolist() == list(range(n + 1))
     assert np.all(np.diff(first[1:]) > 0)
+
+
+def test_archived_run_with_an_older_scene_key_stays_analysable(run):
+    """A dataset's scene is read back as written: a key today's schema no longer knows (as
+    after a rename) must not make the archived run unreadable, and the analysis is unchanged."""
+    old = run.copy()
+    old.attrs = {**run.attrs, "scene": run.attrs["scene"].replace(
+        "material:\n", "material:\n  retired_key_from_an_older_schema: 1.0\n", 1)}
+    with pytest.raises(SceneError, match="retired_key_from_an_older_schema"):
+        load_scene_text(old.attrs["scene"])  # today's schema rejects it ...
+    a = analyse_run(old, phi0=0.8, spacing_h=0.05, progress=False)  # ... the analysis does not
+    b = analyse_run(run, phi0=0.8, spacing_h=0.05, progress=False)
+    assert a["n_fragments"].values.tolist() == b["n_fragments"].values.tolist() == [1, 1, 2, 4]
+    assert np.array_equal(a["fragment_area"].values, b["fragment_area"].values)

@@ -8,9 +8,10 @@ import pytest
 import xarray as xr
 
 from craquelure.drying.initial_state import build_initial_state
-from craquelure.drying.run import checkpoint_path, run
+from craquelure.drying.run import run
 from craquelure.errors import SimulationDiverged
 from craquelure.io import write_dataset
+from craquelure.runner import checkpoint_path
 
 
 @pytest.fixture
@@ -53,7 +54,7 @@ def test_resume_is_bit_identical(tmp_path, small_scene):
     init = _init(tmp_path, small_scene)
     full = xr.open_dataset(run(small_scene, tmp_path / "full.nc", init=init))
     part = tmp_path / "part.nc"
-    ck = run(small_scene, part, init=init, stop_after_steps=300)
+    ck = run(small_scene, part, init=init, stop_after_checkpoints=3)
     assert ck == checkpoint_path(part) and ck.exists() and not part.exists()
     resumed = xr.open_dataset(run(small_scene, part, init=init, resume=True))
     for name in ("x", "y", "vx", "vy", "alive", "mass", "rho", "mean_stress", "n_removed",
@@ -65,7 +66,7 @@ def test_stale_checkpoint_is_ignored(tmp_path, small_scene):
     """A checkpoint made from another scene is not resumed."""
     init = _init(tmp_path, small_scene)
     out = tmp_path / "run.nc"
-    run(small_scene, out, init=init, stop_after_steps=100)
+    run(small_scene, out, init=init, stop_after_checkpoints=1)
     other = small_scene.with_overrides(["material.drying_rate=1e-3"])
     resumed = xr.open_dataset(run(other, out, init=init, resume=True))
     fresh = xr.open_dataset(run(other, tmp_path / "fresh.nc", init=init))
@@ -101,3 +102,16 @@ def test_run_is_independent_of_the_thread_count(tmp_path, small_scene):
     assert int(out[1].n_removed.values[-1]) > 0  # fracture happened within the run
     for name in ("x", "y", "vx", "vy", "alive", "mass", "rho", "mean_stress", "n_removed"):
         np.testing.assert_array_equal(out[1][name].values, out[2][name].values)
+
+
+def test_killed_cli_run_resumes_bit_identically(tmp_path):
+    """SIGKILL after the first checkpoint, then ``--resume``: the uninterrupted dataset."""
+    from ..killed_run import kill_and_resume, same_dataset
+
+    full, resumed, err = kill_and_resume(tmp_path, [
+        "drying/ci", "--seed", "2", "--set", "outputs.t_end=1.0",
+        "--set", "outputs.times=[0.5, 1.0]", "--set", "particles.n=144",
+        "--set", "numerics.checkpoint_every=25"])
+    assert "resumed from" in err
+    assert resumed.attrs["run_resumed_at_step"] > 0
+    same_dataset(full, resumed)

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from craquelure.io import open_dataset
-from craquelure.lattice.run import checkpoint_path, fingerprint
 from craquelure.lattice.run import run as lattice_run
+from craquelure.runner import checkpoint_path, fingerprint, read_checkpoint
 from craquelure.scene import load_scene
 
 # small versions of two scenes that exercise every piece of evolving state: contact lists,
@@ -21,7 +21,8 @@ SCENES = {
              "outputs.frames=6", "numerics.checkpoint_every=2", "loads.top_shear_stress=0.05"],
 }
 # provenance attributes that differ between any two runs
-VOLATILE = {"wall_time_s", "start_time", "scene_overrides"}
+VOLATILE = {"wall_time_s", "start_time", "scene_overrides", "run_particle_steps_per_s",
+            "run_resumed_at_step"}
 
 
 def same_dataset(a, b):
@@ -42,16 +43,16 @@ def test_interrupted_run_resumes_bit_identically(name, tmp_path):
     out = tmp_path / "part.nc"
     ck = lattice_run(scene, out, seed=3, stop_after_checkpoints=2)
     assert ck == checkpoint_path(out) and ck.exists() and not out.exists()
-    ck_ds = open_dataset(ck)
-    assert ck_ds.attrs["finished"] == 0 and 0 < ck_ds.attrs["step"]
-    assert ck_ds.attrs["fingerprint"] == fingerprint(scene, 3)
+    ck_state = read_checkpoint(ck)
+    assert 0 < ck_state["engine_step"]
+    assert str(ck_state["runner_fingerprint"]) == fingerprint(scene, 3)
     lattice_run(scene, out, seed=3, resume=True)
     assert not ck.exists()
     a, b = open_dataset(full), open_dataset(out)
     same_dataset(a, b)
     if name == "calving":
         assert int((a.bond_state == 0).sum()) > 0  # beams broke after the checkpoint too
-        assert float(a.bond_break_time.max()) > ck_ds.attrs["step"] * a.attrs["dt"]
+        assert float(a.bond_break_time.max()) > ck_state["engine_step"] * a.attrs["dt"]
     else:
         assert a.melted.values[-1] > 0
 
@@ -69,35 +70,12 @@ def test_checkpoint_of_another_seed_is_ignored(tmp_path, capsys):
 def test_killed_cli_run_resumes_bit_identically(tmp_path):
     """A real interruption: ``craquelure run`` is killed (SIGKILL) once its first checkpoint
     exists; ``--resume`` completes it to the dataset of an uninterrupted run."""
-    import os
-    import signal
-    import subprocess
-    import sys
-    import time
+    from ..killed_run import kill_and_resume
 
     sets = ["domain.nx=24", "domain.ny=8", "domain.water_level=5.0", "material.g=0.02",
             "fracture.start_time=30.0", "numerics.mass_damping_until=30.0",
             "outputs.t_end=1500.0", "outputs.frames=30", "numerics.checkpoint_every=1"]
-    args = [a for s in sets for a in ("--set", s)]
-    env = {**os.environ, "NUMBA_NUM_THREADS": "1"}
-
-    def cli(out, *extra):
-        return [sys.executable, "-m", "craquelure", "run", "lattice/calving", "--seed", "4",
-                "--out", str(out), *args, *extra]
-
-    out = tmp_path / "killed.nc"
-    ck = checkpoint_path(out)
-    proc = subprocess.Popen(cli(out), env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 600
-    while not ck.exists() and proc.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.02)
-    os.kill(proc.pid, signal.SIGKILL)
-    proc.wait()
-    assert ck.exists() and not out.exists()  # killed after a checkpoint, before the end
-    assert open_dataset(ck).attrs["step"] > 0
-    subprocess.run(cli(out, "--resume"), env=env, check=True, capture_output=True)
-    assert out.exists() and not ck.exists()
-    full = tmp_path / "full.nc"
-    subprocess.run(cli(full), env=env, check=True, capture_output=True)
-    same_dataset(open_dataset(full), open_dataset(out))
+    full, resumed, err = kill_and_resume(
+        tmp_path, ["lattice/calving", "--seed", "4", *[a for s in sets for a in ("--set", s)]])
+    assert "resumed from" in err and resumed.attrs["run_resumed_at_step"] > 0
+    same_dataset(full, resumed)

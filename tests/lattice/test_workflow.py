@@ -5,6 +5,7 @@ import shlex
 import yaml
 
 from craquelure.lattice import glen
+from craquelure.lattice.analysis import glen_point_scene
 from craquelure.lattice.workflow import Jobs
 from craquelure.scene import load_scene, project_root
 
@@ -21,8 +22,7 @@ def test_glen_point_overrides_build_the_sweep():
     for kind in ("glen", "frozen"):
         key = "stresses" if kind == "glen" else "frozen_stresses"
         for k, tau in enumerate(cfg["glen"][key]):
-            scene = load_scene(jobs.glen_scene_file, overrides_of(jobs.glen_set(
-                type("W", (), {"kind": kind, "k": str(k)}))))
+            scene = glen_point_scene(jobs.glen_scene_file, cfg, kind, k)
             assert scene.get("loads.top_shear_stress") == tau
             assert scene.get("loads.top_normal_stress") == 0.1 * tau
             lam = glen.melt_rate_estimate(scene, tau)

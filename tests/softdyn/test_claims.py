@@ -7,7 +7,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from craquelure.softdyn import claims
+from craquelure.softdyn import analysis, claims
 
 
 def sweep(exponent):
@@ -23,11 +23,12 @@ def sweep(exponent):
 
 
 def test_hertz_slope_and_trend():
-    trend, hertz = claims.sweep_claims(sweep(-2.0))
+    trend, hertz = claims.sweep_claims(analysis.sweep_numbers(sweep(-2.0)))
     # log10(30 / 0.02) = 3.18 decades of h0/h*, so 6.35 decades of T
     assert trend.verdict == "reproduced" and "span 6.35 decades" in trend.measured
     assert hertz.verdict == "reproduced" and "-2.00" in hertz.measured
-    trend, hertz = claims.sweep_claims(sweep(-0.5))  # 1.59 decades, too shallow
+    # 1.59 decades, too shallow
+    trend, hertz = claims.sweep_claims(analysis.sweep_numbers(sweep(-0.5)))
     assert hertz.verdict == "not reproduced"
     assert trend.verdict == "partly" and trend.note == "fails: span >= 2 decades"
 
@@ -43,8 +44,22 @@ def phase(flip):
 
 
 def test_phase_near_the_line_is_partly_far_from_it_not():
-    near = claims.phase_claim(phase((2, 1)))  # F_h/F_v = 0.6, within 0.05 of 1/sqrt3
+    # F_h/F_v = 0.6, within 0.05 of 1/sqrt3
+    near = claims.phase_claim(analysis.phase_numbers(phase((2, 1))))
     assert near.verdict == "partly" and "F_h/F_v = 0.6 at F~ = 0.001" in near.measured
-    far = claims.phase_claim(phase((0, 0)))
+    far = claims.phase_claim(analysis.phase_numbers(phase((0, 0))))
     assert far.verdict == "not reproduced"
-    assert claims.phase_claim(phase((slice(0, 0), 0))).verdict == "reproduced"
+    n = analysis.phase_numbers(phase((slice(0, 0), 0)))
+    assert claims.phase_claim(n).verdict == "reproduced"
+
+
+def test_claims_read_only_the_summary(tmp_path):
+    """The claims judge the numbers of summary.json; a dataset is not a source."""
+    import json
+
+    path = tmp_path / "summary.json"
+    path.write_text(json.dumps({"sources": [
+        {"source": "sweep.nc", **analysis.sweep_numbers(sweep(-2.0))},
+        {"source": "phase.nc", **analysis.phase_numbers(phase((0, 0)))}]}))
+    verdicts = [c.verdict for c in claims.claims([path])]
+    assert verdicts == ["reproduced", "reproduced", "not reproduced"]

@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
+from craquelure import codegen
 from craquelure.errors import SceneError
 from craquelure.scene import load_scene, load_scene_text
-from craquelure.softdyn.compile import Flags, generated_source, kernels
+from craquelure.softdyn.engine import Flags, System, kernels
 from craquelure.softdyn.scenarios import build
-from craquelure.softdyn.system import System
 
 C_N, C_T = 1.5 * math.pi, math.pi
 
@@ -219,7 +219,8 @@ def test_steady_sliding_speed_is_t_over_zeta_t():
 def test_effects_are_compiled_in_or_out():
     """Effects on demand: each effect set gets its own generated kernel with the absent effects
     as compile-time False, and the state only holds what the effects need."""
-    src = generated_source(Flags(tangential=False, hertz=True, literal=False))
+    src, _ = codegen.generate("craquelure.softdyn._rhs_template",
+                              Flags(tangential=False, hertz=True, literal=False).template_flags())
     assert "\nHAS_TANGENTIAL = False\n" in src and "\nHAS_HERTZ = True\n" in src
     mod = kernels(Flags(tangential=False, hertz=True, literal=False))
     assert mod.HAS_TANGENTIAL is False and mod is not kernels(Flags())

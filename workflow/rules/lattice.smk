@@ -18,8 +18,7 @@ rule lattice_glen_point:
     output:
         "results/lattice/glen/{kind}/tau{k}.nc",
     params:
-        cli=CRAQUELURE,
-        overrides=LATTICE_JOBS.glen_set,
+        lattice=LATTICE,
         seed=LATTICE["seed"],
     log:
         "logs/lattice_glen/{kind}/tau{k}.log",
@@ -29,9 +28,8 @@ rule lattice_glen_point:
     resources:
         mem_mb=LATTICE["mem_mb"],
         runtime=LATTICE["runtime"],
-    shell:
-        "{params.cli} run {input.scene} --seed {params.seed} --out {output} "
-        "--threads {threads} {params.overrides} > {log} 2>&1"
+    script:
+        "../scripts/lattice_glen_point.py"
 
 
 rule lattice_glen_figure:

@@ -3,7 +3,7 @@
 # two-sphere runs, and the integrator accuracy-versus-wall-time study.
 from craquelure.softdyn import workflow as softdyn_workflow
 
-softdyn_workflow.configure(config["softdyn"])
+SOFTDYN_JOBS = softdyn_workflow.Jobs(config["softdyn"])
 
 
 wildcard_constraints:
@@ -15,7 +15,7 @@ wildcard_constraints:
 
 rule softdyn_run:
     input:
-        scene=softdyn_workflow.scene_path,
+        scene=SOFTDYN_JOBS.scene_path,
     output:
         "results/softdyn/{scene}/run.nc",
     params:
@@ -36,11 +36,11 @@ rule softdyn_run:
 # A single grid point (not in the default DAG; for rerunning one point by its output path).
 rule softdyn_sweep_point:
     input:
-        scene=softdyn_workflow.scene_path,
+        scene=SOFTDYN_JOBS.scene_path,
     output:
         "results/softdyn/{scene}/points/p{i}_{j}.nc",
     params:
-        overrides=softdyn_workflow.overrides(),
+        overrides=SOFTDYN_JOBS.overrides(),
     log:
         "logs/softdyn/{scene}/p{i}_{j}.log",
     benchmark:
@@ -55,12 +55,12 @@ rule softdyn_sweep_point:
 
 rule softdyn_sweep_batch:
     input:
-        scene=softdyn_workflow.scene_path,
+        scene=SOFTDYN_JOBS.scene_path,
     output:
         "results/softdyn/{scene}/batches/b{b}.nc",
     params:
-        overrides=softdyn_workflow.overrides(),
-        n_batches=softdyn_workflow.n_batches(),
+        overrides=SOFTDYN_JOBS.overrides(),
+        n_batches=SOFTDYN_JOBS.n_batches(),
     log:
         "logs/softdyn/{scene}/b{b}.log",
     benchmark:
@@ -75,14 +75,14 @@ rule softdyn_sweep_batch:
 
 rule softdyn_sweep:
     input:
-        scene=softdyn_workflow.scene_path,
-        points=softdyn_workflow.sweep_batch_files,
+        scene=SOFTDYN_JOBS.scene_path,
+        points=SOFTDYN_JOBS.sweep_batch_files,
     output:
         data="results/softdyn/{scene}/sweep.nc",
         figure=report("results/softdyn/{scene}/fig5.png", caption="../report/softdyn_fig5.rst",
                       category="Soft Dynamics", subcategory="T1 duration"),
     params:
-        overrides=softdyn_workflow.overrides(),
+        overrides=SOFTDYN_JOBS.overrides(),
     log:
         "logs/softdyn/{scene}/sweep.log",
     threads: 1
@@ -95,14 +95,14 @@ rule softdyn_sweep:
 
 rule softdyn_accuracy:
     input:
-        scene=softdyn_workflow.scene_path,
+        scene=SOFTDYN_JOBS.scene_path,
     output:
         data="results/softdyn/{scene}/accuracy.nc",
         figure=report("results/softdyn/{scene}/accuracy.png",
                       caption="../report/softdyn_accuracy.rst", category="Soft Dynamics",
                       subcategory="accuracy vs cost"),
     params:
-        overrides=softdyn_workflow.overrides(),
+        overrides=SOFTDYN_JOBS.overrides(),
     log:
         "logs/softdyn/{scene}/accuracy.log",
     benchmark:
@@ -172,7 +172,7 @@ rule softdyn_pair_figure:
         "../scripts/softdyn_figure.py"
 
 
-CLAIM_SOURCES["softdyn"] = (
+SOFTDYN_RUNS = (
     expand(
         "results/softdyn/{scene}/run.nc",
         scene=config["softdyn"]["single"] + config["softdyn"]["pairs"] + config["softdyn"]["phase"],
@@ -180,6 +180,25 @@ CLAIM_SOURCES["softdyn"] = (
     + expand("results/softdyn/{scene}/sweep.nc", scene=config["softdyn"]["sweep"])
     + expand("results/softdyn/{scene}/accuracy.nc", scene=config["softdyn"]["accuracy"])
 )
+
+
+rule softdyn_summary:
+    input:
+        SOFTDYN_RUNS,
+    output:
+        "results/softdyn/summary.json",
+    log:
+        "logs/softdyn/summary.log",
+    benchmark:
+        "benchmarks/results/softdyn/summary.tsv"
+    threads: 1
+    resources:
+        runtime=10,
+    script:
+        "../scripts/softdyn_summary.py"
+
+
+CLAIM_SOURCES["softdyn"] = ["results/softdyn/summary.json"] if SOFTDYN_RUNS else []
 TARGETS["softdyn"] = (
     expand("results/softdyn/{scene}/fig4.png", scene=config["softdyn"]["single"])
     + expand("results/softdyn/{scene}/gaps.png", scene=config["softdyn"]["pairs"])

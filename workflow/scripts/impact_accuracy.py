@@ -8,7 +8,7 @@ from pathlib import Path
 import numba
 
 from craquelure.impact.checks import lattice_gradient_factor, p_wave_mode
-from craquelure.impact.report import figure_accuracy
+from craquelure.impact.figures import figure_accuracy
 from craquelure.io import write_text_atomic
 
 if "snakemake" in globals():

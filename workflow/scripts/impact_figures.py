@@ -4,7 +4,7 @@ import sys
 from collections import defaultdict
 from pathlib import Path
 
-from craquelure.impact import report
+from craquelure.impact import figures
 from craquelure.io import open_dataset
 
 if "snakemake" in globals():
@@ -15,17 +15,17 @@ if "snakemake" in globals():
             f"Delta = {1e3 * float(ds.attrs['metric_spacing']):g} mm")
     label = f"profile {smk.params.profile}, scene impact/{smk.params.scene}, {size}, 2D"
     out = {k: Path(v) for k, v in smk.output.items()}
-    report.figure_masses(Path(smk.input.specimen), out["masses"], label)
-    report.figure_damage_grid(smk.input.homogeneous, out["damage_homogeneous"],
+    figures.figure_masses(Path(smk.input.specimen), out["masses"], label)
+    figures.figure_damage_grid(smk.input.homogeneous, out["damage_homogeneous"],
                               "homogeneous disc at the end time (Fig. 7; black cracked, "
                               "dark grey crushed)", label)
-    report.figure_damage_grid(smk.input.hetero_kappa1, out["damage_heterogeneous_kappa1"],
+    figures.figure_damage_grid(smk.input.hetero_kappa1, out["damage_heterogeneous_kappa1"],
                               "heterogeneous specimens, kappa = 1 (Fig. 8)", label)
-    report.figure_damage_grid(smk.input.hetero_low_high,
+    figures.figure_damage_grid(smk.input.hetero_low_high,
                               out["damage_heterogeneous_kappa_low_high"],
                               "heterogeneous specimens, kappa = 0.7 and 1.5 (Figs. 9-10)", label)
-    report.figure_precracks(smk.input.precracks, out["precracks"], label)
+    figures.figure_precracks(smk.input.precracks, out["precracks"], label)
     by_kappa = defaultdict(list)
     for run in smk.input.contact:
         by_kappa[float(open_dataset(run).attrs["metric_kappa"])].append(run)
-    report.figure_contact(by_kappa, out["contact_force"], f"contact force; {label}")
+    figures.figure_contact(by_kappa, out["contact_force"], f"contact force; {label}")

@@ -3,7 +3,7 @@
 import sys
 from pathlib import Path
 
-from craquelure.impact.report import summarise, write_summary
+from craquelure.impact.analysis import summarise, write_summary
 
 if "snakemake" in globals():
     sys.stderr = sys.stdout = open(snakemake.log[0], "w")  # noqa: F821, SIM115

@@ -1,19 +1,17 @@
-"""One batch of T1 sweep points, run serially in one process (Snakemake script): a process
-start (imports, kernel cache load) costs more than most points."""
+"""One batch of T1 sweep points, run serially in one process (Snakemake script) through the
+runner (a process start (imports, kernel cache load) costs more than most points). A batch
+beyond the number of grid points writes an empty batch."""
 
 import numba
 
-from craquelure.io import write_dataset
-from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import load_scene
-from craquelure.softdyn.studies import run_sweep_batch, sweep_batches
+from craquelure.softdyn.api import run
+from craquelure.softdyn.studies import sweep_batches
 
 sm = snakemake  # noqa: F821
 numba.set_num_threads(sm.threads)
-clock = WallClock()
 scene = load_scene(sm.input.scene, sm.params.overrides)
-points = sweep_batches(scene, sm.params.n_batches)[int(sm.wildcards.b)]
-ds = run_sweep_batch(scene, points)
-ds.attrs.update(provenance_attrs(scene, None, clock))
-ds.attrs["batch"] = f"{int(sm.wildcards.b)} of {sm.params.n_batches}"
-write_dataset(ds, sm.output[0])
+batches = sweep_batches(scene, sm.params.n_batches)
+points = batches[int(sm.wildcards.b)] if int(sm.wildcards.b) < len(batches) else []
+run(scene, sm.output[0], seed=None, batch=points,
+    attrs={"batch": f"{int(sm.wildcards.b)} of {sm.params.n_batches}"})

@@ -1,11 +1,10 @@
 """``craquelure run SCENE --out RUN.nc [--init STATE.nc] [--seed N] [--resume]``: simulate a
 scene and write the run dataset (checkpointing as it goes)."""
 
-import sys
 from pathlib import Path
 
 from craquelure.commands import add_scene_arguments
-from craquelure.models import checkpoints, stage
+from craquelure.models import stage
 from craquelure.scene import load_scene
 
 NAME = "run"
@@ -20,6 +19,11 @@ def add_arguments(parser) -> None:
     parser.add_argument("--resume", action="store_true",
                         help="continue from the last checkpoint next to --out")
     parser.add_argument("--threads", type=int, default=None, help="numba threads")
+    parser.add_argument("--checkpoint-every", type=int, default=None, metavar="K",
+                        help="checkpoint every K steps (lattice: frames; softdyn: study points; "
+                             "default: the scene's numerics.checkpoint_every, else off)")
+    parser.add_argument("--checkpoint-minutes", type=float, default=None, metavar="M",
+                        help="and every M minutes of wall time (default 10; 0: off)")
 
 
 def main(args) -> int:
@@ -28,11 +32,9 @@ def main(args) -> int:
 
         numba.set_num_threads(args.threads)
     scene = load_scene(args.scene, args.overrides)
-    if args.resume and not checkpoints(scene.model):
-        print(f"--resume: {scene.model} runs are short and write no checkpoints; starting "
-              f"from the beginning", file=sys.stderr)
     out = stage(scene.model, "run")(scene, Path(args.out), seed=args.seed,
                                     init=Path(args.init) if args.init else None,
-                                    resume=args.resume)
+                                    resume=args.resume, checkpoint_every=args.checkpoint_every,
+                                    checkpoint_minutes=args.checkpoint_minutes)
     print(f"wrote {out}")
     return 0

@@ -7,8 +7,6 @@ import math
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.scene import Scene
 
-CHECKPOINTS = True  # craquelure.drying.run writes <out>.checkpoint.nc
-
 # Neighbour-pair visits per second per thread of the drying rate function, measured by
 # benchmarks/sph_engine.py on the 2-core development machine (2026-11-22, 7.5e7 at N = 4e4);
 # used only for wall-time estimates.
@@ -61,7 +59,7 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     }
 
 
-def run(scene: Scene, out, seed: int = 0, init=None, resume: bool = False):
+def run(scene: Scene, out, seed: int = 0, init=None, resume: bool = False, **checkpoints):
     from craquelure.drying.run import run as run_drying
 
-    return run_drying(scene, out, seed=seed, init=init, resume=resume)
+    return run_drying(scene, out, seed=seed, init=init, resume=resume, **checkpoints)

@@ -1,7 +1,7 @@
 """Drying-paste SPH engine: state, specialised rate function, neighbour list, fracture and the
 integrator loop (drying spec sections 2-8). No file I/O here (see :mod:`craquelure.drying.run`).
 
-- The rate function is compiled for the scene's effect set only (:mod:`craquelure.sph.codegen`).
+- The rate function is compiled for the scene's effect set only (:mod:`craquelure.codegen`).
 - Neighbours: CSR Verlet list of radius h(1 + skin), rebuilt when a particle has moved more
   than skin h / 2 since the last build, after removals and at every checkpoint (so a resumed run
   repeats the summation order of an uninterrupted one: bit-identical results).
@@ -21,40 +21,37 @@ import math
 
 import numpy as np
 
-from craquelure.errors import SimulationDiverged
+from craquelure.codegen import effect_flags, pack_parameters, specialise
+from craquelure.runner import Divergence, diverged, non_finite, runaway
 from craquelure.scene import Scene
 from craquelure.sph import drying_rate as template
-from craquelure.sph.codegen import specialise
 from craquelure.sph.integrators import REAL_AXIS_LIMIT, Stepper
 from craquelure.sph.kernels import kernel_kind
 from craquelure.sph.neighbours import Box, neighbour_list
 
-RATE_EFFECTS = ("continuity", "drying", "elasticity", "gradient_correction", "substrate",
-                "viscosity", "xsph")
 NVAR = template.NVAR
 X, Y, VX, VY, RHO, SXX, SYY, SXY = range(8)
 
 
 def compile_rate(effects, kernel: str = "quintic"):
-    """The rate module specialised on ``effects`` (names outside RATE_EFFECTS are ignored)."""
-    flags: dict[str, bool | int] = {e.upper(): e in effects for e in RATE_EFFECTS}
+    """The rate module specialised on ``effects`` (effects without a kernel flag, such as
+    ``fracture``, act between steps)."""
+    flags: dict[str, bool | int] = effect_flags("drying", effects)
     flags["KERNEL"] = kernel_kind(kernel)
-    tag = "drying_rate_" + "_".join(sorted(e for e in effects if e in RATE_EFFECTS))
-    return specialise(template, flags, tag or "drying_rate_none")
+    return specialise(template.__name__, flags, "drying")
 
 
 def parameters(scene: Scene) -> np.ndarray:
-    p = np.zeros(template.NPARAM)
-    p[template.P_LAMBDA] = scene.get("material.lame_lambda", 0.0)
-    p[template.P_MU] = scene.get("material.lame_mu", 0.0)
-    p[template.P_ETA] = scene.get("material.eta", 0.0)
-    p[template.P_VR] = scene.get("material.drying_rate", 0.0)
-    p[template.P_THICK] = scene.get("material.thickness", 1.0)
-    p[template.P_EPS] = scene.get("numerics.xsph_epsilon", 0.0)
-    p[template.P_SUPPORT] = scene.get("numerics.h")
-    p[template.P_BOX] = scene.get("domain.box_length")
-    p[template.P_DRYCAP] = scene.get("material.drying_stress_cap", math.inf)
-    return p
+    return pack_parameters(template.PARAMS, dict(
+        lame_lambda=scene.get("material.lame_lambda", 0.0),
+        lame_mu=scene.get("material.lame_mu", 0.0),
+        eta=scene.get("material.eta", 0.0),
+        drying_rate=scene.get("material.drying_rate", 0.0),
+        thickness=scene.get("material.thickness", 1.0),
+        xsph_epsilon=scene.get("numerics.xsph_epsilon", 0.0),
+        support=scene.get("numerics.h"),
+        box_length=scene.get("domain.box_length"),
+        drying_stress_cap=scene.get("material.drying_stress_cap", math.inf)))
 
 
 class DryingEngine:
@@ -171,22 +168,25 @@ class DryingEngine:
         area = self.box_length**2
         return self.kinetic_energy() + area * sigma**2 / (2 * modulus) + 1e-300
 
-    def check_health(self) -> None:
-        if not np.isfinite(self.state).all():
-            bad = np.nonzero(~np.isfinite(self.state).all(axis=0))[0]
-            rows = ["x", "y", "vx", "vy", "rho", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy"]
-            fields = [rows[r] for r in range(NVAR) if not np.isfinite(self.state[r]).all()]
-            raise SimulationDiverged(
-                f"non-finite {', '.join(fields)} at t = {self.t:.6g} (step {self.step_count}, "
-                f"dt = {self.dt:g}) in {bad.size} particles (first: {bad[0]}); "
-                f"try a smaller numerics.dt")
-        ke = self.kinetic_energy()
+    def health(self) -> Divergence | None:
+        """NaN/inf in the state, or kinetic energy above ``numerics.energy_runaway_factor``
+        times the energy the stresses can supply (the runner's guards)."""
+        rows = ("x", "y", "vx", "vy", "rho", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy")
+        bad = non_finite({rows[r]: self.state[r] for r in range(NVAR)})
+        if bad is not None:
+            return bad
         factor = float(self.scene.get("numerics.energy_runaway_factor"))
-        if ke > factor * self.energy_bound:
-            raise SimulationDiverged(
-                f"kinetic energy ran away at t = {self.t:.6g} (step {self.step_count}, "
-                f"dt = {self.dt:g}): {ke:.4g} > {factor:g} x {self.energy_bound:.4g}, the energy "
-                f"the stresses can supply; try a smaller numerics.dt")
+        per_particle = 0.5 * self.mass * (self.state[VX] ** 2 + self.state[VY] ** 2)
+        return runaway(float(per_particle.sum()), factor * self.energy_bound,
+                       f"kinetic energy at dt = {self.dt:g} (limit {factor:g} x the energy the "
+                       f"stresses can supply; try a smaller numerics.dt)", per_particle)
+
+    def check_health(self) -> None:
+        """Raise :class:`SimulationDiverged` when :meth:`health` fails (runs outside the
+        runner, e.g. the accuracy study)."""
+        bad = self.health()
+        if bad is not None:
+            raise diverged("drying", bad, self.step_count, self.t, "eta/lambda")
 
     # -- time step control -------------------------------------------------------------------
     def viscous_spectral_radius(self, iterations: int = 40, seed: int = 12345) -> float:

@@ -30,7 +30,7 @@ from craquelure.errors import CraquelureError
 from craquelure.io import open_dataset, write_dataset
 from craquelure.progress import Progress
 from craquelure.provenance import WallClock, provenance_attrs
-from craquelure.scene import Scene, load_scene_text
+from craquelure.scene import Scene, stored_scene
 from craquelure.sph.field import mesh_spacing
 
 
@@ -99,8 +99,7 @@ def run_scene(run: xr.Dataset) -> Scene:
     """The resolved scene stored in a run dataset's ``scene`` attribute."""
     if "scene" not in run.attrs:
         raise CraquelureError("run dataset has no `scene` attribute (not a craquelure run?)")
-    return load_scene_text(str(run.attrs["scene"]), name=str(run.attrs.get("scene_name",
-                                                                            "scene")))
+    return stored_scene(str(run.attrs["scene"]), name=str(run.attrs.get("scene_name", "scene")))
 
 
 def first_removal_time(run: xr.Dataset) -> float:

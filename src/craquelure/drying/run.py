@@ -7,28 +7,25 @@ Run dataset: snapshots on dim ``time`` x ``particle``: ``x``, ``y`` (wrapped int
 ``n_removed``, ``kinetic_energy``, ``elastic_energy``, ``momentum_x``, ``momentum_y``; attributes
 ``h``, ``box_length``, ``effects`` and the provenance of :mod:`craquelure.provenance`.
 
-Checkpoints (``<out>.checkpoint.nc``, written atomically every ``checkpoint_every`` steps) hold
-the full engine state, the integrator history and the output gathered so far; ``--resume``
-continues from it to a bit-identical result, because the engine rebuilds its neighbour list at
-every checkpoint in both runs.
+The loop, checkpoints (every ``numerics.checkpoint_every`` steps) and ``--resume`` are the
+runner's (:mod:`craquelure.runner`); :class:`DryingRun` gives it the full engine state (with the
+neighbour list and the integrator history) and the output gathered so far, so a resumed run is
+bit-identical.
 """
 
 from __future__ import annotations
 
-import hashlib
-import os
-import sys
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
+from craquelure import runner
 from craquelure.drying.engine import NVAR, VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.errors import CraquelureError
-from craquelure.io import open_dataset, write_dataset
-from craquelure.progress import Progress
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.io import open_dataset
+from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 
 SNAPSHOT_VARS = {
@@ -131,61 +128,105 @@ def _dataset(engine: DryingEngine, rec: Recorder, finished: bool) -> xr.Dataset:
     })
 
 
-def _checkpoint_dataset(engine: DryingEngine, rec: Recorder, wall: float) -> xr.Dataset:
-    ds = _dataset(engine, rec, finished=False)
-    history, rk4_left = engine.stepper.state()
-    ds["state"] = (("var", "particle"), engine.state)
-    ds["x0"] = (("particle",), engine.x0)
-    ds["y0"] = (("particle",), engine.y0)
-    ds["mass_now"] = (("particle",), engine.mass)
-    ds["alive_now"] = (("particle",), engine.alive.astype(np.int8))
-    ds["history"] = (("history", "var", "particle"),
-                     np.stack(history) if history else np.zeros((0, NVAR, engine.n)))
-    ds.attrs.update(t=engine.t, step=engine.step_count, dt=engine.dt, rk4_left=rk4_left,
-                    n_removed=engine.n_removed, evaluations=engine.evaluations,
-                    next_output=rec.next_output, wall_time_so_far=wall)
-    return ds
+class DryingRun(runner.EngineRun):
+    """The drying engine and its recorder as the runner sees them (:mod:`craquelure.runner`).
+
+    One advance is one step. After it, in this order: the series every
+    ``outputs.series_every`` steps, the snapshots due, the time-step control every
+    ``numerics.spectral_check_every`` steps and a fresh neighbour list every
+    ``numerics.checkpoint_every`` steps (a fixed schedule of the trajectory, so a checkpoint
+    written at any step, which holds the neighbour list, does not change it)."""
+
+    def __init__(self, scene: Scene, engine: DryingEngine, rec: Recorder) -> None:
+        self.engine, self.rec = engine, rec
+        self.t_end = float(scene.get("outputs.t_end"))
+        self.series_every = int(scene.get("outputs.series_every"))
+        self.rebuild_every = int(scene.get("numerics.checkpoint_every"))
+        self.spectral_every = int(scene.get("numerics.spectral_check_every"))
+        self.n_particles = engine.n
+
+    def start(self) -> None:
+        self.engine.control_time_step()
+        self.rec.maybe_snapshot(self.engine)
+        self.rec.record_series(self.engine)
+
+    def done(self) -> bool:
+        return self.engine.t >= self.t_end - 0.5 * self.engine.dt
+
+    def advance(self) -> None:
+        self.engine.step()
+
+    def check(self):
+        return self.engine.health()
+
+    def sample(self) -> None:
+        engine, step = self.engine, self.engine.step_count
+        if step % self.series_every == 0:
+            self.rec.record_series(engine)
+        self.rec.maybe_snapshot(engine)
+        if step % self.spectral_every == 0:
+            engine.control_time_step()
+        if step % self.rebuild_every == 0:
+            engine.rebuild()
+
+    def finish(self) -> None:
+        if self.engine.step_count % self.series_every != 0:
+            self.rec.record_series(self.engine)
+
+    def state(self) -> dict[str, np.ndarray]:
+        engine, rec = self.engine, self.rec
+        history, rk4_left = engine.stepper.state()
+        out = {name: getattr(engine, name) for name in ENGINE_STATE}
+        out["history"] = np.stack(history) if history else np.zeros((0, NVAR, engine.n))
+        out["rk4_left"] = rk4_left
+        out["next_output"] = rec.next_output
+        out["snapshot_times"] = np.asarray(rec.snapshot_times, float)
+        out["series_times"] = np.asarray(rec.series_times, float)
+        for key in SNAPSHOT_VARS:
+            out[f"snapshot_{key}"] = (np.stack(rec.snapshots[key]) if rec.snapshots[key]
+                                      else np.zeros((0, engine.n)))
+        for key in SERIES_VARS:
+            out[f"series_{key}"] = np.asarray(rec.series[key], float)
+        return out
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        engine, rec = self.engine, self.rec
+        for name in ENGINE_STATE:
+            value = state[name]
+            setattr(engine, name, value.copy() if value.ndim else value.item())
+        engine.alive = engine.alive.astype(np.bool_)
+        engine.stepper.set_state(list(state["history"]), int(state["rk4_left"]))
+        rec.next_output = int(state["next_output"])
+        rec.snapshot_times = state["snapshot_times"].tolist()
+        rec.series_times = state["series_times"].tolist()
+        for key in SNAPSHOT_VARS:
+            rec.snapshots[key] = list(state[f"snapshot_{key}"])
+        for key in SERIES_VARS:
+            rec.series[key] = state[f"series_{key}"].tolist()
 
 
-def _restore(engine: DryingEngine, rec: Recorder, ck: xr.Dataset) -> float:
-    engine.state = ck["state"].values.copy()
-    engine.x0, engine.y0 = ck["x0"].values.copy(), ck["y0"].values.copy()
-    engine.mass = ck["mass_now"].values.copy()
-    engine.alive = ck["alive_now"].values.astype(np.bool_)
-    engine.t, engine.step_count = float(ck.attrs["t"]), int(ck.attrs["step"])
-    engine.dt, engine.n_removed = float(ck.attrs["dt"]), int(ck.attrs["n_removed"])
-    engine.evaluations = int(ck.attrs["evaluations"])
-    engine.stepper.set_state(list(ck["history"].values), int(ck.attrs["rk4_left"]))
-    rec.next_output = int(ck.attrs["next_output"])
-    rec.snapshot_times = [float(t) for t in ck["time"].values]
-    for key in SNAPSHOT_VARS:
-        rec.snapshots[key] = list(ck[key].values)
-    rec.series_times = [float(t) for t in ck["step_time"].values]
-    for key in SERIES_VARS:
-        rec.series[key] = [float(v) for v in ck[key].values]
-    engine.rebuild()
-    return float(ck.attrs["wall_time_so_far"])
+# everything of the engine that evolves (with the neighbour list and the current rate, so
+# that resuming needs no rebuild)
+ENGINE_STATE = ("state", "x0", "y0", "mass", "alive", "t", "step_count", "dt", "n_removed",
+                "evaluations", "neighbour_builds", "offsets", "index", "_built_x", "_built_y",
+                "f_current", "stress")
 
 
-def _fingerprint(scene: Scene, init: xr.Dataset) -> str:
-    """Hash of the resolved scene and the initial state: a checkpoint is only resumed by the
-    run it belongs to."""
-    digest = hashlib.sha256(scene.text.encode())
-    for key in ("x", "y", "mass", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy"):
-        digest.update(np.ascontiguousarray(init[key].values).tobytes())
-    return digest.hexdigest()
-
-
-def checkpoint_path(out: Path) -> Path:
-    return out.with_name(out.name + ".checkpoint.nc")
+def _init_fingerprint(init: xr.Dataset) -> bytes:
+    """The initial state's bytes: a checkpoint is only resumed by the run it belongs to."""
+    return b"".join(np.ascontiguousarray(init[key].values).tobytes()
+                    for key in ("x", "y", "mass", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy"))
 
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
-        resume: bool = False, stop_after_steps: int | None = None) -> Path:
-    """Simulate ``scene`` and write the run dataset to ``out``.
+        resume: bool = False, checkpoint_every: int | None = None,
+        checkpoint_minutes: float | None = None,
+        stop_after_checkpoints: int | None = None) -> Path:
+    """Simulate ``scene`` and write the run dataset to ``out`` (through the runner;
+    checkpoints every ``numerics.checkpoint_every`` steps unless ``checkpoint_every`` is given).
 
-    ``stop_after_steps`` ends the process early after writing a checkpoint (tests of resume).
-    """
+    ``stop_after_checkpoints`` ends early after that many checkpoints and returns the
+    checkpoint's path (tests of resume)."""
     clock = WallClock()
     out = Path(out)
     if init is not None:
@@ -193,55 +234,16 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
         seed = int(init_ds.attrs.get("seed", seed))
     else:
         init_ds = build_initial_state(scene, seed)
-    engine = engine_from_initial(scene, init_ds)
-    rec = Recorder(output_times(scene))
-    ck_path = checkpoint_path(out)
-    wall_before = 0.0
-    fingerprint = _fingerprint(scene, init_ds)
-    checkpoint = open_dataset(ck_path) if resume and ck_path.exists() else None
-    if checkpoint is not None and checkpoint.attrs.get("fingerprint") != fingerprint:
-        print(f"ignoring checkpoint {ck_path}: made from another scene or initial state",
-              file=sys.stderr)
-        checkpoint = None
-    if checkpoint is not None:
-        wall_before = _restore(engine, rec, checkpoint)
-        print(f"resumed from {ck_path} at t = {engine.t:g} (step {engine.step_count})",
-              file=sys.stderr)
-    else:
-        engine.control_time_step()
-        rec.maybe_snapshot(engine)
-        rec.record_series(engine)
-    t_end = float(scene.get("outputs.t_end"))
-    every = int(scene.get("outputs.series_every"))
-    ck_every = int(scene.get("numerics.checkpoint_every"))
-    spectral_every = int(scene.get("numerics.spectral_check_every"))
-    progress = Progress(t_end, f"drying {scene.name} seed {seed}", initial=engine.t,
-                        stream=sys.stderr)
-    steps_this_process = 0
-    while engine.t < t_end - 0.5 * engine.dt:
-        engine.step()
-        steps_this_process += 1
-        engine.check_health()
-        if engine.step_count % every == 0:
-            rec.record_series(engine)
-        rec.maybe_snapshot(engine)
-        if engine.step_count % spectral_every == 0:
-            engine.control_time_step()
-        if engine.step_count % ck_every == 0:
-            engine.rebuild()
-            ck = _checkpoint_dataset(engine, rec, wall_before + clock.elapsed)
-            ck.attrs["fingerprint"] = fingerprint
-            write_dataset(ck, ck_path)
-            if stop_after_steps is not None and steps_this_process >= stop_after_steps:
-                progress.close()
-                return ck_path
-        progress.update_to(engine.t, f"removed {engine.n_removed}")
-    progress.close()
-    if engine.step_count % every != 0:
-        rec.record_series(engine)
-    ds = _dataset(engine, rec, finished=True)
-    ds.attrs.update(provenance_attrs(scene, seed, clock, extra_wall_time=wall_before))
-    write_dataset(ds, out)
-    if ck_path.exists():
-        os.unlink(ck_path)
-    return out
+    model = DryingRun(scene, engine_from_initial(scene, init_ds), Recorder(output_times(scene)))
+    try:
+        summary = runner.run(
+            model, scene, seed, t_end=model.t_end, desc=f"drying {scene.name} seed {seed}",
+            out=out, resume=resume, every=checkpoint_every or model.rebuild_every,
+            minutes=runner.minutes_or_default(checkpoint_minutes), time_unit="eta/lambda",
+            extra_fingerprint=_init_fingerprint(init_ds), clock=clock,
+            stop_after_checkpoints=stop_after_checkpoints)
+    except runner.Stopped:
+        return runner.checkpoint_path(out)
+    model.finish()
+    return runner.write_run(_dataset(model.engine, model.rec, finished=True), out, scene, seed,
+                            summary, clock)

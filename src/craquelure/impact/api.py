@@ -3,8 +3,9 @@
 ``run`` writes one dataset per run: particle fields (reference grid, masses, final state),
 field snapshots, time series (contact force, energies, balance error, momentum) and the run's
 measurements as attributes (see :mod:`craquelure.impact.measure`). A diverging run raises
-:class:`~craquelure.errors.SimulationDiverged` before anything is written. ``init``/``resume`` are
-not used: a run is short (< 1 min) and starts from the scene and seed.
+:class:`~craquelure.errors.SimulationDiverged` before anything is written. The loop, checkpoints
+(every few minutes of wall time) and ``--resume`` are the runner's (:class:`ImpactRun`); ``init``
+is not used: a run starts from the scene and seed.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from craquelure import runner
 from craquelure.errors import CraquelureError, SceneError
 from craquelure.impact.effects.artificial_stress import auto_epsilon
 from craquelure.impact.effects.contact_bulk import bulk_stiffness, half_cell_scale
@@ -24,8 +26,6 @@ from craquelure.impact.engine import Engine, Settings, State
 from craquelure.impact.material import Concrete
 from craquelure.impact.measure import contact_metrics, run_metrics
 from craquelure.impact.specimen import Specimen, build_specimen, initial_smoothing_length
-from craquelure.io import write_dataset
-from craquelure.progress import Progress
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 
@@ -171,25 +171,66 @@ def _field_vars(prefix: str, st: State, mat: Concrete) -> dict:
             f"{prefix}plastic_strain": st.epsp.copy()}
 
 
-def simulate(scene: Scene, seed: int, progress: bool = True):
-    """Run a scene; returns (specimen, engine, series dict, snapshots list of (t, fields))."""
-    sp = build_specimen(scene, seed)
-    eng = Engine(settings(scene), initial_state(scene, sp))
-    t_end = scene.get("outputs.t_end")
-    every = scene.get("outputs.series_dt")
-    snap_times = sorted(t for t in scene.get("outputs.snapshot_times") if t < t_end)
-    series: dict[str, list] = {k: [] for k in (
-        "time", "contact_force", "contact_force_penalty", "kinetic", "internal", "elastic",
-        "plastic", "damage", "viscous", "artificial_stress", "penalty", "kinematic_removed",
-        "balance_error", "momentum_y", "vcm_y", "cracked_fraction", "impulse")}
-    mass_total = float(eng.state.m.sum())
-    cracked = scene.get("material.cracked_threshold")
-    last = {"t": 0.0, "impulse": 0.0}
+SERIES = ("time", "contact_force", "contact_force_penalty", "kinetic", "internal", "elastic",
+          "plastic", "damage", "viscous", "artificial_stress", "penalty", "kinematic_removed",
+          "balance_error", "momentum_y", "vcm_y", "cracked_fraction", "impulse")
+SNAPSHOT_FIELDS = ("x", "y", "damage", "softening", "plastic_strain")
 
-    def sample():
-        dt_int = eng.t - last["t"]
+
+class ImpactRun(runner.EngineRun):
+    """The impact engine as the runner sees it (:mod:`craquelure.runner`): one advance is one
+    leapfrog step (the last one shortened to end at ``outputs.t_end``); the health checks run
+    every 50 steps and at every series sample (``outputs.series_dt``); field snapshots at
+    ``outputs.snapshot_times`` and at the end."""
+
+    CHECK_EVERY = 50
+
+    def __init__(self, scene: Scene, seed: int) -> None:
+        self.scene = scene
+        self.specimen = build_specimen(scene, seed)
+        self.engine = Engine(settings(scene), initial_state(scene, self.specimen))
+        self.t_end = float(scene.get("outputs.t_end"))
+        self.every = float(scene.get("outputs.series_dt"))
+        self.snap_times = sorted(t for t in scene.get("outputs.snapshot_times") if t < self.t_end)
+        self.series: dict[str, list] = {k: [] for k in SERIES}
+        self.snapshots: list[tuple[float, dict]] = []
+        self.mass_total = float(self.engine.state.m.sum())
+        self.cracked = scene.get("material.cracked_threshold")
+        self.last_t = self.last_impulse = 0.0
+        self.next_sample = self.every
+        self.n_particles = self.specimen.n
+
+    def start(self) -> None:
+        self._sample()
+
+    def done(self) -> bool:
+        return self.engine.t >= self.t_end * (1 - 1e-12)
+
+    def advance(self) -> None:
+        self.engine.step(min(self.engine.dt, self.t_end - self.engine.t))
+
+    def _sample_due(self) -> bool:
+        return self.engine.t >= self.next_sample * (1 - 1e-9) or self.done()
+
+    def check(self):
+        if self.engine.step_count % self.CHECK_EVERY == 0 or self._sample_due():
+            return self.engine.health()
+        return None
+
+    def sample(self) -> None:
+        eng = self.engine
+        if len(self.snapshots) < len(self.snap_times) and \
+                eng.t >= self.snap_times[len(self.snapshots)]:
+            self.snapshots.append((eng.t, _field_vars("", eng.state, eng.s.material)))
+        if self._sample_due():
+            self._sample()
+            self.next_sample += self.every
+
+    def _sample(self) -> None:
+        eng, series = self.engine, self.series
+        dt_int = eng.t - self.last_t
         series["time"].append(eng.t)
-        series["contact_force"].append((eng.impulse - last["impulse"]) / dt_int
+        series["contact_force"].append((eng.impulse - self.last_impulse) / dt_int
                                        if dt_int > 0 else eng.force)
         series["contact_force_penalty"].append(eng.force)
         for key, val in eng.energies().items():
@@ -197,47 +238,80 @@ def simulate(scene: Scene, seed: int, progress: bool = True):
         series["balance_error"].append(eng.balance_error())
         py = eng.momentum()[1]
         series["momentum_y"].append(py)
-        series["vcm_y"].append(py / mass_total)
-        crack = crack_indicator(scene, eng.state.dmg, eng.state.kap)
-        series["cracked_fraction"].append(float(np.mean(crack >= cracked)))
+        series["vcm_y"].append(py / self.mass_total)
+        crack = crack_indicator(self.scene, eng.state.dmg, eng.state.kap)
+        series["cracked_fraction"].append(float(np.mean(crack >= self.cracked)))
         series["impulse"].append(eng.impulse)
-        last["t"], last["impulse"] = eng.t, eng.impulse
+        self.last_t, self.last_impulse = eng.t, eng.impulse
 
-    sample()
-    snapshots = []
-    bar = Progress(t_end * 1e6, f"impact {scene.name} seed {seed}", unit="us") if progress \
-        else None
-    next_sample = every
-    while eng.t < t_end * (1 - 1e-12):
-        dt = min(eng.dt, t_end - eng.t)
-        eng.step(dt)
-        if eng.step_count % 50 == 0:
-            eng.check()
-        if snap_times and eng.t >= snap_times[0]:
-            snapshots.append((eng.t, _field_vars("", eng.state, eng.s.material)))
-            snap_times.pop(0)
-        if eng.t >= next_sample * (1 - 1e-9) or eng.t >= t_end * (1 - 1e-12):
-            eng.check()
-            sample()
-            next_sample += every
-            if bar is not None:
-                bar.update_to(eng.t * 1e6, f"F = {eng.force:.3g} N/m")
-    if bar is not None:
-        bar.close()
-    eng.check()
-    snapshots.append((eng.t, _field_vars("", eng.state, eng.s.material)))
-    return sp, eng, {k: np.asarray(v) for k, v in series.items()}, snapshots
+    def finish(self) -> None:
+        """The final health check and field snapshot."""
+        self.engine.check()
+        eng = self.engine
+        self.snapshots.append((eng.t, _field_vars("", eng.state, eng.s.material)))
+
+    def state(self) -> dict[str, np.ndarray]:
+        out = {**runner.attributes(self.engine, "engine_"),
+               **runner.attributes(self.engine.state, "particles_"),
+               **{f"series_{k}": np.asarray(v, float) for k, v in self.series.items()},
+               "snapshot_time": np.array([t for t, _ in self.snapshots], float),
+               "last_t": self.last_t, "last_impulse": self.last_impulse,
+               "next_sample": self.next_sample}
+        for key in SNAPSHOT_FIELDS:
+            out[f"snapshot_{key}"] = np.array([f[key] for _, f in self.snapshots]).reshape(
+                len(self.snapshots), self.n_particles)
+        return out
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        runner.set_attributes(self.engine, {k: v for k, v in state.items()
+                                            if k.startswith("engine_")}, "engine_")
+        runner.set_attributes(self.engine.state, {k: v for k, v in state.items()
+                                                  if k.startswith("particles_")}, "particles_")
+        self.series = {k: state[f"series_{k}"].tolist() for k in SERIES}
+        self.snapshots = [(float(t), {key: state[f"snapshot_{key}"][i].copy()
+                                      for key in SNAPSHOT_FIELDS})
+                          for i, t in enumerate(state["snapshot_time"])]
+        self.last_t, self.last_impulse = float(state["last_t"]), float(state["last_impulse"])
+        self.next_sample = float(state["next_sample"])
+
+    def result(self):
+        return (self.specimen, self.engine, {k: np.asarray(v) for k, v in self.series.items()},
+                self.snapshots)
+
+
+def simulate(scene: Scene, seed: int, progress: bool = True, out: Path | None = None,
+             resume: bool = False, clock: WallClock | None = None,
+             checkpoint_every: int | None = None, checkpoint_minutes: float | None = None,
+             stop_after_checkpoints: int | None = None):
+    """Run a scene through the runner; returns (specimen, engine, series dict, snapshots list
+    of (t, fields)) and the runner's summary as its fifth item when ``out`` is given."""
+    model = ImpactRun(scene, seed)
+    summary = runner.run(
+        model, scene, seed, t_end=model.t_end, desc=f"impact {scene.name} seed {seed}",
+        out=out, resume=resume, time_unit="us", time_scale=1e6, progress=progress, clock=clock,
+        stop_after_checkpoints=stop_after_checkpoints, every=checkpoint_every or 0,
+        minutes=runner.minutes_or_default(checkpoint_minutes))
+    model.finish()
+    return (*model.result(), summary) if out is not None else model.result()
 
 
 def run(scene: Scene, out: Path, seed: int, init: Path | None = None,
-        resume: bool = False) -> Path:
+        resume: bool = False, checkpoint_every: int | None = None,
+        checkpoint_minutes: float | None = None,
+        stop_after_checkpoints: int | None = None) -> Path:
     if scene.model != "impact":
         raise CraquelureError(f"scene {scene.name} is not an impact scene")
     clock = WallClock()
-    sp, eng, series, snapshots = simulate(scene, seed)
-    ds = run_dataset(scene, seed, sp, eng, series, snapshots)
-    ds.attrs.update(provenance_attrs(scene, seed, clock))
-    return write_dataset(ds, out)
+    out = Path(out)
+    try:
+        sp, eng, series, snapshots, summary = simulate(
+            scene, seed, out=out, resume=resume, clock=clock,
+            stop_after_checkpoints=stop_after_checkpoints, checkpoint_every=checkpoint_every,
+            checkpoint_minutes=checkpoint_minutes)
+    except runner.Stopped:
+        return runner.checkpoint_path(out)
+    return runner.write_run(run_dataset(scene, seed, sp, eng, series, snapshots), out, scene,
+                            seed, summary, clock)
 
 
 def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:

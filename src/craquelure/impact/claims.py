@@ -1,6 +1,6 @@
 """The impact paper's findings for the validation report (:mod:`craquelure.validation`).
 
-Source: ``results/impact/summary.json`` (:mod:`craquelure.impact.report`), whose ``findings``
+Source: ``results/impact/summary.json`` (:mod:`craquelure.impact.analysis`), whose ``findings``
 already carry the spec's check-12 criteria and ``reproduced`` flags computed from the runs;
 this module only words them as claims and adds the robustness demand (every variant to the end,
 closed energy balance).

@@ -1,11 +1,9 @@
 """SPH engine of the impact model: effect-specialised kernels, kick-drift-kick leapfrog,
 diagnostics (spec section 3).
 
-Specialisation: :func:`kernels_for` copies :mod:`.kernels_template` into
-``$CRAQUELURE_CACHE/impact_kernels/k_<hash>.py`` with the effect flags of the scene as module
-constants (numba folds the branches of absent effects away) and imports it; the hash covers the
-flags, the template and every fragment module it calls, so numba's ``cache=True`` is keyed on a
-file whose content never changes.
+Specialisation: :func:`kernels_for` compiles :mod:`.kernels_template` for the scene's effect set
+with :func:`craquelure.codegen.specialise` (flags from the effect registry; numba folds the
+branches of absent effects away).
 
 One step of length Δt (the accelerations a_n at x_n are known):
 
@@ -28,74 +26,25 @@ as damage (+ residual) dissipation. NaN/inf or E > factor·E(0) raises
 
 from __future__ import annotations
 
-import hashlib
-import inspect
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from craquelure.codegen import generated_dir, import_generated
-from craquelure.errors import SimulationDiverged
+from craquelure.codegen import effect_flags, pack_parameters, specialise
 from craquelure.impact import kernels_template
-from craquelure.impact.effects import (
-    artificial_stress,
-    artificial_viscosity,
-    cap_plasticity,
-    compressive_damage,
-    contact_bulk,
-    contact_mass,
-    damage,
-    elasticity,
-    plasticity,
-    rate_effects,
-    variable_smoothing_length,
-)
 from craquelure.impact.effects.contact_bulk import bulk_stiffness
 from craquelure.impact.material import Concrete
-from craquelure.sph import kernels as sph_kernels
+from craquelure.runner import Divergence, diverged, non_finite, runaway
 from craquelure.sph.neighbours import Box, neighbour_list
-
-FLAG_OF_EFFECT = {
-    "elasticity": "ELASTICITY",
-    "plasticity": "PLASTICITY",
-    "cap_plasticity": "CAP_PLASTICITY",
-    "compressive_damage": "COMPRESSIVE_DAMAGE",
-    "rate_effects": "RATE_EFFECTS",
-    "damage": "DAMAGE",
-    "artificial_viscosity": "ARTIFICIAL_VISCOSITY",
-    "artificial_stress": "ARTIFICIAL_STRESS",
-    "variable_smoothing_length": "VARIABLE_SMOOTHING_LENGTH",
-    "contact_bulk": "CONTACT_BULK",
-    "contact_mass": "CONTACT_MASS",
-}
-_FRAGMENTS = (kernels_template, artificial_stress, artificial_viscosity, contact_bulk,
-              contact_mass, damage, elasticity, plasticity, variable_smoothing_length,
-              cap_plasticity, compressive_damage, rate_effects, sph_kernels)
-
-
-def cache_dir() -> Path:
-    return generated_dir("impact_kernels")
 
 
 def kernels_for(effects, periodic: bool = False, plane_stress: bool = False):
-    """The kernel module compiled for this effect set (generated once, then cached)."""
-    flags = {flag: (name in effects) for name, flag in FLAG_OF_EFFECT.items()}
+    """The kernel module compiled for this effect set (:func:`craquelure.codegen.specialise`)."""
+    flags = effect_flags("impact", effects)
     flags["PERIODIC"] = bool(periodic)
     flags["PLANE_STRESS"] = bool(plane_stress)
-    template = inspect.getsource(kernels_template)
-    start = template.index("# --- effect flags")
-    end = template.index("# --- end of flags ---")
-    block = "".join(f"{k} = {v}\n" for k, v in sorted(flags.items()))
-    source = template[:start] + "# --- effect flags (generated) ---\n" + block + template[end:]
-    digest = hashlib.sha256(source.encode())
-    for mod in _FRAGMENTS:
-        digest.update(inspect.getsource(mod).encode())
-    name = f"k_{digest.hexdigest()[:16]}"
-    module = import_generated(source, f"craquelure_impact_kernels_{name}",
-                              cache_dir() / f"{name}.py")
-    return module
+    return specialise(kernels_template.__name__, flags, "impact")
 
 
 @dataclass
@@ -134,24 +83,20 @@ class Settings:
     def params(self, module) -> np.ndarray:
         m = self.material
         alpha, k = m.dp
-        p = np.zeros(module.N_PARAMS)
-        p[module.P_BULK], p[module.P_SHEAR], p[module.P_YOUNG] = m.bulk, m.shear, m.young
-        p[module.P_ALPHA_DP], p[module.P_K_DP] = alpha, k
-        p[module.P_KAPPA0], p[module.P_KAPPA_F] = m.kappa0, m.kappa_f
-        p[module.P_C] = self.wave_speed
-        p[module.P_AV_ALPHA], p[module.P_AV_BETA] = self.av_alpha, self.av_beta
-        p[module.P_AS_EPS], p[module.P_AS_N] = self.as_epsilon, self.as_n
-        p[module.P_SPACING] = self.spacing
-        p[module.P_H_MIN], p[module.P_H_MAX] = self.h_min, self.h_max
-        p[module.P_BASE], p[module.P_RC] = self.base_y, self.contact_radius * self.spacing
-        p[module.P_CONTACT_A] = self.contact_a
-        p[module.P_K_BULK] = bulk_stiffness(self.contact_a, m.bulk, self.spacing)
-        p[module.P_KIN_RATIO] = self.kinematic_ratio
-        if any(e in self.effects for e in ("cap_plasticity", "rate_effects")):
-            p[module.P_CAP:module.P_CAP + 18] = m.cap_vector()
-        if self.periodic_box is not None:
-            p[module.P_LX], p[module.P_LY] = self.periodic_box
-        return p
+        lx, ly = self.periodic_box if self.periodic_box is not None else (0.0, 0.0)
+        cap = (m.cap_vector() if any(e in self.effects for e in ("cap_plasticity",
+                                                                   "rate_effects"))
+               else np.zeros(len(module.CAP_PARAMS)))
+        return pack_parameters(module.PARAMS, dict(
+            bulk=m.bulk, shear=m.shear, young=m.young, alpha_dp=alpha, k_dp=k,
+            kappa0=m.kappa0, kappa_f=m.kappa_f, wave_speed=self.wave_speed,
+            av_alpha=self.av_alpha, av_beta=self.av_beta, as_epsilon=self.as_epsilon,
+            as_n=self.as_n, spacing=self.spacing, h_min=self.h_min, h_max=self.h_max,
+            base_y=self.base_y, contact_radius=self.contact_radius * self.spacing,
+            contact_a=self.contact_a,
+            k_bulk=bulk_stiffness(self.contact_a, m.bulk, self.spacing),
+            kinematic_ratio=self.kinematic_ratio, lx=lx, ly=ly,
+            **dict(zip(module.CAP_PARAMS, cap, strict=True))))
 
 
 @dataclass
@@ -340,25 +285,26 @@ class Engine:
         st = self.state
         return float(np.dot(st.m, st.vx)), float(np.dot(st.m, st.vy))
 
-    def check(self) -> None:
-        """Raise SimulationDiverged on NaN/inf or runaway energy."""
+    def health(self) -> Divergence | None:
+        """NaN/inf in the particle fields, total energy above ``energy_runaway_factor`` x E(0),
+        or a collapsed time step (the runner's guards)."""
         st = self.state
-        for name in ("x", "y", "vx", "vy", "rho", "h"):
-            arr = getattr(st, name)
-            if not np.isfinite(arr).all():
-                bad = int(np.flatnonzero(~np.isfinite(arr))[0])
-                raise SimulationDiverged(
-                    f"t = {self.t:.6g} s, step {self.step_count}: {name} of particle {bad} is "
-                    f"not finite")
-        if not np.isfinite(st.sig).all():
-            raise SimulationDiverged(f"t = {self.t:.6g} s, step {self.step_count}: stress is "
-                                     f"not finite")
-        total = self.total_energy()
-        if self.e0 > 0 and total > self.s.energy_runaway_factor * self.e0:
-            raise SimulationDiverged(
-                f"t = {self.t:.6g} s, step {self.step_count}: total energy {total:.4g} J/m "
-                f"exceeds {self.s.energy_runaway_factor} x E(0) = {self.e0:.4g} J/m "
-                f"(runaway)")
+        bad = non_finite({name: getattr(st, name) for name in ("x", "y", "vx", "vy", "rho", "h")}
+                         | {"stress": st.sig.T})
+        if bad is not None:
+            return bad
+        if self.e0 > 0:
+            ke = 0.5 * st.m * (st.vx**2 + st.vy**2)
+            bad = runaway(self.total_energy(), self.s.energy_runaway_factor * self.e0,
+                          "total energy [J/m]", ke + st.m * st.eint)
+            if bad is not None:
+                return bad
         if self.dt < 1e-6 * self.s.dt_max and self.dt < 1e-12:
-            raise SimulationDiverged(f"t = {self.t:.6g} s, step {self.step_count}: time step "
-                                     f"collapsed to {self.dt:.3g} s")
+            return Divergence("time step", f"dt collapsed to {self.dt:.3g} s")
+        return None
+
+    def check(self) -> None:
+        """Raise :class:`SimulationDiverged` when :meth:`health` fails (outside the runner)."""
+        bad = self.health()
+        if bad is not None:
+            raise diverged("impact", bad, self.step_count, self.t, "s")

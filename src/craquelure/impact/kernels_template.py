@@ -27,9 +27,10 @@ from craquelure.impact.effects.elasticity import elastic_energy_density, jaumann
 from craquelure.impact.effects.plasticity import dp_return
 from craquelure.impact.effects.rate_effects import increase_factor, principal_rates
 from craquelure.impact.effects.variable_smoothing_length import benz_update
+from craquelure.periodic import minimum_image
 from craquelure.sph.kernels import CUBIC, kernel_dwdr, kernel_w
 
-# --- effect flags (replaced by the generator) ---
+# BEGIN FLAGS
 ELASTICITY = True
 PLASTICITY = True
 CAP_PLASTICITY = False
@@ -43,19 +44,35 @@ CONTACT_BULK = True
 CONTACT_MASS = False
 PERIODIC = False
 PLANE_STRESS = False
-# --- end of flags ---
+# END FLAGS
 DIM = 2
 KIND = CUBIC
 
-# Parameter vector layout (engine.PARAMS gives the names).
-P_BULK, P_SHEAR, P_YOUNG, P_ALPHA_DP, P_K_DP, P_KAPPA0, P_KAPPA_F = 0, 1, 2, 3, 4, 5, 6
-P_C, P_AV_ALPHA, P_AV_BETA, P_AS_EPS, P_AS_N, P_SPACING = 7, 8, 9, 10, 11, 12
-P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = 13, 14, 15, 16, 17, 18, 19
-P_LX, P_LY = 20, 21
-# cap model (Concrete.cap_vector order): alpha, lambda, beta, theta, e, X0, W, D1, D2, eps_fc,
-# eta0_t, n_t, eta0_c, n_c, OVERT, OVERC, f_t, f_c
-P_CAP = 22
-N_PARAMS = 40
+# the parameter vector: names in order, declared once (the engine packs by name)
+PARAMS = ("bulk", "shear", "young", "alpha_dp", "k_dp", "kappa0", "kappa_f", "wave_speed",
+          "av_alpha", "av_beta", "as_epsilon", "as_n", "spacing", "h_min", "h_max", "base_y",
+          "contact_radius", "contact_a", "k_bulk", "kinematic_ratio", "lx", "ly",
+          # cap model (Concrete.cap_vector order; contiguous from P_CAP)
+          "cap_alpha", "cap_lambda", "cap_beta", "cap_theta", "cap_e", "cap_x0", "cap_w",
+          "cap_d1", "cap_d2", "eps_fc", "eta0_t", "n_t", "eta0_c", "n_c", "overt", "overc",
+          "f_t", "f_c")
+N_PARAMS = len(PARAMS)
+_index = PARAMS.index
+P_BULK, P_SHEAR, P_YOUNG, P_ALPHA_DP, P_K_DP, P_KAPPA0, P_KAPPA_F = (
+    _index("bulk"), _index("shear"), _index("young"), _index("alpha_dp"), _index("k_dp"),
+    _index("kappa0"), _index("kappa_f"),
+)
+P_C, P_AV_ALPHA, P_AV_BETA, P_AS_EPS, P_AS_N, P_SPACING = (
+    _index("wave_speed"), _index("av_alpha"), _index("av_beta"), _index("as_epsilon"),
+    _index("as_n"), _index("spacing"),
+)
+P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = (
+    _index("h_min"), _index("h_max"), _index("base_y"), _index("contact_radius"),
+    _index("contact_a"), _index("k_bulk"), _index("kinematic_ratio"),
+)
+P_LX, P_LY = _index("lx"), _index("ly")
+P_CAP = _index("cap_alpha")
+CAP_PARAMS = PARAMS[P_CAP:P_CAP + 18]
 
 
 @njit(inline="always", cache=True)
@@ -63,8 +80,8 @@ def pair_vector(x, y, i, j, prm):
     dx = x[i] - x[j]
     dy = y[i] - y[j]
     if PERIODIC:
-        dx -= prm[P_LX] * np.rint(dx / prm[P_LX])
-        dy -= prm[P_LY] * np.rint(dy / prm[P_LY])
+        dx = minimum_image(dx, prm[P_LX])
+        dy = minimum_image(dy, prm[P_LY])
     return dx, dy
 
 

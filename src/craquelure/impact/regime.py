@@ -23,7 +23,7 @@ def classify(n_main: int) -> str:
 
 
 def regime_row(path: Path) -> dict:
-    from craquelure.impact.report import crack_metrics
+    from craquelure.impact.analysis import crack_metrics
 
     ds = open_dataset(path)
     a = ds.attrs

@@ -14,8 +14,6 @@ from craquelure.lattice.run import run as _run
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 
-CHECKPOINTS = True  # craquelure.lattice.run writes <out>.checkpoint.nc
-
 # bond updates per second of the serial kernel (benchmarks/lattice_engine.py on this shared
 # 2-core machine, 2026-11-22, after the chunked kernel: 2.1-2.6e7 wall at load average 3.8,
 # 1.9e7 at 7.7); used only for wall-time estimates
@@ -51,8 +49,8 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
 
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
-        resume: bool = False) -> Path:
+        resume: bool = False, **checkpoints) -> Path:
     if init is not None:
         raise CraquelureError("lattice runs build their initial state from the scene and seed: "
                               "run without --init")
-    return _run(scene, out, seed=seed, resume=resume)
+    return _run(scene, out, seed=seed, resume=resume, **checkpoints)

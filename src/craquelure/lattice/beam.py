@@ -38,6 +38,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from craquelure.periodic import minimum_image
+
 SQRT3 = math.sqrt(3.0)
 
 
@@ -157,7 +159,7 @@ def assemble_global(x, y, bi, bj, kn, a, b, L0=None, period_x: float = 0.0):  # 
     n = x.size
     dx = x[bj] - x[bi]
     if period_x > 0:
-        dx = dx - period_x * np.rint(dx / period_x)
+        dx = minimum_image(dx, period_x)
     dy = y[bj] - y[bi]
     length = np.hypot(dx, dy) if L0 is None else np.broadcast_to(L0, dx.shape)
     alpha = np.arctan2(dy, dx)

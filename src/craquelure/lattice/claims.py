@@ -1,7 +1,7 @@
 """The beam-lattice (NUMFRAC/HiDEM) claims for the validation report
 (:mod:`craquelure.validation`).
 
-Sources: the ``summary.json`` files of :mod:`craquelure.lattice.workflow` (folder name = what
+Sources: the ``summary.json`` files of :mod:`craquelure.lattice.analysis` (folder name = what
 it summarises: ``glen``, ``gravity_block``, ``calving``, ``fretting``, ``accuracy``) and
 ``results/lattice/scaling/scaling.tsv``.
 """

@@ -19,9 +19,11 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from craquelure.errors import SimulationDiverged
-from craquelure.lattice import codegen
+from craquelure.codegen import effect_flags, pack_parameters, specialise
 from craquelure.lattice.geometry import INTACT, find_bonds
+from craquelure.lattice.kernel_template import PARAMS
+from craquelure.periodic import minimum_image
+from craquelure.runner import Divergence, diverged, non_finite
 from craquelure.sph.neighbours import Box, neighbour_list
 
 # Waiting OpenMP threads sleep instead of spinning [D]: on this shared 2-core machine a
@@ -34,14 +36,19 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 # measured with benchmarks/lattice_engine.py on this 2-core machine
 PARALLEL_MIN_BONDS = 20000
 
-PARAM_NAMES = ("dt", "beta", "gamma", "area", "inertia", "width", "sigma0", "tau0",
-               "fracture_start", "melt_rate_factor", "E_b", "block", "frozen_rate",
-               "contact_stiffness", "friction", "friction_viscosity", "skin",
-               "g", "rho", "rho_w", "water_level", "drag_rate", "drag_everywhere",
-               "bed_level", "bed_stiffness", "bed_damping", "bed_friction",
-               "period_x", "drive_vx", "drive_vy", "drive_amplitude", "drive_period",
-               "drive_start", "load_ramp", "energy_tolerance", "energy_floor", "cell_area",
-               "mass_damping_until", "slope_angle")
+
+KERNEL_TEMPLATE = "craquelure.lattice.kernel_template"
+
+
+def kernel_flags(effects, periodic_x: bool = False, node_averaged: bool = False,
+                 bending: bool = False, parallel: bool = True) -> dict[str, bool]:
+    """Flags of the kernel template: the effects' (from the registry) and the engine options."""
+    flags = effect_flags("lattice", effects)
+    flags["PERIODIC_X"] = bool(periodic_x)
+    flags["NODE_AVERAGED"] = bool(node_averaged) and flags["HAS_FRACTURE"]
+    flags["BENDING"] = bool(bending) and flags["HAS_FRACTURE"]
+    flags["PARALLEL"] = bool(parallel)
+    return flags
 
 
 @dataclass
@@ -92,7 +99,7 @@ def rest_state(x, y, theta, bi, bj, period_x: float = 0.0) -> np.ndarray:
     of bonds made stress-free in this configuration."""
     dx = x[bj] - x[bi]
     if period_x > 0:
-        dx = dx - period_x * np.rint(dx / period_x)
+        dx = minimum_image(dx, period_x)
     dy = y[bj] - y[bi]
     ell = np.hypot(dx, dy)
     return np.vstack([ell, dx / ell, dy / ell, theta[bi], theta[bj]])
@@ -140,16 +147,12 @@ def stable_step_estimate(system: System) -> float:
 
 
 def default_params(**values) -> np.ndarray:
-    p = dict.fromkeys(PARAM_NAMES, 0.0)
+    p = dict.fromkeys(PARAMS, 0.0)
     p.update(energy_tolerance=0.05, energy_floor=1e-300, area=1.0, inertia=1.0 / 12,
              width=1.0, sigma0=1.0, tau0=1.0, E_b=1.0, block=1.0, skin=0.2, rho=1.0,
              cell_area=math.sqrt(3) / 2, friction_viscosity=1.0, water_level=-math.inf,
              bed_level=-math.inf, mass_damping_until=math.inf)
-    unknown = set(values) - set(p)
-    if unknown:
-        raise KeyError(f"unknown engine parameters {sorted(unknown)}")
-    p.update(values)
-    return np.array([float(p[k]) for k in PARAM_NAMES])
+    return pack_parameters(PARAMS, values, defaults=p)
 
 
 @dataclass
@@ -174,9 +177,9 @@ class Engine:
         parallel = self.parallel
         if parallel is None:
             parallel = s.bi.size >= PARALLEL_MIN_BONDS and numba.get_num_threads() > 1
-        self.flags = codegen.flags_for(self.effects, s.period_x > 0, self.node_averaged,
-                                       self.bending, parallel)
-        self.kernel = codegen.kernel_module(self.flags)
+        self.flags = kernel_flags(self.effects, s.period_x > 0, self.node_averaged,
+                                  self.bending, parallel)
+        self.kernel = specialise(KERNEL_TEMPLATE, self.flags, "lattice")
         self.p = default_params(**{**self.params, "period_x": s.period_x})
         self.dt = float(self.p[0])
         self.q = np.ascontiguousarray(np.vstack([s.x, s.y, s.theta]))
@@ -234,7 +237,7 @@ class Engine:
     def rebuild_contacts(self):
         """Verlet list of unbonded (or broken-bond) pairs within d_max + skin."""
         s = self.system
-        radius = float(s.diameter.max()) + float(self.p[PARAM_NAMES.index("skin")])
+        radius = float(s.diameter.max()) + float(self.p[PARAMS.index("skin")])
         box, x, y = self._box(radius)
         off, idx = neighbour_list(x, y, radius, box)
         i = np.repeat(np.arange(s.n), np.diff(off))
@@ -278,7 +281,15 @@ class Engine:
         return ni.size
 
     def run(self, n_steps: int) -> None:
-        """Advance n_steps; appends energy-series rows to ``self.series``."""
+        """Advance n_steps; appends energy-series rows to ``self.series``; raises
+        :class:`SimulationDiverged` when the kernel's guard fails."""
+        bad = self.advance(n_steps)
+        if bad is not None:
+            raise diverged("lattice", bad, self.step, self.time)
+
+    def advance(self, n_steps: int) -> Divergence | None:
+        """Advance n_steps (fewer when the kernel's NaN/runaway guard stops it: then the
+        failed check is returned)."""
         s = self.system
         k = self.kernel
         remaining = int(n_steps)
@@ -298,12 +309,7 @@ class Engine:
             self.step += done
             remaining -= done
             if status == k.NAN or status == k.RUNAWAY:
-                last = self.series[-1] if self.series else None
-                what = ("NaN/inf in the energy" if status == k.NAN else
-                        f"energy ran away: E_tot = {last[10]:.6g} vs E_0 = {self.acc[6]:.6g}")
-                raise SimulationDiverged(
-                    f"lattice run diverged at t = {self.time:.6g} (step {self.step}, "
-                    f"dt = {self.dt:.6g}): {what}; reduce numerics.dt_factor or check loads")
+                return self._divergence(status)
             if status == k.REBUILD:
                 self.rebuild_contacts()
             if (self.freeze_every and self.flags["HAS_MELTING"]
@@ -311,38 +317,48 @@ class Engine:
                 self.refreeze()
                 if self.flags["HAS_CONTACT"]:
                     self.rebuild_contacts()
+        return None
+
+    def _divergence(self, status: int) -> Divergence:
+        hint = f" at dt = {self.dt:.6g}; reduce numerics.dt_factor or check loads"
+        if status == self.kernel.NAN:
+            bad = non_finite({"position": self.q, "previous position": self.qm})
+            return Divergence("finite", "NaN/inf in the energy" + hint,
+                              bad.particle if bad is not None else None)
+        last = self.series[-1]
+        v = (self.q - self.qm) / self.dt
+        ke = 0.5 * self.system.mass * (v[0] ** 2 + v[1] ** 2)
+        return Divergence("runaway", f"energy ran away: E_tot = {last[10]:.6g} vs E_0 = "
+                          f"{self.acc[6]:.6g}" + hint, int(np.argmax(ke)))
 
     # bond-indexed arrays of the engine (rows, bond) and of the system (bond) in a checkpoint
     BOND_STATE = ("bref", "bk", "bprev", "bforce", "benergy", "bratio", "tbreak")
     SYSTEM_BONDS = ("bi", "bj", "kn", "ka", "kb", "state", "unbreakable")
 
-    def checkpoint(self) -> dict[str, np.ndarray]:
+    def state(self) -> dict[str, np.ndarray]:
         """Everything that evolves (configurations, bond rest states and history, bond list,
-        accumulators, energy series, step); particle constants are rebuilt from the scene.
-        The contact list is rebuilt first, so that a resumed run (which rebuilds it on
-        restore) continues from the same list."""
-        if self.flags["HAS_CONTACT"]:
-            self.rebuild_contacts()
+        contact list, accumulators, energy series, step); particle constants are rebuilt from
+        the scene. Taking it changes nothing, so a checkpoint may be written at any chunk."""
         s = self.system
         out = {name: getattr(self, name).copy() for name in ("qm", "q", "qref", "qbuild", "acc",
-                                                            *self.BOND_STATE)}
+                                                            "cpi", "cpj", *self.BOND_STATE)}
         out.update({name: getattr(s, name).copy() for name in self.SYSTEM_BONDS})
         out["series"] = self.series_array()
         out["step"] = np.array(self.step)
         return out
 
     def restore(self, ck: dict[str, np.ndarray]) -> None:
-        """Continue from :meth:`checkpoint` (bit-identical to the uninterrupted run)."""
+        """Continue from :meth:`state` (bit-identical to the uninterrupted run)."""
         s = self.system
         for name in self.SYSTEM_BONDS:
             setattr(s, name, np.ascontiguousarray(ck[name]).astype(getattr(s, name).dtype))
         self._alloc_bond_arrays()
         for name in ("qm", "q", "qref", "qbuild", "acc", *self.BOND_STATE):
             setattr(self, name, np.ascontiguousarray(ck[name], np.float64))
+        self.cpi = np.ascontiguousarray(ck["cpi"], np.int64)
+        self.cpj = np.ascontiguousarray(ck["cpj"], np.int64)
         self.step = int(ck["step"])
         self.series = list(np.asarray(ck["series"]).reshape(-1, self.kernel.N_SERIES))
-        if self.flags["HAS_CONTACT"]:
-            self.rebuild_contacts()
 
     def series_array(self) -> np.ndarray:
         return np.array(self.series).reshape(-1, self.kernel.N_SERIES)

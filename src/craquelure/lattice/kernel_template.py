@@ -1,6 +1,6 @@
 """Source template of the lattice time-step kernel (lattice spec sections 5-8).
 
-:mod:`craquelure.lattice.codegen` copies this file with the ``HAS_*`` / ``PERIODIC_X`` /
+:func:`craquelure.codegen.specialise` copies this file with the ``HAS_*`` / ``PERIODIC_X`` /
 ``NODE_AVERAGED`` / ``BENDING`` / ``PARALLEL`` constants set for one scene's effect set into
 a cache folder and imports it: numba freezes module globals as compile-time constants, so
 the branches of absent effects are removed by the compiler and cost nothing, and
@@ -51,7 +51,9 @@ from craquelure.lattice.effects.drag import drag_rate
 from craquelure.lattice.effects.fracture import beam_ratio_scaled, node_ratio
 from craquelure.lattice.effects.gravity import gravity
 from craquelure.lattice.effects.melting import melt_rate, uniform01
+from craquelure.periodic import minimum_image
 
+# BEGIN FLAGS
 HAS_BEAMS = True
 HAS_FRACTURE = True
 HAS_MELTING = True
@@ -64,16 +66,45 @@ PERIODIC_X = True
 NODE_AVERAGED = True
 BENDING = True
 PARALLEL = True
+# END FLAGS
 
-# parameter vector indices
-DT, BETA, GAMMA, AREA, INERTIA, WIDTH, SIGMA0, TAU0, T_FRACTURE = 0, 1, 2, 3, 4, 5, 6, 7, 8
-MELT_A, E_B, BLOCK, FROZEN_RATE = 9, 10, 11, 12
-KC, MU_F, C_T, SKIN = 13, 14, 15, 16
-G, RHO, RHO_W, Y_WATER, C_DRAG, DRAG_ALL = 17, 18, 19, 20, 21, 22
-Y_BED, K_BED, C_BED, C_FRIC_BED = 23, 24, 25, 26
-LX, DRIVE_VX, DRIVE_VY, DRIVE_AMP, DRIVE_PERIOD, DRIVE_T0, LOAD_RAMP = 27, 28, 29, 30, 31, 32, 33
-ENERGY_TOL, ENERGY_FLOOR, CELL_AREA, GAMMA_UNTIL, SLOPE = 34, 35, 36, 37, 38
-N_PARAMS = 39
+# the parameter vector: names in order, declared once (the engine packs by name)
+PARAMS = (
+    "dt", "beta", "gamma", "area", "inertia", "width", "sigma0", "tau0", "fracture_start",
+    "melt_rate_factor", "E_b", "block", "frozen_rate", "contact_stiffness", "friction",
+    "friction_viscosity", "skin", "g", "rho", "rho_w", "water_level", "drag_rate",
+    "drag_everywhere", "bed_level", "bed_stiffness", "bed_damping", "bed_friction", "period_x",
+    "drive_vx", "drive_vy", "drive_amplitude", "drive_period", "drive_start", "load_ramp",
+    "energy_tolerance", "energy_floor", "cell_area", "mass_damping_until", "slope_angle",
+)
+N_PARAMS = len(PARAMS)
+_index = PARAMS.index
+DT, BETA, GAMMA, AREA, INERTIA, WIDTH, SIGMA0, TAU0, T_FRACTURE = (
+    _index("dt"), _index("beta"), _index("gamma"), _index("area"), _index("inertia"),
+    _index("width"), _index("sigma0"), _index("tau0"), _index("fracture_start"),
+)
+MELT_A, E_B, BLOCK, FROZEN_RATE = (
+    _index("melt_rate_factor"), _index("E_b"), _index("block"), _index("frozen_rate"),
+)
+KC, MU_F, C_T, SKIN = (
+    _index("contact_stiffness"), _index("friction"), _index("friction_viscosity"),
+    _index("skin"),
+)
+G, RHO, RHO_W, Y_WATER, C_DRAG, DRAG_ALL = (
+    _index("g"), _index("rho"), _index("rho_w"), _index("water_level"), _index("drag_rate"),
+    _index("drag_everywhere"),
+)
+Y_BED, K_BED, C_BED, C_FRIC_BED = (
+    _index("bed_level"), _index("bed_stiffness"), _index("bed_damping"), _index("bed_friction"),
+)
+LX, DRIVE_VX, DRIVE_VY, DRIVE_AMP, DRIVE_PERIOD, DRIVE_T0, LOAD_RAMP = (
+    _index("period_x"), _index("drive_vx"), _index("drive_vy"), _index("drive_amplitude"),
+    _index("drive_period"), _index("drive_start"), _index("load_ramp"),
+)
+ENERGY_TOL, ENERGY_FLOOR, CELL_AREA, GAMMA_UNTIL, SLOPE = (
+    _index("energy_tolerance"), _index("energy_floor"), _index("cell_area"),
+    _index("mass_damping_until"), _index("slope_angle"),
+)
 # accumulator indices
 A_DAMP, A_FRACT, A_MELT, A_WORK, A_BROKEN, A_MELTED, A_E0, A_E0SET = 0, 1, 2, 3, 4, 5, 6, 7
 N_ACC = 8
@@ -129,7 +160,7 @@ def _dof(xa, xm, f, g, mm, dt, fixed, driven, target):
 def _chord(q, i, j, lx):
     dx = q[0, j] - q[0, i]
     if PERIODIC_X:
-        dx -= lx * np.rint(dx / lx)
+        dx = minimum_image(dx, lx)
     return dx, q[1, j] - q[1, i]
 
 

@@ -7,33 +7,25 @@ equally spaced times, the first at t = 0), ``particle`` (mass, body, row, col) a
 Attributes: derived constants (dt, k_n, k_s, E, nu, P-wave modulus, rho_2) and provenance.
 A diverged run raises :class:`~craquelure.errors.SimulationDiverged` and writes nothing.
 
-Checkpoints: every ``numerics.checkpoint_every`` frames the full evolving state
-(:meth:`Engine.checkpoint`: configurations, bond list, rest states and damping history,
-accumulators, energy series) and the frames so far are written atomically (temporary file,
-then rename) to ``<out>.checkpoint.nc``; ``craquelure run ... --resume`` continues from it
-and gives a dataset bit-identical to the uninterrupted run (same data, same series). A
-checkpoint carries a fingerprint of the resolved scene and the seed and is ignored by any
-other run; it is deleted when the finished dataset is written. Decision [D]: checkpoints are
-taken at frame marks only (an engine chunk boundary in both runs) and the contact list is
-rebuilt at each of them in both runs, so the Verlet-list order is the same after a resume.
+The loop, checkpoints and ``--resume`` are the runner's (:mod:`craquelure.runner`): every
+``numerics.checkpoint_every`` frames (or every few minutes of wall time) the full evolving state
+(:meth:`Engine.state`: configurations, bond list, rest states and damping history, contact
+list, accumulators, energy series) and the frames so far go to ``<out>.checkpoint.npz``;
+``--resume`` continues from it to a dataset bit-identical to the uninterrupted run.
 """
 
 from __future__ import annotations
 
-import hashlib
-import os
-import sys
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from craquelure.io import open_dataset, write_dataset
+from craquelure import runner
 from craquelure.lattice import beam
 from craquelure.lattice.build import beam_constants, make_engine
 from craquelure.lattice.engine import Engine
-from craquelure.progress import Progress
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 
 
@@ -42,92 +34,66 @@ def frame_marks(scene: Scene, dt: float) -> np.ndarray:
     return np.unique(np.linspace(0, n_steps, scene.get("outputs.frames") + 1).round().astype(int))
 
 
-def checkpoint_path(out: Path) -> Path:
-    return out.with_name(out.name + ".checkpoint.nc")
+class LatticeRun(runner.EngineRun):
+    """The lattice engine as the runner sees it (:mod:`craquelure.runner`): one advance runs
+    to the next frame mark and records the frame. The contact list is rebuilt every
+    ``numerics.checkpoint_every`` frames (decision [D]: a fixed schedule of the trajectory;
+    the checkpoints themselves hold the contact list and change nothing)."""
 
+    TIME, STEPS = "time", "step"
 
-def fingerprint(scene: Scene, seed: int) -> str:
-    """Hash of the resolved scene and the seed: a checkpoint is only resumed by its run."""
-    return hashlib.sha256(f"{scene.text}\nseed={int(seed)}".encode()).hexdigest()
+    def __init__(self, scene: Scene, engine: Engine) -> None:
+        self.engine = engine
+        self.t_end = float(scene.get("outputs.t_end"))
+        self.marks = frame_marks(scene, engine.dt)
+        self.rebuild_every = int(scene.get("numerics.checkpoint_every"))
+        self.frames: dict[str, list] = {"time": [], "x": [], "y": [], "theta": []}
+        self.n_particles = engine.system.n
+        self._bad = None
 
+    def start(self) -> None:
+        self._record()  # the frame at t = 0 (mark 0)
 
-def _checkpoint_dataset(scene: Scene, seed: int, engine: Engine, frames: dict, clock: WallClock,
-                        wall_before: float) -> xr.Dataset:
-    state = engine.checkpoint()
-    data = {}
-    for name, arr in state.items():
-        dims = tuple(f"{name}_{k}" for k in range(arr.ndim))
-        data[f"ck_{name}"] = (dims, arr)
-    for name, values in frames.items():
-        arr = np.array(values)
-        data[f"frame_{name}"] = (tuple(f"frame_{name}_{k}" for k in range(arr.ndim)), arr)
-    ds = xr.Dataset(data)
-    ds.attrs.update(provenance_attrs(scene, seed, clock, extra_wall_time=wall_before))
-    ds.attrs.update(fingerprint=fingerprint(scene, seed), wall_time_so_far=clock.elapsed
-                    + wall_before, step=engine.step, finished=0)
-    return ds
+    def done(self) -> bool:
+        return len(self.frames["time"]) >= len(self.marks)
 
+    def advance(self) -> None:
+        mark = self.marks[len(self.frames["time"])]
+        if mark > self.engine.step:
+            self._bad = self.engine.advance(mark - self.engine.step)
 
-def _restore(engine: Engine, ck: xr.Dataset) -> tuple[dict, float]:
-    state = {name[3:]: ck[name].values for name in ck.data_vars if name.startswith("ck_")}
-    engine.restore(state)
-    frames = {name[6:]: list(ck[name].values) for name in ck.data_vars
-              if name.startswith("frame_")}
-    return frames, float(ck.attrs["wall_time_so_far"])
+    def check(self):
+        return self._bad
 
+    def sample(self) -> None:
+        self._record()
+        k = len(self.frames["time"]) - 1
+        if (self.rebuild_every and 0 < k < len(self.marks) - 1 and k % self.rebuild_every == 0
+                and self.engine.flags["HAS_CONTACT"]):
+            self.engine.rebuild_contacts()
 
-def simulate(scene: Scene, seed: int, progress: bool = True, out: Path | None = None,
-             resume: bool = False, clock: WallClock | None = None,
-             stop_after_checkpoints: int | None = None):
-    """Run the scene; returns the engine, labels, frames {time, x, y, theta} and the wall
-    time of earlier (checkpointed) parts of the run. With ``out``, checkpoints are written next
-    to it every ``numerics.checkpoint_every`` frames; ``resume`` continues from one.
-    ``stop_after_checkpoints`` returns ``None`` after writing that many checkpoints (tests of
-    resume: an interrupted run)."""
-    clock = clock or WallClock()
-    engine, labels = make_engine(scene, seed)
-    t_end = scene.get("outputs.t_end")
-    marks = frame_marks(scene, engine.dt)
-    frames = {"time": [], "x": [], "y": [], "theta": []}
-    wall_before = 0.0
-    ck_every = int(scene.get("numerics.checkpoint_every")) if out is not None else 0
-    ck_path = checkpoint_path(Path(out)) if out is not None else None
-    if resume and ck_path is not None and ck_path.exists():
-        ck = open_dataset(ck_path)
-        if ck.attrs.get("fingerprint") != fingerprint(scene, seed):
-            print(f"ignoring checkpoint {ck_path}: made by another scene or seed",
-                  file=sys.stderr)
-        else:
-            frames, wall_before = _restore(engine, ck)
-            print(f"resumed from {ck_path} at t = {engine.time:g} (step {engine.step})",
-                  file=sys.stderr)
-    bar = Progress(t_end, f"lattice {scene.name}") if progress else None
-    written = 0
-    for k, mark in enumerate(marks):
-        if k < len(frames["time"]):
-            continue  # frame restored from the checkpoint
-        if mark > engine.step:
-            engine.run(mark - engine.step)
-        frames["time"].append(engine.time)
+    def _record(self) -> None:
+        self.frames["time"].append(self.engine.time)
         for a, name in enumerate(("x", "y", "theta")):
-            frames[name].append(engine.q[a].copy())
-        if bar is not None:
-            bar.update_to(min(engine.time, t_end))
-        if ck_every and 0 < k < len(marks) - 1 and k % ck_every == 0:
-            write_dataset(_checkpoint_dataset(scene, seed, engine, frames, clock, wall_before),
-                          ck_path)
-            written += 1
-            if stop_after_checkpoints is not None and written >= stop_after_checkpoints:
-                if bar is not None:
-                    bar.close()
-                return None
-    if bar is not None:
-        bar.close()
-    return engine, labels, {k: np.array(v) for k, v in frames.items()}, wall_before
+            self.frames[name].append(self.engine.q[a].copy())
+
+    def state(self) -> dict[str, np.ndarray]:
+        out = {f"engine_{k}": v for k, v in self.engine.state().items()}
+        out.update({f"frame_{k}": np.array(v) for k, v in self.frames.items()})
+        return out
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        self.engine.restore({k[7:]: v for k, v in state.items() if k.startswith("engine_")})
+        self.frames = {k[6:]: list(v) for k, v in state.items() if k.startswith("frame_")}
+        self.frames["time"] = [float(t) for t in self.frames["time"]]
+
+    def result(self) -> dict[str, np.ndarray]:
+        return {k: np.array(v) for k, v in self.frames.items()}
 
 
-def to_dataset(scene: Scene, seed: int, engine: Engine, labels: dict, frames: dict,
-               clock: WallClock, wall_before: float = 0.0) -> xr.Dataset:
+def to_dataset(scene: Scene, engine: Engine, labels: dict, frames: dict) -> xr.Dataset:
+    """The run dataset's variables and the lattice's derived constants (the runner adds the
+    provenance)."""
     s = engine.system
     series = engine.series_array()
     names = engine.kernel.SERIES
@@ -150,24 +116,27 @@ def to_dataset(scene: Scene, seed: int, engine: Engine, labels: dict, frames: di
         "n_particles": s.n, "n_bonds_final": int(s.bi.size),
         "water_level": float(scene.get("domain.water_level", np.nan)),
         "bed_level": float(scene.get("domain.bed_level", np.nan))})
-    ds.attrs.update(provenance_attrs(scene, seed, clock, extra_wall_time=wall_before))
     return ds
 
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
-        resume: bool = False, stop_after_checkpoints: int | None = None) -> Path:
-    """``craquelure run lattice/<scene> --out RUN.nc [--resume]``. The initial state is
-    rebuilt from the scene and seed (``init`` is not used by this model). Returns the
-    checkpoint path instead when stopped early by ``stop_after_checkpoints``."""
+        resume: bool = False, checkpoint_every: int | None = None,
+        checkpoint_minutes: float | None = None,
+        stop_after_checkpoints: int | None = None) -> Path:
+    """``craquelure run lattice/<scene> --out RUN.nc [--resume]`` (through the runner;
+    checkpoints every ``numerics.checkpoint_every`` frames). The initial state is rebuilt
+    from the scene and seed (``init`` is not used by this model). Returns the checkpoint path
+    instead when stopped early by ``stop_after_checkpoints``."""
     clock = WallClock()
     out = Path(out)
-    result = simulate(scene, seed, out=out, resume=resume, clock=clock,
-                      stop_after_checkpoints=stop_after_checkpoints)
-    if result is None:
-        return checkpoint_path(out)
-    engine, labels, frames, wall_before = result
-    path = write_dataset(to_dataset(scene, seed, engine, labels, frames, clock, wall_before), out)
-    ck_path = checkpoint_path(out)
-    if ck_path.exists():
-        os.unlink(ck_path)
-    return path
+    engine, labels = make_engine(scene, seed)
+    model = LatticeRun(scene, engine)
+    try:
+        summary = runner.run(model, scene, seed, t_end=model.t_end, desc=f"lattice {scene.name}",
+                             out=out, resume=resume, every=checkpoint_every or model.rebuild_every,
+                             minutes=runner.minutes_or_default(checkpoint_minutes), clock=clock,
+                             stop_after_checkpoints=stop_after_checkpoints)
+    except runner.Stopped:
+        return runner.checkpoint_path(out)
+    return runner.write_run(to_dataset(scene, engine, labels, model.result()), out, scene, seed,
+                            summary, clock)

@@ -1,180 +1,13 @@
-"""Helpers for ``workflow/rules/lattice.smk`` (overrides from the config) and the summaries
-written by the workflow scripts (measured numbers and check verdicts)."""
+"""DAG helpers of ``workflow/rules/lattice.smk``: file names, ``--set`` arguments and titles
+from the config. Nothing here loads a scene or computes physics (that happens in the jobs)."""
 
 from __future__ import annotations
-
-import json
-import math
-
-import numpy as np
-
-from craquelure.io import open_dataset, write_text_atomic
-from craquelure.lattice import accuracy, figures, fragments, glen, settlement
-from craquelure.lattice.geometry import ROW
-from craquelure.scene import load_scene, load_scene_text
 
 SCENE_DIR = "config/scenes/lattice"
 
 
 def set_args(items) -> str:
     return " ".join(f"--set {item}" for item in items)
-
-
-def glen_scene(cfg):
-    return load_scene(f"{SCENE_DIR}/{cfg['glen']['scene']}.yaml", cfg["glen"].get("set", []))
-
-
-def glen_stresses(cfg, kind: str) -> list[float]:
-    return cfg["glen"]["stresses"] if kind == "glen" else cfg["glen"]["frozen_stresses"]
-
-
-def glen_point_overrides(cfg, kind: str, index: int) -> str:
-    """--set arguments of one point of the sweep (kind glen or frozen)."""
-    scene = glen_scene(cfg)
-    items = list(cfg["glen"].get("set", []))
-    if kind == "frozen":
-        lam = glen.melt_rate_estimate(scene, cfg["glen"]["frozen_reference"])
-        items.append(f"melting.frozen_rate={lam!r}")
-        scene = scene.with_overrides(items[-1:])
-    tau = glen_stresses(cfg, kind)[index]
-    items += glen.overrides(scene, tau, cfg["glen"].get("relaxations", glen.RELAXATIONS))
-    return set_args(items)
-
-
-def glen_summary(runs: dict[str, list[str]], out_png, out_json, out_tsv, title) -> dict:
-    rows = []
-    for kind, paths in runs.items():
-        for path in paths:
-            ds = open_dataset(path)
-            tau = float(load_scene_text(ds.attrs["scene"]).get("loads.top_shear_stress"))
-            height = float(ds.row.max()) * ROW * float(ds.attrs["L"])
-            r = glen.strain_rate(ds.time.values, ds.load_ux.values, height)
-            rows.append({"kind": kind, "tau": tau, **r, "mu": glen.viscosity(tau, r["gamma_dot"]),
-                         "steadiness": abs(r["gamma_dot_second"] / r["gamma_dot_first"] - 1)})
-    fits = {}
-    for kind in runs:
-        sel = [r for r in rows if r["kind"] == kind]
-        fits[kind] = glen.fit_power_law([r["tau"] for r in sel], [r["mu"] for r in sel])
-    figures.glen(rows, fits["glen"], fits.get("frozen", (math.nan, math.nan)), out_png, title)
-    summary = {
-        "viscosity_slope": fits["glen"][0], "strain_rate_exponent": 1 - fits["glen"][0],
-        "check8_glen_slope_pass": abs(fits["glen"][0] + 2) <= 0.2,
-        "frozen_viscosity_slope": fits.get("frozen", (math.nan,))[0],
-        "check8_newtonian_pass": abs(fits.get("frozen", (math.nan,))[0]) <= 0.2,
-        "max_steadiness_deviation": max(r["steadiness"] for r in rows),
-        "check9_steady_pass": max(r["steadiness"] for r in rows) <= 0.1,
-    }
-    header = "kind\ttau\tgamma_dot\tmu\tgamma_dot_first\tgamma_dot_second\n"
-    lines = [f"{r['kind']}\t{r['tau']:.6g}\t{r['gamma_dot']:.6g}\t{r['mu']:.6g}\t"
-             f"{r['gamma_dot_first']:.6g}\t{r['gamma_dot_second']:.6g}" for r in rows]
-    write_text_atomic(out_tsv, header + "\n".join(lines) + "\n")
-    write_text_atomic(out_json, json.dumps(summary, indent=2, default=float) + "\n")
-    return summary
-
-
-def gravity_summary(path, out_png, out_json, title) -> dict:
-    ds = open_dataset(path)
-    scene = load_scene_text(ds.attrs["scene"])
-    ny = scene.get("domain.ny")
-    want = settlement.predicted_settlement(float(ds.attrs["kn"]), float(ds.attrs["ks"]),
-                                           float(ds.mass[0]), scene.get("material.g"), ny)
-    got = settlement.measured_settlement(ds.y.values[0], ds.y.values[-1], ds.row.values,
-                                         ds.x.values[0])
-    figures.gravity(ds, want, out_png, title)
-    summary = {"measured": got, "predicted": want, "relative_error": got / want - 1,
-               "check10_pass": abs(got / want - 1) <= 0.05,
-               "final_kinetic_over_elastic": float(ds.kinetic[-1] / ds.elastic[-1])}
-    write_text_atomic(out_json, json.dumps(summary, indent=2, default=float) + "\n")
-    return summary
-
-
-def calving_summary(path, out_png, out_json, title) -> dict:
-    ds = open_dataset(path)
-    summary = figures.calving(ds, out_png, title)
-    labels = figures.fragment_labels(ds)
-    summary.update({
-        "labelled_particles": int(fragments.sizes(labels).sum()),
-        "body_particles": int((ds.body.values == 0).sum()),
-        # exponent in [1.2, 1.9] (the band used before for the binned slope) from the
-        # maximum-likelihood fit of s^-tau exp(-s/s*) (the spec's form); the log-binned
-        # straight-line slope and its verdict are reported next to it
-        "check11_slope_pass": bool(1.2 <= summary["ml_exponent"] <= 1.9
-                                   and summary["fragments"] >= 20),
-        "binned_slope_in_band": bool(-1.9 <= summary["slope"] <= -1.2
-                                     and summary["decades"] >= 1.0),
-        "energy_budget_error": float(np.abs(ds.total - ds.total[0]).max()
-                                     / max(float(ds.damping[-1]), 1e-300)),
-    })
-    write_text_atomic(out_json, json.dumps(summary, indent=2, default=float) + "\n")
-    return summary
-
-
-def platelets_per_cycle(ds) -> list[dict]:
-    """Detached body fragments at the end of each tangential cycle (from the break times of
-    the beams, so no frame is needed at the cycle ends)."""
-    scene = load_scene_text(ds.attrs["scene"])
-    pad = scene.get("domain.pad")
-    times = ds.frame_time.values
-    body = ds.body.values == 0
-    top = ds.y.values[0][body].max()
-    out = []
-    k = 1
-    while pad["press_time"] + k * pad["period"] <= times[-1] + 1e-9:
-        t_k = pad["press_time"] + k * pad["period"]
-        broken_by = (ds.bond_state.values == 0) & (ds.bond_break_time.values <= t_k)
-        intact = ~broken_by & (ds.bond_state.values != 2)
-        labels = fragments.label(ds.sizes["particle"], ds.bond_i.values, ds.bond_j.values,
-                                 intact, include=body)
-        sz = np.bincount(labels[labels >= 0])
-        main = np.argmax(sz)
-        det = [lab for lab in range(sz.size) if lab != main]
-        depth = [float(top - ds.y.values[0][labels == lab].mean()) for lab in det]
-        out.append({"cycle": k, "time": float(t_k), "platelets": len(det),
-                    "mean_size": float(np.mean(sz[det])) if det else 0.0,
-                    "max_depth": max(depth) if depth else 0.0,
-                    "broken": int(broken_by.sum())})
-        k += 1
-    return out
-
-
-def fretting_summary(path, out_png, out_json, title) -> dict:
-    ds = open_dataset(path)
-    cycles = platelets_per_cycle(ds)
-    figures.fretting(ds, out_png, title, cycles)
-    summary = {"cycles": cycles, "broken": int((ds.bond_state.values == 0).sum())}
-    write_text_atomic(out_json, json.dumps(summary, indent=2, default=float) + "\n")
-    return summary
-
-
-def accuracy_summary(rows_list, dt_factors, out_png, out_tsv, out_json, title) -> dict:
-    """Column-mode accuracy study: error versus wall time for every (dt factor, N)."""
-    rows = []
-    for f in dt_factors:
-        for r in accuracy.study(rows_list, dt_factor=float(f)):
-            rows.append({"dt_factor": float(f), **r})
-    figures.accuracy(rows, out_png, title)
-    keys = ["dt_factor", "rows", "particles", "bonds", "steps", "dt", "period",
-            "reference_period", "relative_error", "chain_prediction", "wall_s", "cpu_s"]
-    lines = ["\t".join(keys)] + ["\t".join(f"{r[k]:.6g}" if isinstance(r[k], float)
-                                           else str(r[k]) for k in keys) for r in rows]
-    write_text_atomic(out_tsv, "\n".join(lines) + "\n")
-    orders = {f"{f:g}": accuracy.convergence_order([r for r in rows if r["dt_factor"] == f])
-              for f in dt_factors}
-    worst = max(abs(r["relative_error"] / r["chain_prediction"] - 1) for r in rows)
-    summary = {"reference": "continuum period 4 H / c_P of the fixed-free column",
-               "convergence_order": orders,
-               "max_deviation_from_chain_prediction": worst,
-               "order_two_pass": all(abs(o + 2.0) <= 0.2 for o in orders.values()),
-               "total_wall_s": sum(r["wall_s"] for r in rows)}
-    write_text_atomic(out_json, json.dumps(summary, indent=2, default=float) + "\n")
-    return summary
-
-
-def describe(ds_path) -> str:
-    ds = open_dataset(ds_path)
-    return f"{int(ds.attrs['n_particles'])} particles, {int(ds.attrs['n_bonds_final'])} bonds"
-
-
 
 
 class Jobs:
@@ -187,14 +20,11 @@ class Jobs:
     def glen_scene_file(self) -> str:
         return f"{SCENE_DIR}/{self.cfg['glen']['scene']}.yaml"
 
-    def glen_set(self, wildcards) -> str:
-        return glen_point_overrides(self.cfg, wildcards.kind, int(wildcards.k))
-
     def run_set(self, wildcards) -> str:
         return set_args(self.cfg["runs"][wildcards.scene])
 
     def glen_points(self, kind: str) -> list[str]:
-        n = len(glen_stresses(self.cfg, kind))
+        n = len(self.cfg["glen"]["stresses" if kind == "glen" else "frozen_stresses"])
         return [f"results/lattice/glen/{kind}/tau{k}.nc" for k in range(n)]
 
     def title(self, what: str) -> str:

@@ -1,9 +1,9 @@
 r"""Right-hand side of Soft Dynamics (spec section 5), written once and specialised per effect set.
 
-:mod:`craquelure.softdyn.compile` copies this source with the three flag lines below replaced by
+:func:`craquelure.codegen.specialise` copies this source with the flag block below replaced by
 the scene's effect set and imports the copy (numba ``cache=True``): numba freezes module globals
 as compile-time constants, so the branches of absent effects are removed from the machine code
-and cost nothing. Do not import this module directly for runs; ask ``compile.kernels(flags)``.
+and cost nothing. Do not import this module directly for runs; ask ``engine.kernels(flags)``.
 
 State ``y = (x - x0 (N,d), s (P) [hertz], q (P,d) [hertz + lubrication_tangential])``: the
 centres are stored as displacements from the initial positions x0, so the solver's relative
@@ -33,9 +33,11 @@ from craquelure.softdyn.effects.hertz import interaction_radius2, sign
 from craquelure.softdyn.effects.lubrication_normal import zeta_normal
 from craquelure.softdyn.effects.lubrication_tangential import zeta_tangential
 
+# BEGIN FLAGS
 HAS_TANGENTIAL = True
 HAS_HERTZ = True
 LITERAL_DEFLECTION = False
+# END FLAGS
 
 
 @njit(cache=True)

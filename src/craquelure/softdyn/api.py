@@ -10,13 +10,15 @@ are deterministic: the seed is recorded but nothing is random.
 from __future__ import annotations
 
 import math
+from functools import partial
 from pathlib import Path
 
+import numpy as np
 import xarray as xr
 
+from craquelure import runner
 from craquelure.errors import CraquelureError
-from craquelure.io import write_dataset
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 from craquelure.softdyn import studies
 from craquelure.softdyn.accuracy import run_accuracy
@@ -65,21 +67,91 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     return out
 
 
-def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
-        resume: bool = False) -> Path:
+class StudyRun(runner.EngineRun):
+    """A Soft Dynamics study as the runner sees it (:mod:`craquelure.runner`): one advance runs
+    one point (a sweep or phase grid point; a single run or the accuracy study is one point),
+    so a checkpoint holds the finished points and ``--resume`` skips them. Within a point the
+    integrator's guards (:class:`~craquelure.softdyn.integrate.Guard`) run after every step."""
+
+    def __init__(self, scene: Scene, points: list, combine) -> None:
+        self.points, self.combine = points, combine
+        self.results: list[xr.Dataset] = []
+        self.n_particles = 1
+
+    @property
+    def time(self) -> float:
+        return float(len(self.results))
+
+    @property
+    def steps(self) -> int:
+        return len(self.results)
+
+    def done(self) -> bool:
+        return len(self.results) >= len(self.points)
+
+    def advance(self) -> None:
+        self.results.append(self.points[len(self.results)]())
+
+    # check(): none here, the integrator checks every step of a point
+
+    def state(self) -> dict[str, np.ndarray]:
+        # each finished point as its netCDF bytes: exact, and any layout
+        return {f"point_{k}": runner.dataset_bytes(ds) for k, ds in enumerate(self.results)}
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        self.results = [runner.dataset_from_bytes(state[f"point_{k}"])
+                        for k in range(len(state))]
+
+    def result(self) -> xr.Dataset:
+        return self.combine(self.results)
+
+
+def study(scene: Scene, batch: list[tuple[int, int]] | None = None) -> StudyRun:
+    """The scene's study as runner points; with ``batch``, those sweep points only (one
+    workflow job's batch file)."""
+    kind = scene.get("study.kind")
+    if batch is not None:
+        return StudyRun(scene, [partial(studies.run_sweep_point, scene, i, j) for i, j in batch],
+                        studies.batch_dataset)
+    if kind == "single":
+        def single():
+            setup = build(scene)
+            return series_dataset(setup, setup.run(desc=scene.name))
+        return StudyRun(scene, [single], lambda results: results[0])
+    if kind == "sweep":
+        return StudyRun(scene, [partial(studies.run_sweep_point, scene, i, j)
+                                for i, j in studies.sweep_points(scene)],
+                        partial(studies.aggregate_sweep, scene))
+    if kind == "accuracy":
+        return StudyRun(scene, [partial(run_accuracy, scene)], lambda results: results[0])
+    return StudyRun(scene, [partial(studies.phase_point, scene, r, f)
+                            for r, f in studies.phase_points(scene)],
+                    partial(studies.phase_dataset, scene))
+
+
+def run(scene: Scene, out: Path, seed: int | None = 0, init: Path | None = None,
+        resume: bool = False, checkpoint_every: int | None = None,
+        checkpoint_minutes: float | None = None,
+        stop_after_checkpoints: int | None = None,
+        batch: list[tuple[int, int]] | None = None, attrs: dict | None = None) -> Path:
+    """Run the scene's study (or one sweep ``batch``) through the runner (checkpoints every
+    ``checkpoint_every`` points, default every few minutes of wall time). The runs are
+    deterministic: ``seed`` is only recorded (``None``: not at all); ``attrs`` are added to the
+    dataset."""
     if init is not None:
         raise CraquelureError("softdyn runs start from the scene's arrangement; --init is not "
                               "used")
     clock = WallClock()
-    kind = scene.get("study.kind")
-    if kind == "single":
-        setup = build(scene)
-        ds = series_dataset(setup, setup.run(desc=scene.name))
-    elif kind == "sweep":
-        ds = studies.run_sweep(scene)
-    elif kind == "accuracy":
-        ds = run_accuracy(scene)
-    else:
-        ds = studies.run_phase(scene)
-    ds.attrs.update(provenance_attrs(scene, seed, clock))
-    return write_dataset(ds, out)
+    out = Path(out)
+    model = study(scene, batch)
+    try:
+        summary = runner.run(model, scene, seed or 0, t_end=len(model.points),
+                             desc=f"softdyn {scene.name}", out=out, resume=resume,
+                             every=checkpoint_every or 0, time_unit="points", clock=clock,
+                             minutes=runner.minutes_or_default(checkpoint_minutes),
+                             stop_after_checkpoints=stop_after_checkpoints)
+    except runner.Stopped:
+        return runner.checkpoint_path(out)
+    ds = model.result()
+    ds.attrs.update(attrs or {})
+    return runner.write_run(ds, out, scene, seed, summary, clock)

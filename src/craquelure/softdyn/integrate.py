@@ -1,4 +1,4 @@
-"""Time integration of a :class:`~craquelure.softdyn.system.System` (spec section 8).
+"""Time integration of a :class:`~craquelure.softdyn.engine.System` (spec section 8).
 
 * ``LSODA``, ``BDF``, ``Radau``: SciPy's adaptive stiff solvers, driven step by step (their
   ``OdeSolver.step`` interface) so that every accepted step is checked: a step that ends with a
@@ -27,6 +27,7 @@ from scipy.optimize import brentq
 
 from craquelure.errors import CraquelureError, SimulationDiverged
 from craquelure.progress import Progress
+from craquelure.runner import Divergence, diverged
 
 ADAPTIVE = {"LSODA": LSODA, "BDF": BDF, "Radau": Radau}
 METHODS = (*ADAPTIVE, "heun")
@@ -58,20 +59,34 @@ class Guard:
         return f"at t = {t / self.time_unit:.6g} tau (step {step})"
 
     def check(self, t: float, y: np.ndarray, step: int) -> None:
+        """Raise the runner's :class:`SimulationDiverged` when :meth:`health` fails."""
+        bad = self.health(t, y)
+        if bad is not None:
+            raise diverged("softdyn", bad, step, t / self.time_unit, "tau")
+
+    def health(self, t: float, y: np.ndarray) -> Divergence | None:
+        """NaN/inf in the state (the particle of the first bad centre coordinate), or the
+        particle balance residual max_i |F_i + sum_j f_ij| above ``drift_tolerance`` times
+        the force scale (the particle with the largest residual)."""
         if not np.all(np.isfinite(y)):
-            bad = np.flatnonzero(~np.isfinite(y))[:5]
-            raise SimulationDiverged(f"non-finite state {self.where(t, step)}: components {bad}")
+            first = int(np.flatnonzero(~np.isfinite(y))[0])
+            n, d = self.system.x0.shape
+            return Divergence("finite", f"state component {first} is not finite",
+                              first // d if first < n * d else None)
         if not self.system.flags.hertz:
-            return
+            return None
         sysm = self.system
         x, s, q = sysm.unpack(y)
         out = sysm.k.pair_terms(x, s, q, sysm.pi, sysm.pj, sysm.p)
         _, resid = sysm.k.particle_terms(t, sysm.pi, sysm.pj, sysm.F0, sysm.p, out[6], out[8])
-        worst = float(np.abs(resid).max())
+        per_particle = np.abs(np.asarray(resid)).reshape(sysm.n, -1).max(axis=1)
+        worst = float(per_particle.max())
         if not math.isfinite(worst) or worst > self.drift_tolerance * self.force_scale:
-            raise SimulationDiverged(
-                f"force balance drifted {self.where(t, step)}: max_i |F_i + sum_j f_ij| = "
-                f"{worst:.3g} > {self.drift_tolerance:g} x {self.force_scale:.3g}")
+            return Divergence("force balance",
+                              f"max_i |F_i + sum_j f_ij| = {worst:.3g} > "
+                              f"{self.drift_tolerance:g} x {self.force_scale:.3g} (drifted)",
+                              int(np.nanargmax(per_particle)))
+        return None
 
 
 def integrate(system, t_end: float, method: str = "LSODA", rtol: float = 1e-8,

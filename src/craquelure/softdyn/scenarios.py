@@ -30,8 +30,8 @@ import xarray as xr
 
 from craquelure.errors import SceneError
 from craquelure.softdyn import theory
+from craquelure.softdyn.engine import System, flags_for
 from craquelure.softdyn.integrate import Result, integrate
-from craquelure.softdyn.system import System, flags_for
 
 SQRT3 = math.sqrt(3.0)
 T1_PARTICLES = ("A", "B", "C", "D")

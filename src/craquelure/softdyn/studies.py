@@ -98,12 +98,13 @@ def sweep_batches(scene, n_batches: int) -> list[list[tuple[int, int]]]:
     return [sorted(b) for b in batches]
 
 
-def run_sweep_batch(scene, points: list[tuple[int, int]]) -> xr.Dataset:
-    """Several sweep points in one process (one Snakemake job), stacked along ``point``."""
+def batch_dataset(points: list[xr.Dataset]) -> xr.Dataset:
+    """Sweep point datasets stacked along ``point`` (the layout of a batch file; no points:
+    an empty batch)."""
     if not points:
-        raise SceneError("sweep batch: no points")
-    return xr.concat([run_sweep_point(scene, i, j).squeeze(("h0", "force"))
-                      .reset_coords(("h0", "force")) for i, j in points], dim="point")
+        return xr.Dataset(coords={"point": ("point", np.zeros(0, np.int64))})
+    return xr.concat([p.squeeze(("h0", "force")).reset_coords(("h0", "force")) for p in points],
+                     dim="point")
 
 
 SWEEP_ATTRS = {
@@ -175,37 +176,39 @@ def _single_points(datasets):
             yield ds
 
 
-def run_sweep(scene) -> xr.Dataset:
-    """The whole sweep, serially (Snakemake runs batches of points as parallel jobs)."""
-    return aggregate_sweep(scene, [run_sweep_point(scene, i, j)
-                                   for i, j in sweep_points(scene)])
-
-
-def run_phase(scene) -> xr.Dataset:
-    """Occurrence of the T1 over (F_h/F_v, F~)."""
+def phase_points(scene) -> list[tuple[float, float]]:
+    """The (F_h/F_v, F~) grid of a phase scan, row by row."""
     ratios = np.asarray(scene.get("study.fh_over_fv", []), dtype=float)
     force = np.asarray(scene.get("study.reduced_force", []), dtype=float)
     if ratios.size == 0 or force.size == 0:
         raise SceneError("study.fh_over_fv and study.reduced_force: a phase scan needs both")
+    return [(float(r), float(f)) for r in ratios for f in force]
+
+
+PHASE_VALUES = ("occurred", "time", "theta_end", "f_ab_end", "f_v", "f_h", "tau", "n_rhs")
+
+
+def phase_point(scene, r: float, f: float) -> xr.Dataset:
+    """One point of the phase scan (scalars named as in :data:`PHASE_VALUES`)."""
+    sc = point_scene(scene, scene.get("particles.h0"), float(f),
+                     (f"loads.fh_over_fv={float(r)!r}", "outputs.stop=angle"))
+    setup = build(sc)
+    res = setup.run(sample_times_tau=np.array([]), desc=f"phase r={r:g} F~={f:g}")
+    ev = setup.system.evaluate(res.t_stop, res.y_stop)
+    young_r2 = setup.system.young * setup.system.radius**2
+    return xr.Dataset({
+        "occurred": float(res.stopped), "time": res.t_stop / setup.tau,
+        "theta_end": math.degrees(t1_angle(ev["x"])), "f_ab_end": ev["f_n"][0] / setup.f_v,
+        "f_v": setup.f_v / young_r2, "f_h": setup.f_h / young_r2, "tau": setup.tau,
+        "n_rhs": float(res.n_rhs)})
+
+
+def phase_dataset(scene, points: list[xr.Dataset]) -> xr.Dataset:
+    """The phase scan's dataset from its points (in the order of :func:`phase_points`)."""
+    ratios = np.asarray(scene.get("study.fh_over_fv", []), dtype=float)
+    force = np.asarray(scene.get("study.reduced_force", []), dtype=float)
     shape = (ratios.size, force.size)
-    out = {k: np.full(shape, np.nan) for k in
-           ("occurred", "time", "theta_end", "f_ab_end", "f_v", "f_h", "tau", "n_rhs")}
-    for i, r in enumerate(ratios):
-        for j, f in enumerate(force):
-            sc = point_scene(scene, scene.get("particles.h0"), float(f),
-                             (f"loads.fh_over_fv={float(r)!r}", "outputs.stop=angle"))
-            setup = build(sc)
-            res = setup.run(sample_times_tau=np.array([]), desc=f"phase r={r:g} F~={f:g}")
-            ev = setup.system.evaluate(res.t_stop, res.y_stop)
-            young_r2 = setup.system.young * setup.system.radius**2
-            out["occurred"][i, j] = float(res.stopped)
-            out["time"][i, j] = res.t_stop / setup.tau
-            out["theta_end"][i, j] = math.degrees(t1_angle(ev["x"]))
-            out["f_ab_end"][i, j] = ev["f_n"][0] / setup.f_v
-            out["f_v"][i, j] = setup.f_v / young_r2
-            out["f_h"][i, j] = setup.f_h / young_r2
-            out["tau"][i, j] = setup.tau
-            out["n_rhs"][i, j] = res.n_rhs
+    out = {k: np.array([float(p[k]) for p in points]).reshape(shape) for k in PHASE_VALUES}
     dims = ("fh_over_fv", "force")
     ds = xr.Dataset({k: (dims, v) for k, v in out.items()},
                     coords={"fh_over_fv": ratios, "force": force})

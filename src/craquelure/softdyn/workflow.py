@@ -1,47 +1,28 @@
-"""Helpers of ``workflow/rules/softdyn.smk`` (kept here: the linter forbids functions next to
-rules in a Snakefile)."""
+"""DAG helpers of ``workflow/rules/softdyn.smk`` (kept here: the linter forbids functions next
+to rules in a Snakefile), bound to the config's ``softdyn`` section (no module state)."""
 
 from __future__ import annotations
 
-from craquelure.scene import load_scene
-from craquelure.softdyn.studies import sweep_batches, sweep_points
 
-_SECTION: dict = {}
+class Jobs:
+    """Config-bound helpers for the Snakemake rules (input functions take ``wildcards``)."""
 
+    def __init__(self, section: dict) -> None:
+        self.section = section
 
-def configure(section: dict) -> None:
-    """Remember the workflow config's ``softdyn`` section (its ``set`` overrides)."""
-    _SECTION.clear()
-    _SECTION.update(section)
+    def overrides(self) -> list[str]:
+        return list(self.section.get("set", []))
 
+    @staticmethod
+    def scene_path(wildcards) -> str:
+        return f"config/scenes/softdyn/{wildcards.scene}.yaml"
 
-def overrides() -> list[str]:
-    return list(_SECTION.get("set", []))
+    def n_batches(self) -> int:
+        return int(self.section.get("sweep_batches", 1))
 
-
-def scene_path(wildcards) -> str:
-    return f"config/scenes/softdyn/{wildcards.scene}.yaml"
-
-
-def n_batches() -> int:
-    return int(_SECTION.get("sweep_batches", 1))
-
-
-def batch_points(scene_file: str, batch: int) -> list[tuple[int, int]]:
-    """The (i, j) grid points of one sweep batch."""
-    batches = sweep_batches(load_scene(scene_file, overrides()), n_batches())
-    return batches[batch]
-
-
-def sweep_batch_files(wildcards) -> list[str]:
-    """One dataset per batch of grid points (``sweep_batches`` jobs, balanced by cost)."""
-    scene = load_scene(scene_path(wildcards), overrides())
-    n = len(sweep_batches(scene, n_batches()))
-    return [f"results/softdyn/{wildcards.scene}/batches/b{b}.nc" for b in range(n)]
-
-
-def sweep_point_files(wildcards) -> list[str]:
-    """One dataset per grid point inside the scene's window."""
-    scene = load_scene(scene_path(wildcards), overrides())
-    return [f"results/softdyn/{wildcards.scene}/points/p{i}_{j}.nc"
-            for i, j in sweep_points(scene)]
+    def sweep_batch_files(self, wildcards) -> list[str]:
+        """One dataset per batch (``sweep_batches`` jobs): as many as the config asks for; the
+        jobs split the scene's grid points by cost when they run (a batch beyond the number
+        of points is empty), so no scene is read while the DAG is built."""
+        return [f"results/softdyn/{wildcards.scene}/batches/b{b}.nc"
+                for b in range(self.n_batches())]

@@ -1,5 +1,5 @@
 r"""Rate function template of the drying paste (drying spec section 6); specialised per effect
-set by :mod:`craquelure.sph.codegen` (the FLAGS block is replaced, absent effects compile out).
+set by :mod:`craquelure.codegen` (the FLAGS block is replaced, absent effects compile out).
 
 State rows (struct of arrays, shape ``(NVAR, N)``): x, y (unwrapped positions), vx, vy, rho,
 sigma_e xx, yy, xy. Two pair passes per evaluation:
@@ -19,6 +19,7 @@ Removed particles (``alive == 0``) have zero mass and zero rates.
 import numpy as np
 from numba import njit, prange
 
+from craquelure.periodic import minimum_image
 from craquelure.sph.effects.continuity import density_rate
 from craquelure.sph.effects.drying import drying_stress
 from craquelure.sph.effects.elasticity import jaumann_rate
@@ -41,18 +42,16 @@ XSPH = True
 
 X, Y, VX, VY, RHO, SXX, SYY, SXY = 0, 1, 2, 3, 4, 5, 6, 7
 NVAR = 8
-P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = 0, 1, 2, 3, 4, 5, 6, 7, 8
-NPARAM = 9
-
-
-@njit(inline="always", cache=True)
-def wrap(d, box, half):
-    """Minimum image of a coordinate difference (|d| < 1.5 box)."""
-    if d > half:
-        return d - box
-    if d < -half:
-        return d + box
-    return d
+# the parameter vector: names in order, declared once (the engine packs by name)
+PARAMS = ("lame_lambda", "lame_mu", "eta", "drying_rate", "thickness", "xsph_epsilon", "support",
+          "box_length", "drying_stress_cap")
+NPARAM = len(PARAMS)
+_index = PARAMS.index
+P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = (
+    _index("lame_lambda"), _index("lame_mu"), _index("eta"), _index("drying_rate"),
+    _index("thickness"), _index("xsph_epsilon"), _index("support"), _index("box_length"),
+    _index("drying_stress_cap"),
+)
 
 
 @njit(parallel=True, cache=True)
@@ -61,7 +60,6 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
     n = state.shape[1]
     s = p[P_SUPPORT]
     box = p[P_BOX]
-    half = 0.5 * box
     s2 = s * s
     # Per-particle factors hoisted out of the pair loops: V_J = m_J/rho_J (pass 1) and
     # sigma_J/rho_J^2 (pass 2).
@@ -94,8 +92,8 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
         myy = 0.0
         for k in range(offsets[i], offsets[i + 1]):
             j = index[k]
-            dx = wrap(xi - state[X, j], box, half)
-            dy = wrap(yi - state[Y, j], box, half)
+            dx = minimum_image(xi - state[X, j], box)
+            dy = minimum_image(yi - state[Y, j], box)
             r2 = dx * dx + dy * dy
             if r2 >= s2:
                 gfac[k] = 0.0
@@ -185,8 +183,8 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
             if g == 0.0:
                 continue
             j = index[k]
-            dx = wrap(xi - state[X, j], box, half)
-            dy = wrap(yi - state[Y, j], box, half)
+            dx = minimum_image(xi - state[X, j], box)
+            dy = minimum_image(yi - state[Y, j], box)
             f = mass[j] * g
             gx = f * dx
             gy = f * dy

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from craquelure.periodic import minimum_image
 from craquelure.sph.kernels import kernel_kind, kernel_w
 
 
@@ -29,7 +30,7 @@ def _add_row_range(acc, x, y, value, order, lo, hi, py, length, s, kind, n_mesh,
     for p in range(lo, hi):
         q = order[p]
         dy = py - y[q]
-        dy -= length * np.rint(dy / length)
+        dy = minimum_image(dy, length)
         rem = s * s - dy * dy
         if rem <= 0.0:
             continue

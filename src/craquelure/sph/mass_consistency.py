@@ -26,6 +26,7 @@ from numba import njit, prange
 from scipy.sparse.linalg import cg
 
 from craquelure.errors import CraquelureError
+from craquelure.periodic import minimum_image
 from craquelure.sph.field import mesh_field
 from craquelure.sph.kernels import kernel_kind, kernel_w
 from craquelure.sph.neighbours import Box, neighbour_list
@@ -75,8 +76,8 @@ def _pair_values(x, y, offsets, index, length, periodic, s, kind):
             dx = x[i] - x[j]
             dy = y[i] - y[j]
             if periodic:
-                dx -= length * np.rint(dx / length)
-                dy -= length * np.rint(dy / length)
+                dx = minimum_image(dx, length)
+                dy = minimum_image(dy, length)
             data[k] = kernel_w(kind, np.sqrt(dx * dx + dy * dy), s, 2)
     return data
 

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
+from craquelure.periodic import minimum_image
+
 
 @dataclass(frozen=True)
 class Box:
@@ -115,10 +117,8 @@ def _neighbour_cells(c, nx, ny, periodic, out):
 
 
 @njit(inline="always", cache=True)
-def min_image(d, length, periodic):
-    if periodic:
-        return d - length * np.rint(d / length)
-    return d
+def _difference(d, length, periodic):
+    return minimum_image(d, length) if periodic else d
 
 
 @njit(parallel=True, cache=True)
@@ -137,8 +137,8 @@ def _count(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max):
                 j = order[p]
                 if j == i:
                     continue
-                dx = min_image(x[i] - x[j], lx, periodic)
-                dy = min_image(y[i] - y[j], ly, periodic)
+                dx = _difference(x[i] - x[j], lx, periodic)
+                dy = _difference(y[i] - y[j], ly, periodic)
                 if dx * dx + dy * dy < r2max:
                     k += 1
         counts[i] = k
@@ -160,8 +160,8 @@ def _fill(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max, offsets, in
                 j = order[p]
                 if j == i:
                     continue
-                dx = min_image(x[i] - x[j], lx, periodic)
-                dy = min_image(y[i] - y[j], ly, periodic)
+                dx = _difference(x[i] - x[j], lx, periodic)
+                dy = _difference(y[i] - y[j], ly, periodic)
                 if dx * dx + dy * dy < r2max:
                     index[k] = j
                     k += 1
@@ -202,8 +202,8 @@ def brute_force_pairs(x, y, radius, box: Box) -> set[tuple[int, int]]:
     dx = x[:, None] - x[None, :]
     dy = y[:, None] - y[None, :]
     if box.periodic:
-        dx -= box.length_x * np.rint(dx / box.length_x)
-        dy -= box.length_y * np.rint(dy / box.length_y)
+        dx = minimum_image(dx, box.length_x)
+        dy = minimum_image(dy, box.length_y)
     close = (dx * dx + dy * dy < radius * radius)
     np.fill_diagonal(close, False)
     return {(int(i), int(j)) for i, j in zip(*np.nonzero(close), strict=True)}

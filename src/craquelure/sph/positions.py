@@ -15,6 +15,7 @@ import numpy as np
 from numba import njit
 
 from craquelure.errors import CraquelureError
+from craquelure.periodic import minimum_image
 
 
 class PackingError(CraquelureError, RuntimeError):
@@ -37,9 +38,9 @@ def _rsa_accept(cand_x, cand_y, px, py, n_placed, n_target, grid, ng, csize, len
                 q = grid[(gy + oy) % ng, (gx + ox) % ng]
                 if q >= 0:
                     dx = x - px[q]
-                    dx -= length * np.rint(dx / length)
+                    dx = minimum_image(dx, length)
                     dy = y - py[q]
-                    dy -= length * np.rint(dy / length)
+                    dy = minimum_image(dy, length)
                     if dx * dx + dy * dy < d2:
                         ok = False
                         break

@@ -48,6 +48,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="artificial_stress",
+    flag="ARTIFICIAL_STRESS",
     models=("impact",),
     description="Monaghan artificial stress (epsilon_AS, n) against tensile instability",
     requires={"impact": ("numerics.as_epsilon",)},

@@ -17,6 +17,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="artificial_viscosity",
+    flag="ARTIFICIAL_VISCOSITY",
     models=("impact",),
     description="Monaghan artificial viscosity (alpha_AV, beta_AV)",
     requires={"impact": ("numerics.av_alpha", "numerics.av_beta")},

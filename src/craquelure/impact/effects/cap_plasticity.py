@@ -67,6 +67,7 @@ from craquelure.registry import Effect
 EFFECT = Effect(
     name="cap_plasticity",
     models=("impact",),
+    flag="CAP_PLASTICITY",
     description="CSCM-like curved compression meridian (Murray 2007 fits), Willam-Warnke "
                 "Lode dependence, compaction cap",
     requires={"impact": ("material.f_c",)},

@@ -56,6 +56,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="contact_bulk",
+    flag="CONTACT_BULK",
     models=("impact",),
     description="rigid-base penalty contact, k = a K A / l_max, kinematic fallback for m -> 0",
     requires={"impact": ("numerics.contact_a", "material.bulk_modulus",

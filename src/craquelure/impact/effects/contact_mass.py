@@ -16,6 +16,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="contact_mass",
+    flag="CONTACT_MASS",
     models=("impact",),
     description="rigid-base penalty contact, k_i = a m_i / dt^2 (fails for zero masses)",
     requires={"impact": ("numerics.contact_a",)},

@@ -40,6 +40,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="damage",
+    flag="DAMAGE",
     models=("impact",),
     description="Rankine tensile damage, crack band, linear softening (f_t, G_F)",
     requires={"impact": ("material.f_t", "material.G_F")},

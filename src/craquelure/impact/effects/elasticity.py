@@ -23,6 +23,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="elasticity",
+    flag="ELASTICITY",
     models=("impact",),
     description="hypo-elastic effective stress, Jaumann rate (K, G), plane strain or stress",
     requires={"impact": ("material.bulk_modulus", "material.shear_modulus")},

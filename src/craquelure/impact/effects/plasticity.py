@@ -26,6 +26,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="plasticity",
+    flag="PLASTICITY",
     models=("impact",),
     description="Drucker-Prager radial return (f_c, f_bc = 1.16 f_c), zero dilatancy",
     requires={"impact": ("material.f_c",)},

@@ -39,6 +39,7 @@ from craquelure.registry import Effect
 EFFECT = Effect(
     name="rate_effects",
     models=("impact",),
+    flag="RATE_EFFECTS",
     description="CSCM-form dynamic increase of tensile and compressive strength (opt-in; "
                 "needs cap_plasticity and damage)",
     requires={"impact": ("material.f_c", "material.f_t")},

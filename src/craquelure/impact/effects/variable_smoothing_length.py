@@ -19,6 +19,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="variable_smoothing_length",
+    flag="VARIABLE_SMOOTHING_LENGTH",
     models=("impact",),
     description="Benz smoothing-length evolution dh/dt = (h/d) tr L, clamped",
     requires={"impact": ("numerics.h_min", "numerics.h_max")},

@@ -25,6 +25,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="beams",
+    flag="HAS_BEAMS",
     models=("lattice",),
     description="elastic beams (Euler-Bernoulli or shear-beam) with bond damping",
     requires={"lattice": ("material.bond_model",)},

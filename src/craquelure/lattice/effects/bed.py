@@ -13,6 +13,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="bed",
+    flag="HAS_BED",
     models=("lattice",),
     description="elastic bed below the body: spring + damping vertically, drag friction",
     requires={"lattice": ("bed.stiffness", "domain.bed_level")},

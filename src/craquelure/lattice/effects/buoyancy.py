@@ -12,6 +12,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="buoyancy",
+    flag="HAS_BUOYANCY",
     models=("lattice",),
     description="buoyancy rho_w g m/rho_i on particles below the water line",
     requires={"lattice": ("material.g", "material.rho_w", "material.rho",

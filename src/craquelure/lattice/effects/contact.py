@@ -16,6 +16,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="contact",
+    flag="HAS_CONTACT",
     models=("lattice",),
     description="Hertz-like repulsion k_c (d - r)^1.5 between unbonded particles, with friction",
     requires={"lattice": ("contact.stiffness",)},

@@ -9,6 +9,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="drag",
+    flag="HAS_DRAG",
     models=("lattice",),
     description="linear drag -c_d m v below the water line",
     requires={"lattice": ("drag.rate",)},

@@ -24,6 +24,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="fracture",
+    flag="HAS_FRACTURE",
     models=("lattice",),
     description="remove beams on the elliptical (sigma/sigma0)^2 + (tau/tau0)^2 >= 1 criterion",
     requires={"lattice": ("material.sigma0", "material.tau0")},

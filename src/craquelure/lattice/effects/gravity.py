@@ -12,6 +12,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="gravity",
+    flag="HAS_GRAVITY",
     models=("lattice",),
     description="uniform gravity m g, vertical or along a slope (material.slope_angle)",
     requires={"lattice": ("material.g",)},

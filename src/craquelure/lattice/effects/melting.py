@@ -21,6 +21,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="melting",
+    flag="HAS_MELTING",
     models=("lattice",),
     description="random melting of beams at rate 2 A E_b^2 U/a^2, re-forming stress-free",
     requires={"lattice": ("melting.rate_factor",)},

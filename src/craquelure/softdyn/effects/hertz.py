@@ -30,6 +30,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="hertz",
+    flag="HAS_HERTZ",
     models=("softdyn",),
     description="elastic surfaces f = E a (k_n s n + k_t q), a^2 = R (h + |s|)",
     requires={"softdyn": ("material.young", "material.k_n", "material.k_t")},

@@ -10,7 +10,7 @@ result for two equal rigid spheres. The film carries the normal force in series 
 response, so the gap obeys :math:`\dot h = -f_n/\zeta_n` exactly (the gap law).
 
 Decision [D]: this effect is the base of the model (it is the only normal coupling of a pair), so
-every softdyn scene must list it; :mod:`craquelure.softdyn.system` says so when it is missing.
+every softdyn scene must list it; :mod:`craquelure.softdyn.engine` says so when it is missing.
 """
 
 from numba import njit
@@ -19,6 +19,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="lubrication_normal",
+    flag=None,  # always compiled in or handled outside the kernel
     models=("softdyn",),
     description="Poiseuille squeeze film, zeta_n = c_n eta a^4 / h^3",
     requires={"softdyn": ("material.viscosity", "material.c_n")},

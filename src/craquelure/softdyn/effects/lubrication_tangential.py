@@ -17,6 +17,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="lubrication_tangential",
+    flag="HAS_TANGENTIAL",
     models=("softdyn",),
     description="Couette sliding film, zeta_t = c_t eta a^2 / h",
     requires={"softdyn": ("material.viscosity", "material.c_t")},

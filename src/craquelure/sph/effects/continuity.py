@@ -9,6 +9,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="continuity",
+    flag="CONTINUITY",
     models=("drying",),
     description="density from the continuity equation d rho/dt = -rho tr L",
 )

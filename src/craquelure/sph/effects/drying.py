@@ -9,6 +9,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="drying",
+    flag="DRYING",
     models=("drying",),
     description="isotropic drying stress sigma_dry = v_r t 1",
     requires={"drying": ("material.drying_rate",)},

@@ -15,6 +15,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="elasticity",
+    flag="ELASTICITY",
     models=("drying",),
     description="hypo-elastic stress, Jaumann rate (lambda, mu)",
     requires={"drying": ("material.lame_lambda", "material.lame_mu")},

@@ -13,6 +13,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="fracture",
+    flag=None,  # acts between steps (engine), not in the rate kernel
     models=("drying",),
     description="remove particles whose mean stress tr(sigma)/2 exceeds sigma_Y",
     requires={"drying": ("material.yield_stress",)},

@@ -21,6 +21,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="gradient_correction",
+    flag="GRADIENT_CORRECTION",
     models=("drying",),
     description="kernel-gradient correction of the velocity gradient (exact at free edges)",
     requires={},

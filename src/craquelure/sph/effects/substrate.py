@@ -12,6 +12,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="substrate",
+    flag="SUBSTRATE",
     models=("drying",),
     description="thin-layer substrate spring -(mu/H^2) u",
     requires={"drying": ("material.lame_mu", "material.thickness")},

@@ -7,6 +7,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="viscosity",
+    flag="VISCOSITY",
     models=("drying",),
     description="Voigt viscous stress sigma_vis = eta D",
     requires={"drying": ("material.eta",)},

@@ -14,6 +14,7 @@ from craquelure.registry import Effect
 
 EFFECT = Effect(
     name="xsph",
+    flag="XSPH",
     models=("drying",),
     description="XSPH velocity averaging of particle transport (epsilon)",
     requires={"drying": ("numerics.xsph_epsilon",)},

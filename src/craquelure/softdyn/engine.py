@@ -21,12 +21,36 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from craquelure.codegen import effect_flags, specialise
 from craquelure.errors import SceneError
-from craquelure.softdyn.compile import Flags, kernels
 
 # benchmarks/softdyn_cost.py: at N = 64 (128 unknowns) a RHS takes 0.17 ms dense, 0.59 ms sparse;
 # at N = 256, 11 ms dense, 2.3 ms sparse
 DENSE_MAX_UNKNOWNS = 128
+
+
+@dataclass(frozen=True)
+class Flags:
+    """What the right-hand side is compiled for: the optional effects and the deflection rule."""
+
+    tangential: bool = True
+    hertz: bool = True
+    literal: bool = False
+
+    @classmethod
+    def from_effects(cls, effects, literal: bool = False) -> Flags:
+        flags = effect_flags("softdyn", effects)
+        return cls(tangential=flags["HAS_TANGENTIAL"], hertz=flags["HAS_HERTZ"],
+                   literal=literal)
+
+    def template_flags(self) -> dict[str, bool]:
+        return {"HAS_TANGENTIAL": self.tangential, "HAS_HERTZ": self.hertz,
+                "LITERAL_DEFLECTION": self.literal}
+
+
+def kernels(flags: Flags):
+    """The right-hand side module compiled for ``flags`` (:func:`craquelure.codegen.specialise`)."""
+    return specialise("craquelure.softdyn._rhs_template", flags.template_flags(), "softdyn")
 
 
 def flags_for(scene) -> Flags:
@@ -39,8 +63,7 @@ def flags_for(scene) -> Flags:
     if literal and not (scene.has("hertz") and scene.has("lubrication_tangential")):
         raise SceneError("numerics.deflection_rule: 'literal' only differs from 'corotating' "
                          "with both 'hertz' and 'lubrication_tangential'")
-    return Flags(tangential=scene.has("lubrication_tangential"), hertz=scene.has("hertz"),
-                 literal=literal)
+    return Flags.from_effects(scene.effects, literal=literal)
 
 
 @dataclass

@@ -1,0 +1,148 @@
+"""Report figures of the impact model (spec sections 6-7): mass distribution, damage maps,
+pre-crack comparison, contact force and accuracy curves, from the run datasets (no
+simulation here)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from craquelure.io import open_dataset
+
+
+def _disc(ax, ds, values, snapshot=-1, cmap="gray_r", vmin=0.0, vmax=1.0, reference=False):
+    x = ds["x0"].values if reference else ds["snap_x"].values[snapshot]
+    y = ds["y0"].values if reference else ds["snap_y"].values[snapshot]
+    size = 9.0 * (0.004 / float(ds.attrs["metric_spacing"])) ** 2 * (1264 / x.size) ** 0.0
+    sc = ax.scatter(x * 1e3, y * 1e3, c=values, s=size, cmap=cmap, vmin=vmin, vmax=vmax,
+                    linewidths=0)
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    return sc
+
+
+def _failed(ds, snapshot=-1):
+    """0 intact, 0.5 crushed, 1 cracked (the source's grey/black maps)."""
+    crack = ds["snap_softening"].values[snapshot]
+    if ds.attrs.get("metric_cracked_measure") == "damage":
+        crack = ds["snap_damage"].values[snapshot]
+    crushed = ds["snap_plastic_strain"].values[snapshot] >= 0.0035
+    return np.where(crack >= 0.9, 1.0, np.where(crushed, 0.55, 0.12))
+
+
+def _title(ds):
+    return (f"kappa = {float(ds.attrs['metric_kappa']):g} (eps_AS "
+            f"{float(ds.attrs.get('metric_as_epsilon', float('nan'))):g}), "
+            f"{ds.attrs['metric_distribution']}, "
+            f"seed {int(ds.attrs.get('seed', 0))}:\nN_mc = {int(ds.attrs['metric_n_main_cracks'])}"
+            f", crossings {int(ds.attrs.get('metric_centre_crossings', -1))}"
+            f", phi_c = {float(ds.attrs['metric_cracked_fraction']):.2f}")
+
+
+def figure_masses(run: Path, out: Path, label: str) -> None:
+    import matplotlib.pyplot as plt
+
+    ds = open_dataset(run)
+    mbar = float(np.mean(ds["mass"].values))
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4.4))
+    a.hist(ds["mass"].values / mbar, bins=40, color="0.4")
+    a.set_xlabel("m_i / mean mass")
+    a.set_ylabel("particles")
+    a.set_title("mass distribution (Fig. 5)")
+    sc = _disc(b, ds, ds["mass"].values * 1e3, cmap="viridis", vmin=0,
+               vmax=float(ds["mass"].max()) * 1e3, reference=True)
+    fig.colorbar(sc, ax=b, label="mass per metre [g/m]")
+    b.set_title("mass map (Fig. 6)")
+    fig.suptitle(label, fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def figure_damage_grid(runs, out: Path, title: str, label: str) -> None:
+    import matplotlib.pyplot as plt
+
+    runs = list(runs)
+    cols = len(runs)
+    fig, axes = plt.subplots(1, cols, figsize=(3.2 * cols, 3.6), squeeze=False)
+    for ax, run in zip(axes[0], runs, strict=True):
+        ds = open_dataset(run)
+        _disc(ax, ds, _failed(ds))
+        ax.set_title(_title(ds), fontsize=7)
+    fig.suptitle(f"{title}\n{label}", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def figure_precracks(runs, out: Path, label: str) -> None:
+    import matplotlib.pyplot as plt
+
+    runs = list(runs)
+    fig, axes = plt.subplots(2, len(runs), figsize=(3.2 * len(runs), 6.6), squeeze=False)
+    for c, run in enumerate(runs):
+        ds = open_dataset(run)
+        _disc(axes[0, c], ds, ds["mass"].values * 1e3, cmap="viridis", vmin=0,
+              vmax=float(ds["mass"].max()) * 1e3, reference=True)
+        axes[0, c].set_title(f"{ds.attrs['metric_precrack_layout']}: masses", fontsize=8)
+        _disc(axes[1, c], ds, _failed(ds))
+        fr = ds.attrs.get("metric_precrack_cracked_fraction", float("nan"))
+        axes[1, c].set_title(f"failure; {100 * float(fr):.0f} % cracked near the line",
+                             fontsize=7)
+    fig.suptitle(f"pre-cracks as zero-mass lines (Figs. 11-13)\n{label}", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    scales = set()
+    for kappa, runs in sorted(runs_by_kappa.items()):
+        for i, run in enumerate(runs):
+            ds = open_dataset(run)
+            scales.add(f"{float(ds.attrs.get('metric_contact_a', float('nan'))):.3g}")
+            t = ds["time"].values * 1e6
+            f = ds["series_contact_force"].values / 1e6
+            style = "-" if ds.attrs["metric_distribution"] == "homogeneous" else ":"
+            ax.plot(t, f, style, lw=1.2 if style == "-" else 0.7,
+                    color={0.7: "C0", 1.0: "C1", 1.5: "C2"}.get(kappa, "k"),
+                    label=f"kappa = {kappa:g} ({ds.attrs['metric_distribution']})"
+                    if i < 2 else None)
+    ax.set_xlabel("t [us]")
+    ax.set_ylabel("contact force [MN/m]")
+    ax.legend(fontsize=7)
+    ax.set_title(f"{label}\npenalty scale factor a = {', '.join(sorted(scales))}", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
+def figure_accuracy(rows: list[dict], floors: dict, out: Path, label: str) -> None:
+    """Error of the P-wave mode frequency versus CPU time, one curve per kappa (spacing
+    annotated), the lattice floor 1 - g(kappa) dashed."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for i, kappa in enumerate(sorted({r["kappa"] for r in rows})):
+        sel = sorted((r for r in rows if r["kappa"] == kappa), key=lambda r: -r["spacing"])
+        cpu = [max(r["cpu_seconds"], 1e-3) for r in sel]
+        err = [r["error"] for r in sel]
+        color = f"C{i}"
+        ax.loglog(cpu, err, "o-", color=color, label=f"kappa = {kappa:g}")
+        for c, e, r in zip(cpu, err, sel, strict=True):
+            ax.annotate(f"{r['spacing'] * 1e3:g} mm", (c, e), fontsize=6,
+                        textcoords="offset points", xytext=(3, 3))
+        ax.axhline(floors[kappa], color=color, ls="--", lw=0.8)
+    ax.set_xlabel("CPU time of the run [s] (1 thread)")
+    ax.set_ylabel("|omega / (k c_p) - 1|")
+    ax.set_title(f"P-wave mode frequency error vs cost; reference: exact omega = k c_p, "
+                 f"dashed: lattice floor 1 - g(kappa)\n{label}", fontsize=7)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)

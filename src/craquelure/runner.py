@@ -1,0 +1,308 @@
+"""One run loop for every model (in the spirit of HOOMD-blue's ``Simulation.run``).
+
+An engine adapter exposes a few small methods and the runner does the rest:
+
+- ``start()``: record what is due at t = 0 (not called on resume);
+- ``advance()``: one step, or one chunk that ends at a safe point (lattice: one frame);
+- ``check()``: ``None`` or a :class:`Divergence` (which check, what, the worst particle);
+- ``sample()``: record the outputs due now (output schedule: the engine's own);
+- ``state()`` / ``restore(state)``: everything that evolves, as arrays, so that a run resumed
+  from ``state()`` is bit-identical to the uninterrupted run (taking a checkpoint must not
+  change the trajectory);
+- ``done()``, and the attributes ``time``, ``steps`` and ``n_particles``.
+
+The runner writes checkpoints (``<out>.checkpoint.npz``, atomically) every ``every`` advances
+or ``minutes`` of wall time, each with a fingerprint of the resolved scene, the seed and the
+package's source code (a checkpoint of another scene, seed or code is ignored); it raises
+:class:`~craquelure.errors.SimulationDiverged` with one message format (check, step, time,
+worst particle); it logs progress lines with throughput and ETA and ends with a summary (steps,
+simulated time, wall time, particle-steps per second) that goes into the run dataset.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+from typing import Protocol
+
+import numpy as np
+
+from craquelure.errors import SimulationDiverged
+from craquelure.progress import Progress
+from craquelure.provenance import WallClock, provenance_attrs
+
+# wall-time checkpoint interval when a scene gives none (minutes)
+DEFAULT_CHECKPOINT_MINUTES = 10.0
+
+
+def minutes_or_default(minutes: float | None) -> float:
+    return DEFAULT_CHECKPOINT_MINUTES if minutes is None else float(minutes)
+
+
+@dataclass(frozen=True)
+class Divergence:
+    """A failed health check: its name, what failed and the worst particle (if one)."""
+
+    check: str
+    what: str
+    particle: int | None = None
+
+
+class Engine(Protocol):
+    time: float
+    steps: int
+    n_particles: int
+
+    def start(self) -> None: ...
+    def advance(self) -> None: ...
+    def check(self) -> Divergence | None: ...
+    def sample(self) -> None: ...
+    def state(self) -> dict[str, np.ndarray]: ...
+    def restore(self, state: dict[str, np.ndarray]) -> None: ...
+    def done(self) -> bool: ...
+
+
+def diverged(desc: str, bad: Divergence, step: int, time: float,
+             time_unit: str = "") -> SimulationDiverged:
+    """The one message of a failed guard: which check, the step, the time, the worst particle."""
+    where = f" (worst particle {bad.particle})" if bad.particle is not None else ""
+    unit = f" {time_unit}" if time_unit else ""
+    return SimulationDiverged(f"{desc}: {bad.check} check failed at step {step}, "
+                              f"t = {time:.6g}{unit}: {bad.what}{where}")
+
+
+class EngineRun:
+    """Base of the models' adapters: ``time`` and ``steps`` read from ``self.engine`` (its
+    attributes named by ``TIME`` and ``STEPS``); nothing to record at the start, no check
+    and no sample unless overridden."""
+
+    TIME, STEPS = "t", "step_count"
+    engine: object
+
+    @property
+    def time(self) -> float:
+        return float(getattr(self.engine, self.TIME))
+
+    @property
+    def steps(self) -> int:
+        return int(getattr(self.engine, self.STEPS))
+
+    def start(self) -> None:
+        pass
+
+    def check(self) -> Divergence | None:
+        return None
+
+    def sample(self) -> None:
+        pass
+
+
+def non_finite(fields: dict[str, np.ndarray]) -> Divergence | None:
+    """The first field with a NaN/inf, naming the particle (the last axis is the particle)."""
+    for name, values in fields.items():
+        bad = ~np.isfinite(np.asarray(values))
+        if bad.any():
+            particle = int(np.flatnonzero(bad.reshape(-1, bad.shape[-1]).any(axis=0))[0]) \
+                if bad.ndim else None
+            return Divergence("finite", f"{name} is not finite", particle)
+    return None
+
+
+def runaway(energy: float, limit: float, what: str,
+            per_particle: np.ndarray | None = None) -> Divergence | None:
+    """Energy above its limit (or not finite); the worst particle is the most energetic one."""
+    if np.isfinite(energy) and energy <= limit:
+        return None
+    worst = int(np.argmax(per_particle)) if per_particle is not None and per_particle.size \
+        else None
+    return Divergence("runaway", f"{what} = {energy:.6g} exceeds {limit:.6g}", worst)
+
+
+_VALUE = (np.ndarray, np.number, float, int, bool)
+
+
+def attributes(obj, prefix: str = "", skip: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
+    """The array and number attributes of ``obj`` (an engine's evolving state, generically:
+    a field added later is checkpointed without further code), keys prefixed."""
+    return {prefix + name: value for name, value in vars(obj).items()
+            if isinstance(value, _VALUE) and name not in skip}
+
+
+def set_attributes(obj, state: dict[str, np.ndarray], prefix: str = "") -> None:
+    """Inverse of :func:`attributes` (numbers come back as Python numbers)."""
+    for key, value in state.items():
+        if key.startswith(prefix):
+            setattr(obj, key[len(prefix):], value.copy() if value.ndim else value.item())
+
+
+def dataset_bytes(ds) -> np.ndarray:
+    """An xarray dataset as the bytes of its netCDF file (checkpointing finished pieces)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "piece.nc"
+        ds.to_netcdf(path, engine="netcdf4")
+        return np.frombuffer(path.read_bytes(), np.uint8)
+
+
+def dataset_from_bytes(data: np.ndarray):
+    """Inverse of :func:`dataset_bytes`."""
+    import xarray as xr
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "piece.nc"
+        path.write_bytes(np.asarray(data, np.uint8).tobytes())
+        return xr.load_dataset(path, engine="netcdf4")
+
+
+@cache
+def code_fingerprint() -> str:
+    """Hash of the package's Python sources: a checkpoint is only resumed by the same code."""
+    root = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        digest.update(str(path.relative_to(root)).encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+def fingerprint(scene, seed: int, extra: bytes = b"") -> str:
+    """Resolved scene + seed + code (+ e.g. the initial state's bytes)."""
+    digest = hashlib.sha256(f"{scene.text}\nseed={int(seed)}\n{code_fingerprint()}".encode())
+    digest.update(extra)
+    return digest.hexdigest()
+
+
+def checkpoint_path(out: Path) -> Path:
+    out = Path(out)
+    return out.with_name(out.name + ".checkpoint.npz")
+
+
+def write_checkpoint(path: Path, state: dict[str, np.ndarray]) -> None:
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    with open(tmp, "wb") as fh:
+        np.savez(fh, **{k: np.asarray(v) for k, v in state.items()})
+    os.replace(tmp, path)
+
+
+def read_checkpoint(path: Path) -> dict[str, np.ndarray]:
+    with np.load(path, allow_pickle=False) as data:
+        return {k: data[k] for k in data.files}
+
+
+@dataclass
+class Summary:
+    """End-of-run numbers; ``attrs()`` for the run dataset."""
+
+    steps: int
+    simulated_time: float
+    wall_time_s: float
+    particle_steps_per_s: float
+    resumed_at_step: int
+    time_unit: str
+    earlier_wall_time_s: float = 0.0  # of the checkpointed parts before a resume
+
+    def line(self) -> str:
+        return (f"{self.steps} steps, simulated time {self.simulated_time:.6g} {self.time_unit}, "
+                f"wall time {self.wall_time_s:.1f} s, "
+                f"{self.particle_steps_per_s:.3g} particle-steps/s"
+                + (f" (resumed at step {self.resumed_at_step})" if self.resumed_at_step else ""))
+
+    def attrs(self) -> dict[str, float | int]:
+        return {"run_steps": self.steps, "run_simulated_time": self.simulated_time,
+                "run_particle_steps_per_s": self.particle_steps_per_s,
+                "run_resumed_at_step": self.resumed_at_step}
+
+
+class Stopped(Exception):
+    """Raised by :func:`run` after ``stop_after_checkpoints`` checkpoints (resume tests)."""
+
+
+def run(engine: Engine, scene, seed: int, *, t_end: float, desc: str, out: Path | None = None,
+        resume: bool = False, every: int = 0, minutes: float = DEFAULT_CHECKPOINT_MINUTES,
+        time_unit: str = "", time_scale: float = 1.0, extra_fingerprint: bytes = b"",
+        progress: bool = True, stop_after_checkpoints: int | None = None,
+        clock: WallClock | None = None) -> Summary:
+    """Advance ``engine`` until it is done; see the module docstring.
+
+    ``every`` (advances) and ``minutes`` (wall time) set the checkpoint schedule (0: off);
+    checkpoints need ``out``. ``time_scale`` converts engine time to the progress unit. The
+    wall time of earlier parts of a resumed run is added to the summary."""
+    clock = clock or WallClock()
+    ck_path = checkpoint_path(out) if out is not None else None
+    fp = fingerprint(scene, seed, extra_fingerprint)
+    wall_before, advances, resumed_at = 0.0, 0, 0
+    if resume and ck_path is not None and ck_path.exists():
+        state = read_checkpoint(ck_path)
+        if str(state.pop("runner_fingerprint")) != fp:
+            print(f"ignoring checkpoint {ck_path}: made by another scene, seed or code",
+                  file=sys.stderr)
+        else:
+            wall_before = float(state.pop("runner_wall_time"))
+            advances = int(state.pop("runner_advances"))
+            engine.restore(state)
+            resumed_at = engine.steps
+            print(f"resumed from {ck_path} at t = {engine.time * time_scale:.6g} {time_unit} "
+                  f"(step {engine.steps})", file=sys.stderr)
+    if not resumed_at:
+        engine.start()
+    bar = Progress(t_end * time_scale, desc, unit=time_unit or "t",
+                   initial=engine.time * time_scale) if progress else None
+    steps0, t0 = engine.steps, time.perf_counter()
+    last_ck, written = t0, 0
+    while not engine.done():
+        engine.advance()
+        bad = engine.check()
+        if bad is not None:
+            if bar is not None:
+                bar.close()
+            raise diverged(desc, bad, engine.steps, engine.time * time_scale, time_unit)
+        engine.sample()
+        advances += 1
+        now = time.perf_counter()
+        if bar is not None:
+            rate = (engine.steps - steps0) * engine.n_particles / max(now - t0, 1e-9)
+            bar.update_to(min(engine.time, t_end) * time_scale, f"{rate:.3g} particle-steps/s")
+        due = (every and advances % every == 0) or (minutes and now - last_ck >= 60 * minutes)
+        if ck_path is not None and due and not engine.done():
+            write_checkpoint(ck_path, {**engine.state(), "runner_fingerprint": fp,
+                                       "runner_wall_time": wall_before + clock.elapsed,
+                                       "runner_advances": advances})
+            last_ck, written = now, written + 1
+            if stop_after_checkpoints is not None and written >= stop_after_checkpoints:
+                if bar is not None:
+                    bar.close()
+                raise Stopped(str(ck_path))
+    if bar is not None:
+        bar.close()
+    wall = time.perf_counter() - t0
+    summary = Summary(engine.steps, engine.time * time_scale, wall_before + clock.elapsed,
+                      (engine.steps - steps0) * engine.n_particles / max(wall, 1e-9),
+                      resumed_at, time_unit, wall_before)
+    print(f"[{desc}] done: {summary.line()}", file=sys.stderr)
+    return summary
+
+
+def finish(out: Path) -> None:
+    """Remove the checkpoint once the finished dataset is written."""
+    ck = checkpoint_path(out)
+    if ck.exists():
+        os.unlink(ck)
+
+
+def write_run(ds, out: Path, scene, seed: int | None, summary: Summary,
+              clock: WallClock) -> Path:
+    """Write the finished run dataset with its provenance (wall time of all parts of a resumed
+    run) and the run summary (``run_*`` attributes), atomically; then drop the checkpoint."""
+    from craquelure.io import write_dataset
+
+    ds.attrs.update(provenance_attrs(scene, seed, clock,
+                                     extra_wall_time=summary.earlier_wall_time_s))
+    ds.attrs.update(summary.attrs())
+    path = write_dataset(ds, out)
+    finish(out)
+    return path
