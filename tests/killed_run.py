@@ -42,6 +42,7 @@ def kill_and_resume(tmp_path, args: list[str]) -> tuple:
     deadline = time.monotonic() + 600
     while not ck.exists() and proc.poll() is None and time.monotonic() < deadline:
         time.sleep(0.02)
+    assert proc.poll() is None, f"the run ended (exit {proc.returncode}) before a checkpoint"
     os.kill(proc.pid, signal.SIGKILL)
     proc.wait()
     assert ck.exists() and not out.exists()  # killed after a checkpoint, before the end

@@ -89,7 +89,7 @@ def test_checkpoint_of_another_seed_is_ignored(scene, tmp_path, capsys):
     with pytest.raises(runner.Stopped):
         _run(scene, out, seed=1, every=5, stop_after_checkpoints=1)
     engine, summary = _run(scene, out, seed=2, every=5, resume=True)
-    assert "ignoring checkpoint" in capsys.readouterr().err
+    assert "refusing checkpoint" in capsys.readouterr().err
     assert summary.resumed_at_step == 0
     np.testing.assert_array_equal(engine.x, _run(scene, seed=2)[0].x)
 

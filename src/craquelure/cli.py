@@ -36,12 +36,29 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return int(args._main(args) or 0)
-    except CraquelureError as exc:
-        print(f"craquelure {args.command}: error: {exc}", file=sys.stderr)
-        return 2
-    except (ValueError, KeyError, OSError) as exc:
-        print(f"craquelure {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+    except CraquelureError as exc:  # scene, dataset, guard (SimulationDiverged)
+        return _fail(args.command, str(exc))
+    except MemoryError:
+        return _fail(args.command, "out of memory: the run does not fit in this machine's "
+                     "memory; make the scene smaller")
+    except ArithmeticError as exc:  # overflow / division by zero of a scene's numbers
+        return _fail(args.command, f"the scene's numbers cannot be computed with "
+                     f"({type(exc).__name__}: {exc}); check the magnitudes of its values")
+    except OSError as exc:  # a file that cannot be read or written: name it
+        where = exc.filename or ""
+        return _fail(args.command, f"{where}: {exc.strerror or exc}" if where else str(exc))
+    except (ValueError, KeyError) as exc:
+        return _fail(args.command, str(exc))
+
+
+def _fail(command: str, message: str) -> int:
+    """One line on stderr (a multi-line message's items joined by "; "); exit 2."""
+    head, *items = [line.strip() for line in message.splitlines() if line.strip()] or [""]
+    if items:
+        head = f"{head} {'; '.join(items)}" if head.endswith(":") else \
+            "; ".join([head, *items])
+    print(f"craquelure {command}: error: {head}", file=sys.stderr)
+    return 2
 
 
 if __name__ == "__main__":

@@ -35,6 +35,8 @@ from types import ModuleType
 
 import numpy as np
 
+from craquelure.threads import single_threaded_libraries
+
 _FLAG_BLOCK = re.compile(r"^# BEGIN FLAGS[^\n]*\n(.*?)^# END FLAGS[^\n]*$", re.S | re.M)
 _FLAG_LINE = re.compile(r"^([A-Z][A-Z0-9_]*) = ", re.M)
 _IMPORT = re.compile(r"^(?:from (craquelure[\w.]*) import (\([^)]*\)|[^\n]*)"
@@ -52,6 +54,7 @@ def generated_dir(engine: str) -> Path:
 def import_generated(source: str, module_name: str, path: Path) -> ModuleType:
     """Write ``source`` to ``path`` (unless it already holds exactly that) and import it as
     ``module_name`` (reusing an already imported module of that name)."""
+    single_threaded_libraries()  # no library thread pool inside a time step (threads.py)
     if module_name in sys.modules:
         return sys.modules[module_name]
     path.parent.mkdir(parents=True, exist_ok=True)

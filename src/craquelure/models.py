@@ -2,7 +2,9 @@
 
 An API module may define (each optional, the CLI says so when one is missing):
 ``build_initial_state(scene, seed) -> xarray.Dataset``,
-``derived_numbers(scene) -> dict`` and
+``derived_numbers(scene) -> dict``,
+``workload(scene) -> dict`` (units, particles, neighbours: what :mod:`craquelure.throughput`
+predicts the wall time from) and
 ``run(scene, out, seed, init=None, resume=False) -> Path`` (through
 :func:`craquelure.runner.run`, so every model checkpoints and ``--resume`` continues a run).
 """

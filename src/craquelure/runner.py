@@ -13,7 +13,8 @@ An engine adapter exposes a few small methods and the runner does the rest:
 
 The runner writes checkpoints (``<out>.checkpoint.npz``, atomically) every ``every`` advances
 or ``minutes`` of wall time, each with a fingerprint of the resolved scene, the seed and the
-package's source code (a checkpoint of another scene, seed or code is ignored); it raises
+package's source code (a checkpoint that is damaged or of another scene, seed or code is
+refused with the reason, :func:`usable_checkpoint`); it raises
 :class:`~craquelure.errors.SimulationDiverged` with one message format (check, step, time,
 worst particle); it logs progress lines with throughput and ETA and ends with a summary (steps,
 simulated time, wall time, particle-steps per second) that goes into the run dataset.
@@ -183,6 +184,9 @@ def checkpoint_path(out: Path) -> Path:
 
 
 def write_checkpoint(path: Path, state: dict[str, np.ndarray]) -> None:
+    from craquelure.io import remove_stale_temporaries
+
+    remove_stale_temporaries(path)  # of a run of this output killed while checkpointing
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     with open(tmp, "wb") as fh:
         np.savez(fh, **{k: np.asarray(v) for k, v in state.items()})
@@ -192,6 +196,32 @@ def write_checkpoint(path: Path, state: dict[str, np.ndarray]) -> None:
 def read_checkpoint(path: Path) -> dict[str, np.ndarray]:
     with np.load(path, allow_pickle=False) as data:
         return {k: data[k] for k in data.files}
+
+
+RUNNER_KEYS = ("runner_fingerprint", "runner_wall_time", "runner_advances")
+
+
+def usable_checkpoint(path: Path, fp: str) -> dict[str, np.ndarray] | None:
+    """The checkpoint's state if it can be resumed from, else None after saying why on stderr
+    (damaged or truncated, not a checkpoint, or of another scene, seed, initial state or
+    code): a refused checkpoint is never resumed from; the run starts from the beginning and
+    overwrites it."""
+    try:
+        state = read_checkpoint(path)
+    except Exception as exc:  # noqa: BLE001 - zip/npy errors of a damaged file vary
+        reason = f"damaged or truncated, cannot be read ({type(exc).__name__}: {exc})"
+    else:
+        missing = [key for key in RUNNER_KEYS if key not in state]
+        if missing:
+            reason = f"not a checkpoint of this package: missing {', '.join(missing)}"
+        elif str(state["runner_fingerprint"]) != fp:
+            reason = ("its fingerprint does not match this run (made by another scene, seed, "
+                      "initial state or code)")
+        else:
+            return state
+    print(f"refusing checkpoint {path}: {reason}; starting from the beginning",
+          file=sys.stderr)
+    return None
 
 
 @dataclass
@@ -236,18 +266,16 @@ def run(engine: Engine, scene, seed: int, *, t_end: float, desc: str, out: Path 
     ck_path = checkpoint_path(out) if out is not None else None
     fp = fingerprint(scene, seed, extra_fingerprint)
     wall_before, advances, resumed_at = 0.0, 0, 0
-    if resume and ck_path is not None and ck_path.exists():
-        state = read_checkpoint(ck_path)
-        if str(state.pop("runner_fingerprint")) != fp:
-            print(f"ignoring checkpoint {ck_path}: made by another scene, seed or code",
-                  file=sys.stderr)
-        else:
-            wall_before = float(state.pop("runner_wall_time"))
-            advances = int(state.pop("runner_advances"))
-            engine.restore(state)
-            resumed_at = engine.steps
-            print(f"resumed from {ck_path} at t = {engine.time * time_scale:.6g} {time_unit} "
-                  f"(step {engine.steps})", file=sys.stderr)
+    state = usable_checkpoint(ck_path, fp) if resume and ck_path is not None \
+        and ck_path.exists() else None
+    if state is not None:
+        state.pop("runner_fingerprint")
+        wall_before = float(state.pop("runner_wall_time"))
+        advances = int(state.pop("runner_advances"))
+        engine.restore(state)
+        resumed_at = engine.steps
+        print(f"resumed from {ck_path} at t = {engine.time * time_scale:.6g} {time_unit} "
+              f"(step {engine.steps})", file=sys.stderr)
     if not resumed_at:
         engine.start()
     bar = Progress(t_end * time_scale, desc, unit=time_unit or "t",

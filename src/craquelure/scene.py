@@ -22,6 +22,7 @@ from typing import Any
 import jsonschema
 import yaml
 
+from craquelure import scene_rules
 from craquelure.errors import SceneError
 from craquelure.registry import known_effects
 
@@ -31,7 +32,23 @@ _MISSING = object()
 
 class _SceneLoader(yaml.SafeLoader):
     """SafeLoader that also reads ``1e-3`` and ``1.0e6`` as floats (YAML 1.2; PyYAML's YAML 1.1
-    resolver needs a dot and a signed exponent, so ``--set numerics.dt=1e-3`` was a string)."""
+    resolver needs a dot and a signed exponent, so ``--set numerics.dt=1e-3`` was a string),
+    and refuses a key given twice in one mapping (PyYAML silently keeps the last)."""
+
+    def construct_mapping(self, node, deep=False):
+        seen: dict[Any, int] = {}
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=True)
+            try:
+                hash(key)
+            except TypeError:
+                continue  # the base class reports unhashable keys
+            line = key_node.start_mark.line + 1
+            if key in seen:
+                raise SceneError(f"{key}: duplicate key (lines {seen[key]} and {line}); "
+                                 f"give each key once")
+            seen[key] = line
+        return super().construct_mapping(node, deep=deep)
 
 
 _SceneLoader.add_implicit_resolver(
@@ -43,6 +60,18 @@ _SceneLoader.add_implicit_resolver(
 
 def _load_yaml(text: str):
     return yaml.load(text, Loader=_SceneLoader)  # a SafeLoader subclass: no arbitrary objects
+
+
+def _is_integer(checker, instance) -> bool:
+    """A true integer: JSON schema's own ``integer`` accepts 1600.0 (and YAML reads 1.6e3 as a
+    float), which crashed ``np.empty`` later; booleans are not integers either."""
+    return isinstance(instance, int) and not isinstance(instance, bool)
+
+
+_Validator = jsonschema.validators.extend(
+    jsonschema.Draft202012Validator,
+    type_checker=jsonschema.Draft202012Validator.TYPE_CHECKER.redefine("integer", _is_integer),
+)
 
 
 def project_root() -> Path:
@@ -129,6 +158,10 @@ def load_scene_text(
         data = _load_yaml(text)
     except yaml.YAMLError as exc:
         raise SceneError(f"scene {name}: not valid YAML: {exc}") from exc
+    except SceneError as exc:
+        raise SceneError(f"scene {name}: {exc}") from exc
+    except (ValueError, TypeError, RecursionError) as exc:  # e.g. a NUL byte, a huge date
+        raise SceneError(f"scene {name}: not valid YAML: {exc}") from exc
     if not isinstance(data, dict):
         raise SceneError(f"scene {name}: the top level must be a mapping of sections")
     for item in overrides:
@@ -146,7 +179,7 @@ def stored_scene(text: str, name: str = "scene") -> Scene:
     """
     try:
         data = _load_yaml(text)
-    except yaml.YAMLError as exc:
+    except (yaml.YAMLError, SceneError, ValueError, TypeError) as exc:
         raise SceneError(f"stored scene {name}: not valid YAML: {exc}") from exc
     if not isinstance(data, dict) or "model" not in data:
         raise SceneError(f"stored scene {name}: not a resolved scene (no `model` section)")
@@ -163,7 +196,7 @@ def parse_override(item: str) -> tuple[list[str], Any]:
         raise SceneError(f"--set {item!r}: empty key")
     try:
         value = _load_yaml(raw) if raw.strip() else ""
-    except yaml.YAMLError as exc:
+    except (yaml.YAMLError, SceneError, ValueError, TypeError, RecursionError) as exc:
         raise SceneError(f"--set {item!r}: value is not valid YAML: {exc}") from exc
     return keys, value
 
@@ -218,19 +251,34 @@ def _describe(error: jsonschema.ValidationError) -> str:
     return f"{where}: {value!r} is not allowed: {error.message}"
 
 
-def validate_scene_data(data: dict[str, Any]) -> dict[str, Any]:
-    """Validate against the model's schema and the effect registry; returns a resolved copy."""
+def validate_scene_data(data: dict[str, Any], check_memory: bool = True) -> dict[str, Any]:
+    """Validate a scene and return a resolved copy (defaults filled in), in this order:
+    finite numbers everywhere, the model's schema (types, true integers, bounds), the effect
+    registry, then the cross-field rules and the memory estimate of
+    :mod:`craquelure.scene_rules`. Raises :class:`SceneError` naming every bad key."""
     data = copy.deepcopy(data)
     model = data.get("model")
     if model not in MODELS:
         raise SceneError(f"model: {model!r} is not allowed; allowed values: {', '.join(MODELS)}")
+    bad = scene_rules.non_finite_values(data)
+    if bad:
+        raise SceneError("invalid scene:\n  " + "\n  ".join(
+            f"{key}: {value!r} is not allowed; must be a finite number (integers within "
+            f"+-2^63)" for key, value in bad))
     schema = model_schema(model)
     _fill_defaults(data, schema)
-    validator = jsonschema.Draft202012Validator(schema)
+    validator = _Validator(schema)
     errors = sorted(validator.iter_errors(data), key=lambda e: (len(e.absolute_path), _path(e)))
     if errors:
         raise SceneError("invalid scene:\n  " + "\n  ".join(_describe(e) for e in errors))
     _check_effects(data)
+    problems = scene_rules.cross_field_problems(data)
+    if problems:
+        raise SceneError("invalid scene:\n  " + "\n  ".join(problems))
+    if check_memory:
+        problem = scene_rules.memory_problem(data)
+        if problem:
+            raise SceneError(f"scene too large: {problem}")
     return data
 
 

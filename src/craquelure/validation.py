@@ -10,7 +10,15 @@ Verdicts are computed from the criterion's conditions, never typed in:
 
 - ``reproduced``: every condition holds;
 - ``partly``: some hold; the row names the ones that do not;
-- ``not reproduced``: none holds.
+- ``not reproduced``: none holds (or, for a claim whose source states it as a single test, any
+  fails);
+- ``inconclusive``: no condition fails, but the sample cannot decide the claim (a test without
+  the power to reject the named alternative, too few samples for an extreme-value statement);
+  the row says what cannot be decided and the sample it would need. A small profile therefore
+  never prints ``reproduced`` on a claim its sample cannot decide.
+
+Helpers for sample-size decisions shared by the models: :func:`fraction_decision` (a fraction of
+samples against a threshold, exact binomial interval).
 """
 
 from __future__ import annotations
@@ -26,7 +34,9 @@ from craquelure.io import write_text_atomic
 from craquelure.provenance import git_commit, library_versions
 
 MODELS = ("drying", "impact", "lattice", "softdyn")
-VERDICTS = ("reproduced", "partly", "not reproduced")
+VERDICTS = ("reproduced", "partly", "not reproduced", "inconclusive")
+POWER_NEEDED = 0.8  # power (or confirmation rate) a sample needs to decide a claim
+DECISION_LEVEL = 0.95  # confidence of the intervals that decide fractions of samples
 
 
 @dataclass(frozen=True)
@@ -47,16 +57,60 @@ class Claim:
                              f"{', '.join(VERDICTS)}")
 
 
-def verdict_of(conditions: Mapping[str, bool]) -> tuple[str, str]:
-    """(verdict, note naming the conditions that fail) for named boolean conditions."""
-    if not conditions:
+def verdict_of(conditions: Mapping[str, bool], undecided: Mapping[str, str] | None = None,
+               partial: bool = True) -> tuple[str, str]:
+    """(verdict, note) for named boolean conditions.
+
+    ``undecided`` maps what the sample cannot decide to the sample it would need (e.g.
+    ``{"power 0.31 against t^-2 < 0.8": "about 40 seeds"}``): when no condition fails, such a
+    claim is ``inconclusive``, not ``reproduced``. A failing condition still decides (a test
+    that rejects at its level is evidence whatever its power); ``partial=False`` makes any
+    failure ``not reproduced`` (claims the source states as one test)."""
+    undecided = dict(undecided or {})
+    if not conditions and not undecided:
         raise ValueError("a verdict needs at least one condition")
     failed = [name for name, ok in conditions.items() if not ok]
-    if not failed:
-        return "reproduced", ""
-    if len(failed) == len(conditions):
-        return "not reproduced", "fails: " + ", ".join(failed)
-    return "partly", "fails: " + ", ".join(failed)
+    open_ = "; cannot decide: " + "; ".join(f"{k} (needs {v})" for k, v in undecided.items())
+    if failed:
+        note = "fails: " + ", ".join(failed) + (open_ if undecided else "")
+        whole = not partial or len(failed) == len(conditions)
+        return ("not reproduced" if whole else "partly"), note
+    if undecided:
+        return "inconclusive", "sample cannot decide: " + open_.split(": ", 1)[1]
+    return "reproduced", ""
+
+
+def fraction_decision(successes: int, n: int, threshold: float,
+                      level: float = DECISION_LEVEL) -> tuple[bool | None, str]:
+    """Does a fraction of ``n`` samples meet ``>= threshold``? (True/False when the exact
+    (Clopper-Pearson) two-sided ``level`` interval of the fraction lies on one side of the
+    threshold, None when it straddles it) and, when undecided, the sample that would decide at
+    the observed fraction (smallest n' whose interval at the same fraction excludes the
+    threshold)."""
+    from scipy import stats
+
+    if n <= 0:
+        return None, "at least one sample"
+    tail = (1.0 - level) / 2.0
+
+    def interval(k: float, m: int) -> tuple[float, float]:
+        lo = stats.beta.ppf(tail, k, m - k + 1) if k > 0 else 0.0
+        hi = stats.beta.ppf(1 - tail, k + 1, m - k) if k < m else 1.0
+        return float(lo), float(hi)
+
+    lo, hi = interval(successes, n)
+    if lo >= threshold:
+        return True, ""
+    if hi < threshold:
+        return False, ""
+    fraction = successes / n
+    if fraction == threshold:
+        return None, "more samples than any finite count (fraction on the threshold)"
+    for m in range(n + 1, 100 * n + 1000):
+        lo, hi = interval(round(fraction * m), m)
+        if lo >= threshold or hi < threshold:
+            return None, f"about {m} samples at the observed fraction {fraction:.2f}"
+    return None, f"more than {100 * n + 1000} samples"
 
 
 def collect(sources: Mapping[str, Sequence[str | Path]]) -> list[Claim]:
@@ -99,6 +153,7 @@ th { background: #eee; }
 td.reproduced { background: #d9f2d9; }
 td.partly { background: #fff2cc; }
 td.not-reproduced { background: #f8d7d7; }
+td.inconclusive { background: #e0e0ef; }
 """
 
 
@@ -111,7 +166,8 @@ def render_html(claims: Sequence[Claim], profile: str) -> str:
             continue
         n = counts[model]
         rows.append(f'<tr><th colspan="5">{model}: {n["reproduced"]} reproduced, '
-                    f'{n["partly"]} partly, {n["not reproduced"]} not reproduced</th></tr>')
+                    f'{n["partly"]} partly, {n["not reproduced"]} not reproduced, '
+                    f'{n["inconclusive"]} inconclusive</th></tr>')
         for c in mine:
             cells = [c.claim, c.source, c.criterion, c.measured]
             tds = "".join(f"<td>{html.escape(x)}</td>" for x in cells)
@@ -125,8 +181,10 @@ def render_html(claims: Sequence[Claim], profile: str) -> str:
             f"</title><style>{_STYLE}</style></head><body>\n"
             f"<h2>Validation, profile {html.escape(profile)}</h2>\n"
             f"<p>{len(claims)} claims: {total['reproduced']} reproduced, {total['partly']} partly, "
-            f"{total['not reproduced']} not reproduced. Verdicts are computed from the "
-            f"criterion's conditions; 'partly' names the conditions that fail.</p>\n"
+            f"{total['not reproduced']} not reproduced, {total['inconclusive']} inconclusive. "
+            f"Verdicts are computed from the criterion's conditions; 'partly' names the "
+            f"conditions that fail; 'inconclusive' means no condition fails but the sample "
+            f"cannot decide the claim, and names the sample it would need.</p>\n"
             f"<table><tr>{head}</tr>\n" + "\n".join(rows) + "\n</table></body></html>\n")
 
 

@@ -1,4 +1,5 @@
-"""Drying claims for the validation report: verdicts follow the summary's check conditions."""
+"""Drying claims for the validation report: verdicts follow the summary's check conditions and
+what its sample cannot decide."""
 
 from __future__ import annotations
 
@@ -9,72 +10,98 @@ import xarray as xr
 
 from craquelure.drying import claims
 
+C14 = {
+    "n_times": 13, "n_samples": 8, "reduced_chi2": 0.9, "reduced_chi2_critical": 2.3,
+    "quadratic_c_p": 0.4, "slope_b": 0.0387, "slope_over_b_star": 0.35,
+    "slope_b_ci95": [0.03, 0.045], "t0_over_t_star": 2.05, "t0_ci95": [14.0, 16.5],
+    "alternative": "1/<S>_t = A + B t^2 (t^-2 law) through the measured end points",
+    "power": 0.31, "alpha_free_power_law": 2.33,
+    "conditions": {"(a) reduced chi^2 below its 99 % critical value": True,
+                   "(b) quadratic term not significant at 1 %": True,
+                   "(c) 0 < t0 <= t*": True, "(c) b > 0": True,
+                   "(c) 0.2 b* <= b <= 5 b*": True},
+    "undecided": {"(d) power 0.31 < 0.8 against 1/<S>_t = A + B t^2": "about 45 seeds"},
+}
+C15 = {
+    "n_first": 22, "n_last": 169, "ks_scaled_first_last": 0.12,
+    "ks_scaled_first_last_upper95": 0.31, "cv_mean_x2": 0.13, "cv_mean_x2_upper95": 0.2,
+    "ks_raw_first_last": 0.83, "alternative": "scaled width drifting by 25% across the window",
+    "power": 1.0, "confirmation_rate": 0.9,
+    "conditions": {"KS(S_first, S_last) >= 0.3 (non-trivial)": True,
+                   "KS(X_first, X_last) upper 95 % bound <= 0.15": False,
+                   "CV of <X^2>_t upper 95 % bound <= 0.1": False},
+    "undecided": {},
+}
+ITEM = {"time": 20.0, "over_t_star": 2.6, "ci95_over_t_star": [2.4, 2.9]}
+C16 = {
+    "n_samples": 8, "unbroken_at_end": 0, **{k: ITEM for k in (
+        "first_removal_earliest", "first_removal_median", "first_sample_broken",
+        "half_samples_broken", "all_samples_broken")},
+    "conditions": {"first sample broken by 0.45 t*": False,
+                   "all samples broken by 0.9 t*": False},
+    "undecided": {},
+}
 SUMMARY = {
     "profile": "medium", "n_particles": 10000, "n_seeds": 8, "window_mode": "all_broken",
-    "t_star": 7.5, "window": [19.5, 45.0], "slope_over_b_star": 0.35,
-    "fit": {"r2": 0.991, "slope_b": 0.0387, "quadratic_departure_fraction": 0.009,
-            "x_intercept": 15.4, "alpha": 2.33, "alpha_ci95": [2.12, 2.61]},
-    "collapse": {"per_time": [{"n": 22, "below_critical": True}, {"n": 169,
-                                                                  "below_critical": True}],
-                 "cv_mean_x2": 0.133, "raw_ks_first_last": 0.83,
-                 "mean_pairwise_ks_before": 0.37, "mean_pairwise_ks_after": 0.13},
-    "checks": {
-        "sample_size_meets_spec": False,
-        "check14_inverse_mean_area_linear": {
-            "r2_at_least_0.95": True, "slope_positive": True,
-            "quadratic_change_below_20_percent": True, "x_intercept_in_range": False,
-            "x_intercept_range": [1.67, 7.67]},
-        "check15_scaling_collapse": {
-            "ks_test_can_reject_at_all_t_k": True, "ks_below_critical_at_all_t_k": True,
-            "cv_mean_x2_at_most_0.10": False, "raw_ks_first_last_at_least_0.3": True},
-    },
+    "t_star": 7.5, "b_star": 0.11, "window": [19.5, 45.0], "pi": 0.66, "pi_paper": 0.022,
+    "checks": {"sample_size_meets_spec": False, "check14_inverse_mean_area_linear": C14,
+               "check15_scaling_collapse": C15, "check16_onset": C16},
 }
 
 
-def test_check14_misses_on_the_intercept_only_is_partly():
+def test_check14_without_power_is_inconclusive_and_names_the_sample():
     c = claims.inverse_area_claim(SUMMARY)
-    assert c.verdict == "partly"
-    assert "fails: x_intercept_in_range" in c.note and "indicative only" in c.note
-    assert "R^2 = 0.991" in c.measured and "2.05 t*" in c.measured
+    assert c.verdict == "inconclusive"
+    assert "power 0.31" in c.note and "needs about 45 seeds" in c.note
+    assert "Pi = tau/t* = 0.66" in c.note and "departs from the paper's regime" in c.note
+    assert "t0 = 2.05 t*" in c.measured and "power against" in c.measured
+    failed = copy.deepcopy(SUMMARY)
+    failed["checks"]["check14_inverse_mean_area_linear"]["conditions"]["(c) 0 < t0 <= t*"] = False
+    c = claims.inverse_area_claim(failed)
+    # A failing condition decides whatever the power; the spec states one test.
+    assert c.verdict == "not reproduced" and "fails: (c) 0 < t0 <= t*" in c.note
 
 
-def test_check15_verdicts_follow_the_conditions():
-    assert claims.collapse_claim(SUMMARY).verdict == "partly"
+def test_check15_verdict_is_recomputed_from_the_conditions():
+    assert claims.collapse_claim(SUMMARY).verdict == "not reproduced"
     good = copy.deepcopy(SUMMARY)
-    good["checks"]["check15_scaling_collapse"]["cv_mean_x2_at_most_0.10"] = True
-    good["checks"]["sample_size_meets_spec"] = True
+    for key in good["checks"]["check15_scaling_collapse"]["conditions"]:
+        good["checks"]["check15_scaling_collapse"]["conditions"][key] = True
+    good["pi"] = 0.022
     c = claims.collapse_claim(good)
-    assert c.verdict == "reproduced" and "indicative" not in c.note
-    assert "2/2 t_k (22-169 fragments each)" in c.measured
+    assert c.verdict == "reproduced" and "departs" not in c.note
+    assert "22 and 169 fragments" in c.measured
+
+
+def test_check16_names_pi_and_the_onset_in_t_star():
+    c = claims.onset_claim(SUMMARY)
+    assert c.verdict == "not reproduced"
+    assert "all 2.60 t* (95 % CI 2.40-2.90)" in c.measured and "Pi = tau/t* = 0.66" in c.note
 
 
 def test_thickness_exponent_within_two_standard_deviations(tmp_path):
-    def write(beta, std):
+    def write(beta, std, n_late=7):
         ds = xr.Dataset({"n_seeds": ("thickness", np.array([1, 1]))},
                         coords={"thickness": [0.2, 0.316]},
                         attrs={"exponent_late_mean": beta, "exponent_late_std": std,
-                               "predicted_exponent": 2.0, "n_late_times": 7})
-        path = tmp_path / f"thickness_{beta}.nc"
+                               "predicted_exponent": 2.0, "n_late_times": n_late})
+        path = tmp_path / f"thickness_{beta}_{n_late}.nc"
         ds.to_netcdf(path)
         return path
 
     assert claims.thickness_claim(write(1.62, 0.24)).verdict == "reproduced"
     assert claims.thickness_claim(write(1.2, 0.24)).verdict == "not reproduced"
+    assert claims.thickness_claim(write(float("nan"), 0.0, 0)).verdict == "inconclusive"
 
 
-def test_a_campaign_without_a_window_is_not_reproduced_with_its_reason():
-    # Short runs (the CI profile) never break every sample: no fit, no collapse times.
+def test_a_campaign_without_a_window_is_inconclusive_with_its_reason():
+    # Short runs (the CI profile) never break every sample: nothing to test.
     empty = copy.deepcopy(SUMMARY)
-    empty["fit"] = {"window_times": [], "mean_area": [],
-                    "error": "fewer than 3 usable snapshots in the window"}
-    empty["slope_over_b_star"] = None
-    empty["collapse"] = {"per_time": [], "cv_mean_x2": None, "raw_ks_first_last": None,
-                         "mean_pairwise_ks_before": 0.5, "mean_pairwise_ks_after": None}
-    for group in ("check14_inverse_mean_area_linear", "check15_scaling_collapse"):
-        for key, value in empty["checks"][group].items():
-            if isinstance(value, bool):
-                empty["checks"][group][key] = False
+    for key in ("check14_inverse_mean_area_linear", "check15_scaling_collapse"):
+        error = "needs >= 4 snapshots in the window"
+        empty["checks"][key] = {"error": error, "conditions": {},
+                                "undecided": {error: "a longer or larger run"}}
     inverse, collapse = claims.inverse_area_claim(empty), claims.collapse_claim(empty)
-    assert inverse.verdict == collapse.verdict == "not reproduced"
-    assert inverse.measured == "no fit: fewer than 3 usable snapshots in the window"
-    assert collapse.measured.startswith("no collapse times")
+    assert inverse.verdict == collapse.verdict == "inconclusive"
+    assert inverse.measured == "no test: needs >= 4 snapshots in the window"
+    assert "needs a longer or larger run" in collapse.note

@@ -26,7 +26,7 @@ def data():
     frags = [fragment_dataset(s, TIMES, mean, np.maximum(1, np.round(16 / mean)).astype(int))
              for s in range(1, 9)]
     campaign = build_campaign(frags, n_bins=15)
-    summary = summarise(campaign, profile="test", n_boot=100)
+    summary = summarise(campaign, profile="test", n_boot=100, n_power=100, n_power_collapse=5)
     bands = [[]] * 12 + [[("y", 1.0, 1.3)]] * 5 + [[("y", 1.0, 1.3), ("x", 0.5, 0.8)]] * 5
     run = lattice_run(40, 2.0, bands_per_time=bands, times=TIMES, scene="drying/default")
     return campaign, summary, run
@@ -37,6 +37,8 @@ def test_captions_state_profile_sizes_and_fit(data):
     setup = setup_line(campaign, "test")
     assert "profile test" in setup and "N = 6400" in setup and "8 seeds" in setup
     assert "10x faster than the paper" in setup
+    # tau = eta/(2 mu) = 5, t* = 22.7: Pi = 0.22 (paper 0.022).
+    assert "Pi = tau/t* = 0.22 with tau = eta/(2 mu) = 5 (paper 0.022)" in setup
     fit = fit_line(summary)
     assert f"alpha = {summary['fit']['alpha']:.3g}" in fit
     assert f"R^2 = {summary['fit']['r2']:.4f}" in fit
@@ -45,6 +47,27 @@ def test_captions_state_profile_sizes_and_fit(data):
     fig = fig_inverse_mean_area(campaign, summary, "test")
     texts = [t.get_text() for t in fig.texts]
     assert any("alpha" in t and "profile test" in t for t in texts)
+
+
+def test_ccdf_bands_bracket_the_curve_and_shrink_with_more_samples():
+    from craquelure.drying.statistics import ccdf_bands
+
+    mean = np.full(TIMES.size, 1.0)
+
+    def bands(n_seeds):
+        frags = [fragment_dataset(s, TIMES, mean, np.full(TIMES.size, 20), shape=1.0)
+                 for s in range(1, n_seeds + 1)]
+        c = build_campaign(frags, n_bins=10)
+        return ccdf_bands(c, 5, np.linspace(0.0, 4.0, 41), scaled=True, n_boot=200)
+
+    few, many = bands(3), bands(24)
+    for b in (few, many):
+        assert b["ccdf"][0] == 1.0 and np.all(np.diff(b["ccdf"]) <= 0)
+        assert np.all(b["lo"] <= b["ccdf"] + 1e-12) and np.all(b["ccdf"] <= b["hi"] + 1e-12)
+    # Exponential X: P(X > 1) = e^-1 within the band of 24 x 20 fragments.
+    assert many["lo"][10] < np.exp(-1.0) < many["hi"][10]
+    width = lambda b: np.mean(b["hi"] - b["lo"])  # noqa: E731
+    assert width(many) < 0.6 * width(few)  # ~ sqrt(3/24) = 0.35
 
 
 def test_all_figures_written_as_png_and_pdf(data, tmp_path):

@@ -9,7 +9,7 @@ import xarray as xr
 
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.drying.run import run
-from craquelure.errors import SimulationDiverged
+from craquelure.errors import SceneError, SimulationDiverged
 from craquelure.io import write_dataset
 from craquelure.runner import checkpoint_path
 
@@ -62,6 +62,37 @@ def test_resume_is_bit_identical(tmp_path, small_scene):
         np.testing.assert_array_equal(full[name].values, resumed[name].values)
 
 
+def test_resume_is_bit_identical_with_rkc2(tmp_path, small_scene):
+    """The same with the adaptive rkc2 integrator through the removal events: the step
+    controller, spectral radius and removal-event limit are checkpointed, and the snapshots
+    land exactly on the output times."""
+    scene = small_scene.with_overrides(["numerics.integrator=rkc2",
+                                        "numerics.checkpoint_every=20",
+                                        "numerics.step_control.spectral_radius_every=15",
+                                        "outputs.series_every=5"])
+    init = _init(tmp_path, scene)
+    full = xr.open_dataset(run(scene, tmp_path / "full.nc", init=init))
+    assert int(full.n_removed[-1]) > 0 and full.attrs["rejected_steps"] > 0
+    assert 40 < full.attrs["steps"] < 300
+    np.testing.assert_array_equal(full.time.values, [1.0, 2.0, 3.2])
+    part = tmp_path / "part.nc"
+    run(scene, part, init=init, stop_after_checkpoints=2)
+    resumed = xr.open_dataset(run(scene, part, init=init, resume=True))
+    for name in ("x", "y", "vx", "vy", "alive", "mass", "rho", "mean_stress", "n_removed",
+                 "kinetic_energy", "time_step"):
+        np.testing.assert_array_equal(full[name].values, resumed[name].values)
+    for key in ("steps", "rate_evaluations", "rkc_stage_evaluations", "rejected_steps",
+                "spectral_radius_evaluations"):
+        assert full.attrs[key] == resumed.attrs[key]
+
+
+def test_unknown_integrator_is_rejected_with_the_allowed_values(small_scene):
+    with pytest.raises(SceneError, match=r"numerics.integrator.*abm4.*rk4.*rk2.*rkc2"):
+        small_scene.with_overrides(["numerics.integrator=rkc4"])
+    with pytest.raises(SceneError, match=r"numerics.step_control.tolerance"):
+        small_scene.with_overrides(["numerics.step_control.tolerance=0"])
+
+
 def test_stale_checkpoint_is_ignored(tmp_path, small_scene):
     """A checkpoint made from another scene is not resumed."""
     init = _init(tmp_path, small_scene)
@@ -110,7 +141,8 @@ def test_killed_cli_run_resumes_bit_identically(tmp_path):
 
     full, resumed, err = kill_and_resume(tmp_path, [
         "drying/ci", "--seed", "2", "--set", "outputs.t_end=1.0",
-        "--set", "outputs.times=[0.5, 1.0]", "--set", "particles.n=144",
+        "--set", "outputs.times=[0.5, 1.0]", "--set", "domain.box_length=1.0",
+        "--set", "particles.n=400",
         "--set", "numerics.checkpoint_every=25"])
     assert "resumed from" in err
     assert resumed.attrs["run_resumed_at_step"] > 0

@@ -36,11 +36,20 @@ def test_findings_keep_their_computed_status(tmp_path):
     assert out[1].measured.startswith("coverage = median 0.2 [95 % 0.2, 0.2], n = 1")
     assert "3 heterogeneous specimens" in out[1].note and "fails: covers" in out[1].note
     assert out[0].claim.startswith("[2D]")
-    # too few seeds: never printed as reproduced
-    assert out[2].verdict != "reproduced" and out[2].note.startswith("inconclusive: 3 seeds")
+    # too few seeds: inconclusive, never reproduced
+    assert out[2].verdict == "inconclusive" and out[2].note.startswith("inconclusive: 3 seeds")
 
 
 def test_energy_balance_above_the_tolerance_is_reported():
     bad = dict(SUMMARY, max_energy_balance_error=0.031)
     c = claims.robustness_claim(bad)
     assert c.verdict == "partly" and "energy balance error < 2%" in c.note
+
+
+def test_too_few_seeds_and_a_missing_case_are_inconclusive():
+    few = dict(SUMMARY["findings"][2])
+    c = claims.finding_claim(few, "caveat")
+    assert c.verdict == "inconclusive" and "3 seeds" in c.note
+    missing = {"finding": "homogeneous: one main crack", "criterion": "N_main = 1",
+               "values": {}, "reproduced": None}
+    assert claims.finding_claim(missing, "caveat").verdict == "inconclusive"

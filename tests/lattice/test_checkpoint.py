@@ -62,7 +62,7 @@ def test_checkpoint_of_another_seed_is_ignored(tmp_path, capsys):
     out = tmp_path / "run.nc"
     lattice_run(scene, out, seed=1, stop_after_checkpoints=1)
     lattice_run(scene, out, seed=2, resume=True)
-    assert "ignoring checkpoint" in capsys.readouterr().err
+    assert "refusing checkpoint" in capsys.readouterr().err
     fresh = lattice_run(scene, tmp_path / "fresh.nc", seed=2)
     same_dataset(open_dataset(out), open_dataset(fresh))
 

@@ -29,3 +29,13 @@ def test_calving_passes_on_likelihood_but_not_on_the_binned_slope(tmp_path):
 def test_fretting_without_platelets_is_partly():
     c = claims.fretting_claim({"broken": 173, "cycles": [{"platelets": 0}, {"platelets": 0}]})
     assert c.verdict == "partly" and c.note == "fails: platelets detach"
+
+
+def test_calving_with_too_few_fragments_is_inconclusive(tmp_path):
+    folder = tmp_path / "calving"
+    folder.mkdir()
+    (folder / "summary.json").write_text(json.dumps({
+        "fragments": 12, "ml_exponent": 1.5, "ml_cutoff": 20.2, "slope": -1.5,
+        "decades": 1.15, "check11_slope_pass": False, "binned_slope_in_band": True}))
+    (c,) = claims.claims([folder / "summary.json"])
+    assert c.verdict == "inconclusive" and "needs >= 20 fragments" in c.note

@@ -213,3 +213,35 @@ def test_guarded_stop_just_above_rtol_is_accepted_when_the_result_meets_the_boun
     with pytest.raises(MassSolveError, match="max \\|sum m W - rho0\\| = 0.06"):
         check_mass_report(MassSolveReport(**{**good, "density_error_max": 0.06}), 1.0,
                           MassBounds())
+
+
+@pytest.mark.parametrize("gap", [0.7, 0.6])
+def test_clamped_cg_keeps_every_mass_positive_on_disordered_points(gap):
+    """Spec section 12, doubt 3: below a minimum gap of 0.8 Delta truncated CG has to stop
+    early (the guard) and misses the residual; the clamped solve reaches it with every mass
+    at or above the floor 0.1 m_bar (measured: 2.4e-3 at 0.7, 4.0e-3 at 0.6 Delta)."""
+    length, n, h = 2.0, 1600, 0.2
+    x, y = random_sequential_addition(n, length, gap * length / np.sqrt(n),
+                                      np.random.default_rng(1))
+    m_bar = length**2 / n
+    _, truncated = consistent_masses(x, y, length, h, 1.0, check=False)
+    mass, report = consistent_masses(x, y, length, h, 1.0, check=False, method="clamped_cg")
+    assert np.all(mass >= 0.1 * m_bar * (1 - 1e-12))
+    assert report.mass_min >= 0.1 * m_bar * (1 - 1e-12) and report.stopped_by == "rtol"
+    assert report.cg_residual < 0.5 * truncated.cg_residual
+    assert report.cg_residual <= MassBounds().guarded_rtol
+    assert report.density_error_max <= MassBounds().max_density_error
+    assert report.total_mass_error <= MassBounds().total_mass_tolerance
+    assert report.masses_at_floor > 0
+
+
+def test_clamped_cg_equals_truncated_cg_when_no_mass_reaches_the_floor():
+    length, n = 2.0, 1600
+    x, y = random_sequential_addition(n, length, 0.8 * length / np.sqrt(n),
+                                      np.random.default_rng(1))
+    a, _ = consistent_masses(x, y, length, 0.2, 1.0, check=False)
+    b, report = consistent_masses(x, y, length, 0.2, 1.0, check=False, method="clamped_cg")
+    assert report.masses_at_floor == 0
+    np.testing.assert_allclose(a, b, rtol=1e-12)
+    with pytest.raises(Exception, match="allowed values: truncated_cg, clamped_cg"):
+        consistent_masses(x, y, length, 0.2, 1.0, method="lsq")

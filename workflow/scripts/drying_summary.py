@@ -1,5 +1,6 @@
 """Snakemake script of rule drying_summary: statistics of the campaign dataset (alpha with its
-bootstrap interval, 1/<S>_t fit, onset, collapse; spec checks 14-15) to summary.json.
+bootstrap interval, 1/<S>_t fit, onset, collapse; spec checks 14-16 with their power and
+verdicts, and the run's Pi = tau/t*) to summary.json.
 
 Outside Snakemake: ``python workflow/scripts/drying_summary.py CAMPAIGN.nc OUT.json PROFILE``.
 """
@@ -12,9 +13,11 @@ from craquelure.drying.statistics import write_summary
 def main(campaign: str, out: str, profile: str, scene: str = "") -> None:
     summary = write_summary(campaign, out, profile=profile, scene_name=scene)
     checks = summary["checks"]
-    print(f"wrote {out}: alpha = {summary['fit'].get('alpha')}, R^2 = {summary['fit'].get('r2')}"
-          f", check 14 pass = {checks['check14_inverse_mean_area_linear']['pass']}, "
-          f"check 15 pass = {checks['check15_scaling_collapse']['pass']}")
+    verdicts = ", ".join(f"{key.split('_')[0]} {checks[key]['verdict']} ({checks[key]['note']})"
+                         for key in ("check14_inverse_mean_area_linear",
+                                     "check15_scaling_collapse", "check16_onset"))
+    print(f"wrote {out}: Pi = tau/t* = {summary['pi']}, alpha = {summary['fit'].get('alpha')}; "
+          f"{verdicts}")
 
 
 if "snakemake" in globals():

@@ -1,6 +1,8 @@
 """``craquelure check SCENE``: validate, print the resolved scene, the effects and derived
 numbers (neighbours, stable step, step count, wall-time estimate)."""
 
+import numpy as np
+
 from craquelure.commands import add_scene_arguments
 from craquelure.models import model_api
 from craquelure.registry import known_effects
@@ -25,7 +27,30 @@ def main(args) -> int:
     api = model_api(scene.model)
     if hasattr(api, "derived_numbers"):
         print("\n# derived numbers")
-        for key, value in api.derived_numbers(scene).items():
-            text = f"{value:.6g}" if isinstance(value, float) else str(value)
-            print(f"  {key}: {text}")
+        for key, value in derived_numbers(api, scene).items():
+            print(f"  {key}: {format_number(value)}")
     return 0
+
+
+def derived_numbers(api, scene) -> dict[str, object]:
+    """The model's derived numbers; never raises for a valid scene: numbers that cannot be
+    computed (overflow, division by zero, too large to build) are reported as such."""
+    try:
+        with np.errstate(all="ignore"):
+            return dict(api.derived_numbers(scene))
+    except (ArithmeticError, ValueError, MemoryError) as exc:
+        return {"(all)": Uncomputable(f"{type(exc).__name__}: {exc}")}
+
+
+class Uncomputable(str):
+    """A derived number that cannot be computed, with the reason."""
+
+
+def format_number(value) -> str:
+    if isinstance(value, Uncomputable):
+        return f"cannot be computed ({value})"
+    if isinstance(value, float | np.floating):
+        return f"{value:.6g}" if np.isfinite(value) else f"cannot be computed ({value})"
+    if isinstance(value, tuple):
+        return "(" + ", ".join(format_number(v) for v in value) + ")"
+    return str(value)

@@ -15,6 +15,12 @@ rate function is compiled, on the threads the caller has set, so it is the cost 
 integration alone. The observed order between successive dt (slope of log e against log dt)
 is stored too: about 4 for ``rk4`` and ``abm4`` and 2 for ``rk2`` while the error is above
 round-off.
+
+The error-controlled Runge-Kutta-Chebyshev scheme ``rkc2`` (not bound by the viscous limit,
+:mod:`craquelure.sph.integrators`) is run at each of ``rkc_tolerances`` (its own dim
+``tolerance``: its steps are chosen by the controller, not from the dt grid) with the same
+error measure, wall time and evaluation count, so both families sit on one error-versus-cost
+plot.
 """
 
 from __future__ import annotations
@@ -32,22 +38,31 @@ from craquelure.errors import CraquelureError
 from craquelure.scene import Scene
 
 INTEGRATORS = ("rk2", "abm4", "rk4")
+RKC_TOLERANCES = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6)
 
 
-def _integrate(scene: Scene, init: xr.Dataset, integrator: str, dt: float
-               ) -> tuple[np.ndarray, float, int]:
-    """Final velocities, wall time of the stepping loop and rate evaluations."""
-    run_scene = scene.with_overrides([f"numerics.integrator={integrator}",
-                                      f"numerics.dt={dt!r}", "numerics.adapt_dt=false"])
-    engine = engine_from_initial(run_scene, init)
+def _integrate(scene: Scene, init: xr.Dataset, integrator: str, dt: float,
+               tolerance: float | None = None) -> tuple[np.ndarray, float, int]:
+    """Final velocities, wall time of the stepping loop and rate evaluations (fixed dt, or
+    rkc2 error-controlled at ``tolerance`` starting from dt)."""
+    overrides = [f"numerics.integrator={integrator}", f"numerics.dt={dt!r}",
+                 f"numerics.adapt_dt={'true' if tolerance else 'false'}"]
+    if tolerance:
+        overrides.append(f"numerics.step_control.tolerance={tolerance!r}")
+    engine = engine_from_initial(scene.with_overrides(overrides), init)
     t_end = float(scene.get("outputs.t_end"))
     n_steps = int(round(t_end / dt))
-    if abs(n_steps * dt - t_end) > 1e-9 * t_end:
+    if not tolerance and abs(n_steps * dt - t_end) > 1e-9 * t_end:
         raise CraquelureError(f"accuracy: dt = {dt} does not divide t_end = {t_end}")
     evaluations = engine.evaluations
     start = time.perf_counter()
-    for _ in range(n_steps):
-        engine.step()
+    if tolerance:
+        engine.stop_at = t_end
+        while engine.t < t_end - engine.time_tolerance():
+            engine.step()
+    else:
+        for _ in range(n_steps):
+            engine.step()
     wall = time.perf_counter() - start
     engine.check_health()
     velocity = np.concatenate([engine.state[VX], engine.state[VY]])
@@ -56,8 +71,10 @@ def _integrate(scene: Scene, init: xr.Dataset, integrator: str, dt: float
 
 def error_versus_wall_time(scene: Scene, seed: int, time_steps: Sequence[float],
                            integrators: Sequence[str] = INTEGRATORS,
-                           reference_dt: float | None = None) -> xr.Dataset:
-    """Error and wall time for every (integrator, dt); dims ``integrator`` x ``dt``."""
+                           reference_dt: float | None = None,
+                           rkc_tolerances: Sequence[float] = RKC_TOLERANCES) -> xr.Dataset:
+    """Error and wall time for every (integrator, dt); dims ``integrator`` x ``dt``; and of
+    rkc2 at every tolerance (dim ``tolerance``, variables ``rkc2_*``)."""
     if scene.has("fracture"):
         raise CraquelureError("accuracy: the scene must not contain the effect 'fracture' "
                               "(removals make the solution non-smooth in time)")
@@ -82,6 +99,11 @@ def error_versus_wall_time(scene: Scene, seed: int, time_steps: Sequence[float],
         for j, dt in enumerate(dts.tolist()):
             velocity, wall[i, j], evaluations[i, j] = _integrate(scene, init, name, dt)
             error[i, j] = np.linalg.norm(velocity - reference) / ref_norm
+    tolerances = np.array(sorted(rkc_tolerances, reverse=True), float)
+    rkc = np.empty((3, tolerances.size))
+    for k, tol in enumerate(tolerances.tolist()):
+        velocity, rkc[1, k], rkc[2, k] = _integrate(scene, init, "rkc2", float(dts[-1]), tol)
+        rkc[0, k] = np.linalg.norm(velocity - reference) / ref_norm
     with np.errstate(divide="ignore", invalid="ignore"):
         order = np.log(error[:, :-1] / error[:, 1:]) / np.log(dts[:-1] / dts[1:])
     return xr.Dataset(
@@ -95,9 +117,21 @@ def error_versus_wall_time(scene: Scene, seed: int, time_steps: Sequence[float],
                                  {"long_name": "rate-function evaluations", "units": "1"}),
             "observed_order": (("integrator", "dt_pair"), order,
                                {"long_name": "log(e_j/e_j+1)/log(dt_j/dt_j+1)", "units": "1"}),
+            "rkc2_error": (("tolerance",), rkc[0],
+                           {"long_name": "relative L2 error of the final velocity field vs the "
+                                         "reference, rkc2 error-controlled", "units": "1"}),
+            "rkc2_wall_time": (("tolerance",), rkc[1],
+                               {"long_name": "wall time of the stepping loop, rkc2",
+                                "units": "s"}),
+            "rkc2_rate_evaluations": (("tolerance",), rkc[2].astype(np.int64),
+                                      {"long_name": "rate-function evaluations, rkc2",
+                                       "units": "1"}),
         },
         coords={"integrator": list(integrators), "dt": dts,
-                "dt_pair": np.arange(dts.size - 1)},
+                "dt_pair": np.arange(dts.size - 1),
+                "tolerance": ("tolerance", tolerances,
+                              {"long_name": "rkc2 local error tolerance (units of sigma_Y)",
+                               "units": "1"})},
         attrs={"reference": "rk4", "reference_dt": ref_dt,
                "reference_wall_time_s": ref_wall, "t_end": float(scene.get("outputs.t_end")),
                "n_particles": int(init.sizes["particle"]),

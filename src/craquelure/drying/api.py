@@ -6,15 +6,22 @@ import math
 
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.scene import Scene
+from craquelure.sph.integrators import RKC_SPECTRAL_SAFETY, rkc_stages
+from craquelure.throughput import prediction_lines
 
-# Neighbour-pair visits per second per thread of the drying rate function, measured by
-# benchmarks/sph_engine.py on the 2-core development machine (2026-11-22, 7.5e7 at N = 4e4);
-# used only for wall-time estimates.
-PAIR_VISITS_PER_S_PER_THREAD = 7.5e7
 RK4_REAL_AXIS, ABM4_REAL_AXIS = 2.785, 1.285
 EVALS_PER_STEP = {"rk4": 4, "abm4": 2, "rk2": 2}
 
 __all__ = ["build_initial_state", "derived_numbers", "run"]
+
+
+def evaluations_per_step(scene: Scene, dt: float) -> int:
+    """Rate evaluations per step: fixed for abm4/rk4/rk2; rkc2's stage count at step dt
+    (between removal events its controlled step sits at step_control.dt_max)."""
+    integrator = scene.get("numerics.integrator")
+    if integrator == "rkc2":
+        return rkc_stages(dt, RKC_SPECTRAL_SAFETY * viscous_spectral_radius(scene))
+    return EVALS_PER_STEP[integrator]
 
 
 def viscous_spectral_radius(scene: Scene) -> float:
@@ -24,9 +31,12 @@ def viscous_spectral_radius(scene: Scene) -> float:
 
 
 def stable_time_step(scene: Scene) -> float:
-    """Largest stable step of the scene's integrator, from the viscous and acoustic limits."""
+    """Largest stable step of the scene's integrator, from the viscous and acoustic limits
+    (rkc2: its stages cover the viscous spectrum, so the cap ``step_control.dt_max``)."""
     radius = viscous_spectral_radius(scene)
     integrator = scene.get("numerics.integrator")
+    if integrator == "rkc2":
+        return float(scene.get("numerics.step_control")["dt_max"])
     axis = {"rk4": RK4_REAL_AXIS, "abm4": ABM4_REAL_AXIS, "rk2": 2.0}[integrator]
     limits = [axis / radius] if radius > 0 else []
     if scene.has("elasticity"):
@@ -41,22 +51,36 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     length, n, h = (scene.get("domain.box_length"), scene.get("particles.n"),
                     scene.get("numerics.h"))
     neighbours = n * math.pi * h * h / length**2 - 1
-    dt = scene.get("numerics.dt")
+    from craquelure.scene_rules import drying_run_step
+
+    dt = drying_run_step(scene.data)  # the step the run takes (numerics.adapt_dt halves it)
     steps = math.ceil(scene.get("outputs.t_end") / dt)
-    evals = EVALS_PER_STEP[scene.get("numerics.integrator")]
-    # two pair passes per evaluation over the Verlet list (radius 1.1 h: 1.21x the pairs in h)
-    pair_visits = steps * evals * 2 * n * 1.21 * neighbours
+    evals = evaluations_per_step(scene, dt)
     return {
         "particle spacing L/sqrt(N)": length / math.sqrt(n),
         "h / spacing": h / (length / math.sqrt(n)),
         "neighbours per particle": neighbours,
         "viscous spectral radius": viscous_spectral_radius(scene),
         "stable time step": stable_time_step(scene),
-        "time step": dt,
+        "time step (numerics.dt)": scene.get("numerics.dt"),
+        "time step of the run (halved below 0.6 of the viscous limit)": dt,
         "steps": steps,
         "rate evaluations": steps * evals,
-        "estimated wall time, 1 thread [s]": pair_visits / PAIR_VISITS_PER_S_PER_THREAD,
+        **prediction_lines("drying", workload(scene)),
     }
+
+
+def workload(scene: Scene) -> dict[str, float]:
+    """Rate evaluations, particles and listed neighbours (Verlet radius 1.1 h: 1.21x the
+    pairs within h) of a run, for the throughput model."""
+    length, n, h = (scene.get("domain.box_length"), scene.get("particles.n"),
+                    scene.get("numerics.h"))
+    from craquelure.scene_rules import drying_run_step
+
+    dt = drying_run_step(scene.data)
+    steps = math.ceil(scene.get("outputs.t_end") / dt)
+    return {"units": steps * evaluations_per_step(scene, dt), "particles": n,
+            "neighbours": 1.21 * (n * math.pi * h * h / length**2 - 1)}
 
 
 def run(scene: Scene, out, seed: int = 0, init=None, resume: bool = False, **checkpoints):

@@ -31,16 +31,18 @@ import xarray as xr
 
 from craquelure.drying.fragments import run_scene
 from craquelure.errors import CraquelureError
-from craquelure.io import open_dataset, write_dataset
+from craquelure.io import read_dataset, write_dataset
 from craquelure.provenance import WallClock, provenance_attrs
 
 DEFAULT_BINS = 30
+FRAGMENT_VARS = ("fragment_area", "fragment_time_index", "n_fragments", "time")
 SCENE_NUMBERS = {  # campaign attribute -> scene path
     "yield_stress": "material.yield_stress",
     "drying_rate": "material.drying_rate",
     "thickness": "material.thickness",
     "lame_lambda": "material.lame_lambda",
     "lame_mu": "material.lame_mu",
+    "viscosity": "material.eta",
     "rho0": "material.rho0",
     "n_particles": "particles.n",
 }
@@ -200,7 +202,8 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
 def campaign_from_files(paths: Sequence[str | Path], out: str | Path,
                         n_bins: int = DEFAULT_BINS, window_mode: str = "paper") -> Path:
     clock = WallClock()
-    fragments = [open_dataset(p) for p in paths]
+    fragments = [read_dataset(p, "fragment dataset", model="drying", variables=FRAGMENT_VARS)
+                 for p in paths]
     ds = build_campaign(fragments, n_bins, window_mode)
     ds.attrs.update(provenance_attrs(run_scene(fragments[0]), None, clock,
                                      effects=str(fragments[0].attrs.get("effects", ""))

@@ -8,9 +8,24 @@ integrator loop (drying spec sections 2-8). No file I/O here (see :mod:`craquelu
 - Fracture (effect ``fracture``): after each accepted step, with the rates of the new state,
   particles with mean stress tr(sigma)/2 > sigma_Y are removed (alive = 0, mass = 0, v = 0) and
   the multistep integrator restarts with RK4.
-- Time step: the scene's dt; at the start and every ``spectral_check_every`` steps the viscous
-  spectral radius is re-estimated by power iteration and dt is halved while it exceeds 0.6 of the
-  integrator's real-axis limit (spec section 8).
+- Time step, fixed-step integrators (abm4, rk4, rk2): the scene's dt; at the start and every
+  ``spectral_check_every`` steps the viscous spectral radius is re-estimated by power iteration
+  and dt is halved while it exceeds 0.6 of the integrator's real-axis limit (spec section 8).
+- Time step, ``rkc2`` (:mod:`craquelure.sph.integrators`): the stage count follows
+  1.2 x the viscous spectral radius (power iteration every ``step_control.spectral_radius_every``
+  steps), so the step is not bound by the viscous limit. With ``adapt_dt`` the step is
+  error-controlled: the local error estimate is scaled per state row so that 1 means
+  ``tolerance`` x sigma_s in stress, where sigma_s = sigma_Y (else the largest stress the run
+  reaches): sigma_e by tol sigma_s, positions by tol sigma_s h/M (a position error that changes
+  the strain over h by tol sigma_s/M, M = lambda + 2 mu), velocities by tol sigma_s
+  min(h/eta, 1/(rho0 c_L)) (viscous stress eta v/h, acoustic impedance rho0 c_L), density by
+  tol rho0 sigma_s/M; the norm is the max over present particles. A removal event limit keeps
+  the linearly predicted mean stress of every particle from passing sigma_Y by more than
+  ``removal_tolerance`` sigma_Y within one step,
+  dt <= min_I (sigma_Y (1 + tol_r) - sigma_bar_I) / (d sigma_bar_I/dt)_+,
+  with the rates from the last accepted step, so steps shrink while cracks run and grow again
+  between removal events. Steps end exactly on ``stop_at`` (the next snapshot, set by the run
+  loop) and never exceed ``step_control.dt_max``.
 - Guards: NaN/inf anywhere in the state, or a kinetic energy above ``energy_runaway_factor``
   times the energy the stresses can supply, stop the run with :class:`SimulationDiverged`.
 """
@@ -22,10 +37,18 @@ import math
 import numpy as np
 
 from craquelure.codegen import effect_flags, pack_parameters, specialise
+from craquelure.errors import SimulationDiverged
 from craquelure.runner import Divergence, diverged, non_finite, runaway
 from craquelure.scene import Scene
 from craquelure.sph import drying_rate as template
-from craquelure.sph.integrators import REAL_AXIS_LIMIT, Stepper
+from craquelure.sph.integrators import (
+    REAL_AXIS_LIMIT,
+    RKC_SPECTRAL_SAFETY,
+    StepController,
+    Stepper,
+    rkc2_error,
+    rkc_stages,
+)
 from craquelure.sph.kernels import kernel_kind
 from craquelure.sph.neighbours import Box, neighbour_list
 
@@ -86,6 +109,20 @@ class DryingEngine:
         self.stepper = Stepper(scene.get("numerics.integrator"),
                                scene.get("numerics.restart_steps"))
         self.skin = float(scene.get("numerics.neighbour_skin")) * self.h
+        self.stop_at = math.inf
+        self.stage_evaluations = 0
+        self.viscous_evaluations = 0
+        self.spectral_radius = 0.0
+        self.dt_event = math.inf
+        self.controller: StepController | None = None
+        if self.stepper.adaptive:
+            control = scene.get("numerics.step_control")
+            self.adapt = bool(scene.get("numerics.adapt_dt"))
+            self.tolerance = float(control["tolerance"])
+            self.removal_tolerance = float(control["removal_tolerance"])
+            self.spectral_every = int(control["spectral_radius_every"])
+            self.controller = StepController(self.dt, float(control["dt_max"]))
+            self.dt_floor = float(control["dt_min"])
         self.overwrite_velocity = bool(scene.get("numerics.xsph_overwrite_velocity"))
         self.n_removed = 0
         self.evaluations = 0
@@ -93,6 +130,8 @@ class DryingEngine:
         self._build_neighbours()
         self.f_current = self.evaluate(self.state, self.t)
         self.energy_bound = self._energy_bound()
+        if self.controller is not None:
+            self.error_scale = self._error_scale()
 
     # -- neighbours and rates ------------------------------------------------------------
     def _build_neighbours(self) -> None:
@@ -206,13 +245,14 @@ class DryingEngine:
             probe[VX], probe[VY] = v
             self.viscous_module.rate(probe, 0.0, self.mass, self.alive, self.x0, self.y0,
                                      self.offsets, self.index, self.params, out, stress)
+            self.viscous_evaluations += 1
             v = out[VX:VY + 1].copy()
             radius = float(np.linalg.norm(v))
         return radius
 
     def control_time_step(self) -> float | None:
         """Halve dt while it exceeds 0.6 of the stability limit; returns the new dt if changed."""
-        if not self.scene.get("numerics.adapt_dt"):
+        if not self.scene.get("numerics.adapt_dt") or self.stepper.adaptive:
             return None
         radius = self.viscous_spectral_radius()
         if radius <= 0:
@@ -229,7 +269,20 @@ class DryingEngine:
 
     # -- stepping ------------------------------------------------------------------------------
     def step(self) -> int:
-        """Advance one step; returns the number of particles removed in it."""
+        """Advance one step; returns the number of particles removed in it. A kernel's
+        arithmetic failure (numba raises division by zero and overflow as Python does) is the
+        guard's stop, :class:`SimulationDiverged`, not a traceback."""
+        try:
+            return self._step()
+        except ArithmeticError as exc:
+            raise SimulationDiverged(
+                f"drying run diverged at t = {self.t:.6g} (step {self.step_count}, dt = "
+                f"{self.dt:.6g}): the state can no longer be computed ({type(exc).__name__}: "
+                f"{exc})") from exc
+
+    def _step(self) -> int:
+        if self.stepper.adaptive:
+            return self._rkc_step()
         new = self.stepper.step(self.state, self.f_current, self.t, self.dt, self._stage_rate)
         self.state = new
         self.t += self.dt
@@ -242,6 +295,118 @@ class DryingEngine:
             self.state[VX] = self.f_current[X]
             self.state[VY] = self.f_current[Y]
         return removed
+
+    # -- rkc2: stages from the spectral radius, error and removal-event step control ----------
+    def _error_scale(self) -> np.ndarray:
+        """Per-row scales of the local error (engine docstring): 1 = tolerance x sigma_s."""
+        p = self.params
+        lam, mu, eta = p[template.P_LAMBDA], p[template.P_MU], p[template.P_ETA]
+        rho0 = float(self.scene.get("material.rho0"))
+        if math.isfinite(self.yield_stress):
+            sigma = self.yield_stress
+        else:
+            sigma = max(p[template.P_VR] * float(self.scene.get("outputs.t_end")),
+                        float(np.abs(self.state[SXX:SXY + 1]).max(initial=0.0)))
+        sigma = sigma if sigma > 0 else 1.0
+        modulus = lam + 2 * mu if lam + 2 * mu > 0 else 1.0
+        velocity = min(self.h / eta if eta > 0 else math.inf,
+                       1.0 / math.sqrt(rho0 * modulus))
+        scale = np.empty(NVAR)
+        scale[X] = scale[Y] = sigma * self.h / modulus
+        scale[VX] = scale[VY] = sigma * velocity
+        scale[RHO] = rho0 * sigma / modulus
+        scale[SXX:SXY + 1] = sigma
+        return self.tolerance * scale
+
+    def _error_norm(self, estimate: np.ndarray) -> float:
+        rows = np.abs(estimate[:, self.alive]) / self.error_scale[:, None]
+        return float(rows.max(initial=0.0)) if np.isfinite(rows).all() else math.inf
+
+    def update_spectral_radius(self) -> float:
+        self.spectral_radius = RKC_SPECTRAL_SAFETY * self.viscous_spectral_radius()
+        return self.spectral_radius
+
+    def _removal_step_limit(self, before: np.ndarray, dt: float) -> float:
+        """Largest next step for which no particle's linearly predicted mean stress passes
+        sigma_Y by more than removal_tolerance sigma_Y."""
+        if not self.fracture or not math.isfinite(self.yield_stress):
+            return math.inf
+        now = self.mean_stress
+        # Particles already above sigma_Y (loaded by this step's removals) go at the end of the
+        # next step whatever its size; the limit concerns those still below.
+        rising = self.alive & (now > before) & (now <= self.yield_stress)
+        if not rising.any():
+            return math.inf
+        rate = (now[rising] - before[rising]) / dt
+        room = self.yield_stress * (1.0 + self.removal_tolerance) - now[rising]
+        return float(np.min(room / rate))
+
+    def _rkc_step(self) -> int:
+        ctrl = self.controller
+        if self.step_count % self.spectral_every == 0:
+            self.update_spectral_radius()
+        while True:
+            dt = min(ctrl.dt_next, self.dt_event) if self.adapt else self.dt
+            remaining = self.stop_at - self.t
+            landing = remaining <= dt * (1.0 + 1e-9)
+            if landing:
+                dt = remaining
+            elif self.adapt and remaining < 2.0 * dt:
+                dt = 0.5 * remaining
+            self.stepper.stages = rkc_stages(dt, self.spectral_radius)
+            new = self.stepper.step(self.state, self.f_current, self.t, dt, self._stage_rate)
+            t_new = self.stop_at if landing else self.t + dt
+            stress = np.empty_like(self.stress)
+            f_new = self.evaluate(new, t_new, stress=stress)
+            self.stage_evaluations += self.stepper.stages
+            if not self.adapt:
+                break
+            err = self._error_norm(rkc2_error(self.state, new, self.f_current, f_new, dt))
+            if ctrl.propose(err, dt):
+                break
+            if ctrl.dt_next < self.dt_floor:
+                raise diverged("drying", Divergence(
+                    "time step", f"the rkc2 error-controlled step fell below "
+                    f"numerics.step_control.dt_min = {self.dt_floor:g} (scaled error "
+                    f"{err:.3g}); loosen numerics.step_control.tolerance or use abm4"),
+                    self.step_count, self.t, "eta/lambda")
+        before = self.mean_stress.copy()
+        self.state, self.f_current, self.stress = new, f_new, stress
+        self.t = t_new
+        self.dt = dt
+        self.step_count += 1
+        removed = self.remove_overstressed() if self.fracture else 0
+        if removed:
+            ctrl.forget()
+        self.dt_event = self._removal_step_limit(before, dt) if self.adapt else math.inf
+        if self.overwrite_velocity:
+            self.state[VX] = self.f_current[X]
+            self.state[VY] = self.f_current[Y]
+        return removed
+
+    def time_tolerance(self) -> float:
+        """How close to an output time counts as on it: half a fixed step; adaptive steps end
+        exactly on ``stop_at``."""
+        if self.stepper.adaptive and self.adapt:
+            return 1e-9 * max(1.0, abs(self.t))
+        return 0.5 * self.dt
+
+    def step_control_state(self) -> dict[str, float]:
+        """Scalars a checkpoint needs to resume an adaptive run bit-identically."""
+        if self.controller is None:
+            return {}
+        return {**self.controller.state(), "spectral_radius": self.spectral_radius,
+                "dt_event": self.dt_event, "stage_evaluations": float(self.stage_evaluations),
+                "viscous_evaluations": float(self.viscous_evaluations)}
+
+    def set_step_control_state(self, values: dict[str, float]) -> None:
+        if self.controller is None:
+            return
+        self.controller.set_state(values)
+        self.spectral_radius = float(values["spectral_radius"])
+        self.dt_event = float(values["dt_event"])
+        self.stage_evaluations = int(values["stage_evaluations"])
+        self.viscous_evaluations = int(values["viscous_evaluations"])
 
     def remove_overstressed(self) -> int:
         doomed = np.nonzero(self.alive & (self.mean_stress > self.yield_stress))[0]

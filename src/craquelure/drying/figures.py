@@ -5,9 +5,12 @@ r"""Figures of the drying-paste campaign (paper Figs. 2-6), from analysis datase
   Takes the run dataset of that sample (its recorded snapshots; nothing is simulated).
 - :func:`fig_inverse_mean_area` (Fig. 3): :math:`1/\langle S\rangle_t` with its standard error
   over seeds, the linear fit over the window and :math:`t^*`.
-- :func:`fig_size_distribution` (Fig. 4): :math:`P(S;t)` at the window's snapshot times.
-- :func:`fig_scaled_distribution` (Figs. 5-6): :math:`\tilde P(X)`, X = S/<S>_t, (a) inside the
-  window (collapse expected), (b) before it (no collapse expected), with the KS metrics.
+- :func:`fig_size_distribution` (Fig. 4): the complementary cumulative distribution
+  :math:`P(S' > S; t)` at the window's snapshot times, with 95 % bootstrap bands over samples
+  (a histogram of ~20 fragments per snapshot is noise; a cumulative curve with its band shows
+  what the sample can resolve).
+- :func:`fig_scaled_distribution` (Figs. 5-6): the same for X = S/<S>_t, (a) inside the window
+  (collapse expected), (b) before it (no collapse expected), with check 15's numbers.
 
 Every figure carries a caption line with the profile, N, L, the number of seeds, the time unit
 (:math:`t^* = \sigma_Y/v_r`, and the profile's speed-up over the paper) and the fitted numbers
@@ -27,7 +30,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from craquelure.drying.statistics import paper_t_star, window_of  # noqa: E402
+from craquelure.drying.statistics import (  # noqa: E402
+    ccdf_bands,
+    drying_number,
+    paper_t_star,
+    window_of,
+)
 
 FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
 
@@ -47,32 +55,34 @@ def setup_line(campaign: xr.Dataset, profile: str) -> str:
               else "window from the first snapshot with every sample broken")
     pace = ("as the paper" if abs(speed - 1) < 1e-3
             else f"{speed:.3g}x faster than the paper; {window}")
+    pi = drying_number(a)
+    regime = ("" if pi["pi"] is None else f"; Pi = tau/t* = {pi['pi']:.3g} with tau = "
+              f"eta/(2 mu) = {pi['tau']:.3g} (paper {pi['pi_paper']:.2g})")
     return (f"profile {profile}, scene {a.get('scene_name', '?')}: N = {int(a['n_particles'])}, "
             f"L = {float(a['box_length']):g}, {campaign.sizes['seed']} seeds; "
-            f"t* = sigma_Y/v_r = {tstar:.3g} (drying {pace})")
+            f"t* = sigma_Y/v_r = {tstar:.3g} (drying {pace}){regime}")
 
 
 def fit_line(summary: dict[str, Any]) -> str:
     fit = summary.get("fit", {})
     ci = fit.get("alpha_ci95") or [None, None]
-    c14 = summary["checks"]["check14_inverse_mean_area_linear"]["pass"]
+    c14 = summary["checks"]["check14_inverse_mean_area_linear"]
     lo, hi = (_fmt(v) for v in summary["window"])
     return (f"window t = [{lo}, {hi}]: "
             f"alpha = {_fmt(fit.get('alpha'))} (95% CI {_fmt(ci[0])}-{_fmt(ci[1])}), "
             f"1/<S> linear: R^2 = {_fmt(fit.get('r2'), '.4f')}, "
             f"b = {_fmt(fit.get('slope_b'))} = {_fmt(summary.get('slope_over_b_star'))} b*, "
-            f"t0 = {_fmt(fit.get('x_intercept'))}; check 14 {'pass' if c14 else 'miss'}")
+            f"t0 = {_fmt(fit.get('x_intercept'))}; check 14 {c14['verdict']} (power "
+            f"{_fmt(c14.get('power'), '.2f')} against t^-2)")
 
 
 def collapse_line(summary: dict[str, Any]) -> str:
-    col = summary["collapse"]
-    c15 = summary["checks"]["check15_scaling_collapse"]["pass"]
-    n_ok = sum(r["below_critical"] for r in col["per_time"])
-    return (f"KS(X_tk, window) below the 1% critical value at {n_ok}/{len(col['per_time'])} "
-            f"t_k; CV<X^2> = {_fmt(col['cv_mean_x2'])}; raw KS(S) first/last = "
-            f"{_fmt(col['raw_ks_first_last'])}; mean pairwise KS before/after = "
-            f"{_fmt(col['mean_pairwise_ks_before'])}/{_fmt(col['mean_pairwise_ks_after'])}; "
-            f"check 15 {'pass' if c15 else 'miss'}")
+    c15 = summary["checks"]["check15_scaling_collapse"]
+    return (f"check 15: KS(X_first, X_last) = {_fmt(c15.get('ks_scaled_first_last'))} (upper 95% "
+            f"{_fmt(c15.get('ks_scaled_first_last_upper95'))} vs 0.15), CV<X^2> upper 95% "
+            f"{_fmt(c15.get('cv_mean_x2_upper95'))} vs 0.10, raw KS(S) first/last "
+            f"{_fmt(c15.get('ks_raw_first_last'))}; power against a 25% width drift "
+            f"{_fmt(c15.get('power'), '.2f')}; {c15['verdict']}")
 
 
 def _caption(fig, lines: list[str]) -> None:
@@ -171,50 +181,54 @@ def _window_times(campaign: xr.Dataset) -> np.ndarray:
     return campaign["time"].values[window_of(campaign)["mask"]]
 
 
-def fig_size_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
-    """Fig. 4: P(S;t) at (up to 7) snapshot times of the window."""
-    times = _window_times(campaign)
+def _ccdf_panel(ax, campaign: xr.Dataset, times: np.ndarray, scaled: bool) -> None:
+    """CCDFs with 95 % bootstrap bands at (up to 7 of) ``times``."""
     if times.size > 7:
         times = times[np.linspace(0, times.size - 1, 7).astype(int)]
-    centre = 0.5 * (campaign["area_lo"] + campaign["area_hi"]).values
-    fig, ax = plt.subplots(figsize=(6.4, 5.2))
+    all_times = campaign["time"].values
+    key = "x_hi" if scaled else "area_hi"
+    grid = np.linspace(0.0, float(campaign[key].values[-1]), 200)
     for colour, t in zip(_colours(times.size), times, strict=True):
-        sel = campaign.sel(time=t)
-        n = int(sel["n_fragments"].sum())
-        ax.plot(centre, _positive(sel["size_density"].values), "o-", ms=3, color=colour,
-                label=f"t = {t:.3g} ({n} fragments)")
-    ax.set_xlabel("S [length^2]")
-    ax.set_ylabel("P(S; t)")
+        k = int(np.argmin(np.abs(all_times - t)))
+        c = ccdf_bands(campaign, k, grid, scaled)
+        ax.fill_between(grid, _positive(c["lo"]), _positive(c["hi"]), color=colour, alpha=0.2,
+                        lw=0, step="post")
+        ax.step(grid, _positive(c["ccdf"]), where="post", color=colour,
+                label=f"t = {t:.3g} ({c['n']} fragments)")
     ax.set_yscale("log")
-    ax.legend(fontsize=7)
-    ax.set_title("Fragment-size distribution (cf. paper Fig. 4)")
+    if times.size:
+        ax.legend(fontsize=7)
+
+
+def fig_size_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
+    """Fig. 4: CCDF of S at (up to 7) snapshot times of the window, 95 % bootstrap bands."""
+    fig, ax = plt.subplots(figsize=(6.4, 5.2))
+    _ccdf_panel(ax, campaign, _window_times(campaign), scaled=False)
+    ax.set_xlabel("S [length^2]")
+    ax.set_ylabel("P(fragment area > S; t)")
+    ax.set_title("Fragment-size distribution, complementary cumulative (cf. paper Fig. 4)",
+                 fontsize=9)
     fig.subplots_adjust(bottom=0.22)
-    _caption(fig, [setup_line(campaign, profile), fit_line(summary)])
+    _caption(fig, [setup_line(campaign, profile),
+                   "bands: 95 % bootstrap over samples; " + fit_line(summary)])
     return fig
 
 
 def fig_scaled_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
-    """Figs. 5-6: scaled distributions inside and before the window."""
+    """Figs. 5-6: CCDF of X = S/<S>_t inside and before the window, 95 % bootstrap bands."""
     t_all = campaign["time"].values
     window = window_of(campaign)["mask"]
     start = int(np.argmax(window)) if window.any() else t_all.size
     groups = [("inside the window (collapse expected)", t_all[window]),
               ("before the window (no collapse expected)", t_all[:start])]
-    centre = 0.5 * (campaign["x_lo"] + campaign["x_hi"]).values
     fig, axes = plt.subplots(1, 2, figsize=(11, 5.0), sharey=True)
     for ax, (title, times) in zip(axes, groups, strict=True):
-        if times.size > 7:
-            times = times[np.linspace(0, times.size - 1, 7).astype(int)]
-        for colour, t in zip(_colours(times.size), times, strict=True):
-            ax.plot(centre, _positive(campaign["scaled_density"].sel(time=t).values), "o-", ms=3,
-                    color=colour, label=f"t = {t:.3g}")
+        _ccdf_panel(ax, campaign, times, scaled=True)
         ax.set_xlabel("X = S / <S>_t")
-        ax.set_yscale("log")
         ax.set_title(title, fontsize=9)
-        if times.size:
-            ax.legend(fontsize=7)
-    axes[0].set_ylabel("<S>_t P(X <S>_t; t)")
-    fig.suptitle("Scaled fragment-size distribution (cf. paper Figs. 5-6)")
+    axes[0].set_ylabel("P(S/<S>_t > X; t)")
+    fig.suptitle("Scaled fragment-size distribution, complementary cumulative "
+                 "(cf. paper Figs. 5-6)")
     fig.subplots_adjust(bottom=0.24, top=0.88)
     _caption(fig, [setup_line(campaign, profile), fit_line(summary), collapse_line(summary)])
     return fig
@@ -251,6 +265,13 @@ def fig_accuracy(study: xr.Dataset, profile: str):
                   label=f"{name} (observed orders between successive dt: {orders})")
         for w, e, dt in zip(wall, err, study["dt"].values, strict=True):
             ax.annotate(f"{dt:g}", (w, e), fontsize=6, xytext=(3, 3),
+                        textcoords="offset points")
+    if "rkc2_error" in study:  # error-controlled RKC2, labelled by its tolerance
+        ax.loglog(study["rkc2_wall_time"].values, study["rkc2_error"].values, "s--",
+                  color="black", label="rkc2, error-controlled (labels: tolerance)")
+        for w, e, tol in zip(study["rkc2_wall_time"].values, study["rkc2_error"].values,
+                             study["tolerance"].values, strict=True):
+            ax.annotate(f"tol {tol:g}", (w, e), fontsize=6, xytext=(3, -8),
                         textcoords="offset points")
     ax.set_xlabel("wall time of the stepping loop [s]")
     ax.set_ylabel("relative L2 error of the final velocity field")
@@ -314,5 +335,64 @@ def fig_thickness(sweep: xr.Dataset, profile: str):
         f"every sample broken): {_fmt(float(a['exponent_late_mean']))} +- "
         f"{_fmt(float(a['exponent_late_std']), '.2g')}; predicted "
         f"{float(a['predicted_exponent']):g} (dimensional analysis, spec eq. (29))",
+    ])
+    return fig
+
+
+def fig_speed(study: xr.Dataset, profile: str):
+    """Drying-speed study: (a) onset in t* against Pi, (b) t0/t* and b/b*, (c) fragments per
+    unit area at fixed t/t*, each with its 95 % bootstrap interval; the paper's Pi and values
+    marked."""
+    pi = study["speed"].values
+    a = study.attrs
+    fig, (ax_o, ax_f, ax_n) = plt.subplots(1, 3, figsize=(14, 5.0))
+    fig.subplots_adjust(bottom=0.26, wspace=0.3)
+
+    def bars(ax, key, label, colour, marker="o"):
+        y = study[key].values
+        err = np.abs(np.stack([y - study[f"{key}_lo"].values, study[f"{key}_hi"].values - y]))
+        ax.errorbar(pi, y, yerr=np.nan_to_num(err), fmt=marker + "-", color=colour, capsize=3,
+                    ms=4, label=label)
+
+    for key, label, colour in (("first_removal_median", "first removal (median)", "C0"),
+                               ("first_sample_broken", "first sample broken", "C1"),
+                               ("half_samples_broken", "half broken", "C2"),
+                               ("all_samples_broken", "all broken", "C3")):
+        bars(ax_o, key, label, colour)
+    ax_o.axhline(a["paper_first_broken_over_t_star"], color="C1", ls=":", lw=1,
+                 label="paper: fragments from 0.40 t*")
+    ax_o.axhline(a["paper_all_broken_over_t_star"], color="C3", ls=":", lw=1,
+                 label="paper: all broken before 0.8 t*")
+    ax_o.set_ylabel("time / t*")
+    ax_o.set_title("Onset", fontsize=9)
+    bars(ax_f, "t0_over_t_star", "t0 / t*", "C4")
+    bars(ax_f, "b_over_b_star", "b / b*", "C5", "s")
+    ax_f.axhline(a["paper_t0_over_t_star_max"], color="C4", ls=":", lw=1,
+                 label="t0 <= t* (dimensional analysis)")
+    ax_f.set_title("1/<S>_t = b (t - t0) over the broken snapshots", fontsize=9)
+    fixed = study["fixed_time"].values
+    for colour, f in zip(_colours(fixed.size), fixed, strict=True):
+        row = study.sel(fixed_time=f)
+        y = row["fragments_per_area"].values
+        err = np.abs(np.stack([y - row["fragments_per_area_lo"].values,
+                               row["fragments_per_area_hi"].values - y]))
+        ax_n.errorbar(pi, y, yerr=np.nan_to_num(err), fmt="o-", color=colour, capsize=3, ms=4,
+                      label=f"t = {f:g} t*")
+    ax_n.set_ylabel("fragments per unit area [1/length^2]")
+    ax_n.set_title("Fragment density at fixed t/t*", fontsize=9)
+    for ax in (ax_o, ax_f, ax_n):
+        ax.set_xscale("log")
+        ax.set_xlim(min(pi.min(), a["paper_pi"]) / 1.5, max(pi.max(), a["paper_pi"]) * 1.5)
+        ax.axvline(a["paper_pi"], color="k", ls="--", lw=0.8, label="paper's Pi = 0.022")
+        ax.set_xlabel("Pi = tau / t*  (tau = eta/(2 mu), t* = sigma_Y/v_r)")
+        ax.legend(fontsize=6)
+    fig.suptitle(f"Drying paste: drying-speed study (profile {profile})")
+    seeds = ", ".join(str(int(n)) for n in study["n_seeds"].values)
+    _caption(fig, [
+        f"profile {profile}, scene {a.get('scene_name', '?')}: Pi = "
+        f"{', '.join(f'{v:.3g}' for v in pi)} (paper {a['paper_pi']:g}); seeds per speed {seeds};"
+        f" bars: 95 % bootstrap over seeds",
+        "t* = sigma_Y/v_r; onset from the snapshots (>= 2 fragments = broken); t0 and b from the "
+        "weighted fit of check 14 over the snapshots with every sample broken",
     ])
     return fig

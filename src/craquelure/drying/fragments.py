@@ -26,8 +26,8 @@ from craquelure.drying.binarise import (
     edge_depth,
     snapshot_image,
 )
-from craquelure.errors import CraquelureError
-from craquelure.io import open_dataset, write_dataset
+from craquelure.errors import CraquelureError, SceneError
+from craquelure.io import DatasetError, read_dataset, write_dataset
 from craquelure.progress import Progress
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene, stored_scene
@@ -204,9 +204,15 @@ def fragments_from_run_file(run_path: str | Path, out: str | Path, phi0: float |
     """Analyse a run file and write the fragment dataset with provenance: the run's own
     provenance is kept under ``run_*`` names, the analysis adds its own."""
     clock = WallClock()
-    run = open_dataset(run_path)
-    ds = analyse_run(run, phi0, spacing_h, progress)
-    scene = run_scene(run)
+    run = read_dataset(run_path, "drying run dataset", model="drying",
+                       variables=(*RUN_VARIABLES, "time"))
+    try:
+        ds = analyse_run(run, phi0, spacing_h, progress)
+        scene = run_scene(run)
+    except SceneError as exc:
+        raise DatasetError(f"{run_path}: its stored scene is not valid: {exc}") from exc
+    except CraquelureError as exc:
+        raise DatasetError(f"{run_path}: {exc}") from exc
     seed = run.attrs.get("seed")
     for key in ("git_commit", "start_time", "wall_time_s", "host", "scene_overrides",
                 "version_craquelure"):

@@ -2,7 +2,9 @@
 
 Positions by random sequential addition (minimum separation ``rsa_min_separation`` x L/sqrt(N))
 or a square lattice; optional particle-free bands; particles sorted by cell for locality;
-masses from the truncated-CG mass-consistency solve (or equal masses, for ablations); v = 0,
+masses from the truncated-CG mass-consistency solve, or its clamped variant that keeps every mass
+above the floor on more disordered positions (``numerics.mass_solve.method``), or equal masses
+(ablations); v = 0,
 rho = rho0, elastic stress components i.i.d. U(-a sigma_Y, a sigma_Y).
 """
 
@@ -49,13 +51,13 @@ def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
     n = x.size
     solve = scene.get("numerics.mass_solve")
     attrs: dict[str, object] = {}
-    if solve["method"] == "truncated_cg":
+    if solve["method"] in ("truncated_cg", "clamped_cg"):
         bounds = MassBounds(rtol=solve["rtol"], min_mass_fraction=solve["min_mass_fraction"])
         mass, report = consistent_masses(
             x, y, length, h, rho0, kernel=scene.get("numerics.kernel"), bounds=bounds,
             max_iterations=solve["max_iterations"],
             shepard_spacing=solve["shepard_spacing"] * h,
-            check=not scene.get("particles.excluded_bands"))
+            check=not scene.get("particles.excluded_bands"), method=solve["method"])
         attrs.update(report.as_attrs())
     else:
         # Sites are placed over the whole box and excluded bands removed afterwards, so each

@@ -23,10 +23,11 @@ import xarray as xr
 from craquelure import runner
 from craquelure.drying.engine import NVAR, VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
-from craquelure.errors import CraquelureError
-from craquelure.io import open_dataset
+from craquelure.errors import CraquelureError, SceneError
+from craquelure.io import read_dataset
 from craquelure.provenance import WallClock
 from craquelure.scene import Scene
+from craquelure.scene_rules import initial_state_problems
 
 SNAPSHOT_VARS = {
     "x": ("position x (wrapped into the box)", "length"),
@@ -44,7 +45,11 @@ SERIES_VARS = {
     "elastic_energy": ("elastic energy of sigma_e", "lambda length^2"),
     "momentum_x": ("total momentum x", "rho0 length^2 sqrt(lambda/rho0)"),
     "momentum_y": ("total momentum y", "rho0 length^2 sqrt(lambda/rho0)"),
+    "time_step": ("size of the last time step", "eta/lambda"),
 }
+
+
+INITIAL_STATE_VARS = ("x", "y", "mass", "rho", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy")
 
 
 def output_times(scene: Scene) -> np.ndarray:
@@ -84,10 +89,11 @@ class Recorder:
         self.series["elastic_energy"].append(engine.elastic_energy())
         self.series["momentum_x"].append(px)
         self.series["momentum_y"].append(py)
+        self.series["time_step"].append(engine.dt)
 
     def maybe_snapshot(self, engine: DryingEngine) -> None:
         while (self.next_output < self.times.size
-               and engine.t >= self.times[self.next_output] - 0.5 * engine.dt):
+               and engine.t >= self.times[self.next_output] - engine.time_tolerance()):
             length = engine.box_length
             s = engine.state
             values = {
@@ -100,6 +106,10 @@ class Recorder:
                 self.snapshots[key].append(value)
             self.snapshot_times.append(engine.t)
             self.next_output += 1
+
+    def next_stop(self, t_end: float) -> float:
+        """The next output time (adaptive steps end exactly on it), else t_end."""
+        return float(self.times[self.next_output]) if not self.done() else t_end
 
     def done(self) -> bool:
         return self.next_output >= self.times.size
@@ -125,6 +135,9 @@ def _dataset(engine: DryingEngine, rec: Recorder, finished: bool) -> xr.Dataset:
         "dt_final": engine.dt, "steps": engine.step_count,
         "rate_evaluations": engine.evaluations, "neighbour_builds": engine.neighbour_builds,
         "integrator": engine.stepper.name, "finished": int(finished),
+        "rkc_stage_evaluations": engine.stage_evaluations,
+        "spectral_radius_evaluations": engine.viscous_evaluations,
+        "rejected_steps": engine.controller.rejected if engine.controller else 0,
     })
 
 
@@ -151,9 +164,11 @@ class DryingRun(runner.EngineRun):
         self.rec.record_series(self.engine)
 
     def done(self) -> bool:
-        return self.engine.t >= self.t_end - 0.5 * self.engine.dt
+        return self.engine.t >= self.t_end - self.engine.time_tolerance()
 
     def advance(self) -> None:
+        # adaptive steps (rkc2) end exactly on the next output time
+        self.engine.stop_at = self.rec.next_stop(self.t_end)
         self.engine.step()
 
     def check(self):
@@ -187,6 +202,8 @@ class DryingRun(runner.EngineRun):
                                       else np.zeros((0, engine.n)))
         for key in SERIES_VARS:
             out[f"series_{key}"] = np.asarray(rec.series[key], float)
+        for key, value in engine.step_control_state().items():
+            out[f"step_control_{key}"] = np.asarray(value, float)
         return out
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
@@ -203,6 +220,9 @@ class DryingRun(runner.EngineRun):
             rec.snapshots[key] = list(state[f"snapshot_{key}"])
         for key in SERIES_VARS:
             rec.series[key] = state[f"series_{key}"].tolist()
+        prefix = "step_control_"
+        engine.set_step_control_state({k[len(prefix):]: float(v) for k, v in state.items()
+                                       if k.startswith(prefix)})
 
 
 # everything of the engine that evolves (with the neighbour list and the current rate, so
@@ -230,7 +250,11 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     clock = WallClock()
     out = Path(out)
     if init is not None:
-        init_ds = open_dataset(init)
+        init_ds = read_dataset(init, "drying initial state", model="drying",
+                               variables=INITIAL_STATE_VARS)
+        problems = initial_state_problems(scene, init_ds, init)
+        if problems:
+            raise SceneError("--init does not match the scene:\n  " + "\n  ".join(problems))
         seed = int(init_ds.attrs.get("seed", seed))
     else:
         init_ds = build_initial_state(scene, seed)

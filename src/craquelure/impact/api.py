@@ -28,10 +28,7 @@ from craquelure.impact.measure import contact_metrics, run_metrics
 from craquelure.impact.specimen import Specimen, build_specimen, initial_smoothing_length
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
-
-# Steps per second of the 1264-particle disc on one thread of this machine (measured with
-# benchmarks/impact_engine.py); only for the wall-time estimate of `craquelure check`.
-STEPS_PER_S = 300.0
+from craquelure.throughput import prediction_lines
 
 
 def concrete(scene: Scene) -> Concrete:
@@ -98,6 +95,9 @@ def settings(scene: Scene) -> Settings:
 
 
 def initial_state(scene: Scene, specimen: Specimen) -> State:
+    if specimen.vx is not None:  # rings: each moves along x towards the other
+        return State.grid(specimen.x, specimen.y, specimen.vx, 0.0, specimen.mass,
+                          scene.get("material.rho0"), initial_smoothing_length(scene))
     return State.grid(specimen.x, specimen.y, 0.0, -scene.get("particles.impact_velocity"),
                       specimen.mass, scene.get("material.rho0"), initial_smoothing_length(scene))
 
@@ -118,8 +118,7 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     sp = build_specimen(scene, 0)
     h0 = initial_smoothing_length(scene)
     av = (st.av_alpha * st.wave_speed * 1.2) if scene.has("artificial_viscosity") else 0.0
-    dt = min(st.dt_max, st.cfl * h0 / (st.wave_speed + scene.get("particles.impact_velocity")
-                                        + av))
+    dt = min(st.dt_max, st.cfl * h0 / (st.wave_speed + _speed(scene) + av))
     steps = math.ceil(scene.get("outputs.t_end") / dt)
     return {
         "particles": sp.n,
@@ -142,8 +141,27 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "Hillerborg length [m]": mat.hillerborg_length,
         "initial time step [s]": dt,
         "steps (approx.)": steps,
-        "estimated wall time, 1 thread [s]": steps / STEPS_PER_S * sp.n / 1264,
+        **prediction_lines("impact", workload(scene)),
     }
+
+
+def workload(scene: Scene) -> dict[str, float]:
+    """Steps (at the initial stable step), particles and listed neighbours (radius 2 h(0) plus
+    the skin, on the Δ grid) of a run, for the throughput model."""
+    st = settings(scene)
+    h0 = initial_smoothing_length(scene)
+    av = (st.av_alpha * st.wave_speed * 1.2) if scene.has("artificial_viscosity") else 0.0
+    dt = min(st.dt_max, st.cfl * h0 / (st.wave_speed + _speed(scene) + av))
+    radius = (2.0 + st.neighbour_skin) * h0
+    return {"units": math.ceil(scene.get("outputs.t_end") / dt),
+            "particles": build_specimen(scene, 0).n,
+            "neighbours": math.pi * radius**2 / st.spacing**2 - 1.0}
+
+
+def _speed(scene: Scene) -> float:
+    if scene.get("particles.shape") == "rings":
+        return scene.get("particles.rings.speed")
+    return scene.get("particles.impact_velocity")
 
 
 def _penalty(scene: Scene, st: Settings):

@@ -84,11 +84,9 @@ def finding_claim(finding: dict, caveat: str) -> Claim:
     if status == "inconclusive":
         notes.insert(0, f"inconclusive: {finding['n_seeds']} seeds, the profile needs >= "
                         f"{finding['min_seeds']} per heterogeneous case to decide")
-        if "inconclusive" not in VERDICTS:
-            # the validation report cannot print the verdict yet: never "reproduced"
-            status = "partly" if finding["reproduced"] is not False else "not reproduced"
-    elif status not in VERDICTS:
-        status, _ = verdict_of({finding["criterion"]: bool(finding["reproduced"])})
+    elif status not in VERDICTS:  # a finding whose case did not run
+        status = "inconclusive"
+        notes.insert(0, "not run")
     return Claim(MODEL, f"[{dim}] {finding['finding']}", "impact spec section 7; check 12 "
                  "(revised 2026-12)", finding["criterion"], measured, status, "; ".join(notes))
 

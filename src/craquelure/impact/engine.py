@@ -30,8 +30,10 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from craquelure.codegen import effect_flags, pack_parameters, specialise
+from craquelure.errors import SimulationDiverged
 from craquelure.impact import kernels_template
 from craquelure.impact.effects.contact_bulk import bulk_stiffness
 from craquelure.impact.material import Concrete
@@ -45,6 +47,15 @@ def kernels_for(effects, periodic: bool = False, plane_stress: bool = False):
     flags["PERIODIC"] = bool(periodic)
     flags["PLANE_STRESS"] = bool(plane_stress)
     return specialise(kernels_template.__name__, flags, "impact")
+
+
+@njit(cache=True)
+def mass_sum(m, q):
+    """Σ m_i q_i in a plain loop: inside a step, np.dot would start BLAS's own thread pool."""
+    total = 0.0
+    for i in range(m.size):
+        total += m[i] * q[i]
+    return total
 
 
 @dataclass
@@ -71,6 +82,7 @@ class Settings:
     neighbour_skin: float = 0.2  # units of max h
     periodic_box: tuple[float, float] | None = None
     plane_stress: bool = False  # 2D plane stress (sigma_zz = 0) instead of plane strain
+    flush_below: float = 1e-100  # accelerations, stresses, pair powers below this -> 0 (SI)
 
     @property
     def wave_speed(self) -> float:
@@ -96,6 +108,7 @@ class Settings:
             contact_a=self.contact_a,
             k_bulk=bulk_stiffness(self.contact_a, m.bulk, self.spacing),
             kinematic_ratio=self.kinematic_ratio, lx=lx, ly=ly,
+            flush_below=self.flush_below,
             **dict(zip(module.CAP_PARAMS, cap, strict=True))))
 
 
@@ -231,11 +244,22 @@ class Engine:
         return mom + mom_reaction, ke
 
     def step(self, dt: float | None = None) -> None:
+        """One KDK step. A kernel's arithmetic failure (a division by a density or length
+        that collapsed to zero, an overflow: numba raises these as Python errors) is the
+        guard's stop, :class:`SimulationDiverged`, not a traceback."""
+        try:
+            self._step(dt)
+        except ArithmeticError as exc:
+            raise SimulationDiverged(
+                f"t = {self.t:.6g} s, step {self.step_count}: the state can no longer be "
+                f"computed ({type(exc).__name__}: {exc}); the run diverged") from exc
+
+    def _step(self, dt: float | None) -> None:
         st, k = self.state, self.k
         dt = self.dt if dt is None else dt
         f_old = self.force
-        self.e_av += dt * float(np.dot(st.m, self.pav))
-        self.e_as += dt * float(np.dot(st.m, self.pas))
+        self.e_av += dt * mass_sum(st.m, self.pav)
+        self.e_as += dt * mass_sum(st.m, self.pas)
         mom_half, ke_half = self._kick(dt)
         k.material_pass(st.x, st.y, st.vx, st.vy, st.m, st.rho, st.h, st.h0, st.sig, st.nom,
                         st.kap, st.dmg, st.epsp, st.wp, st.epsv, st.eint, st.eel, self.offsets,

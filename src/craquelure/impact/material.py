@@ -96,8 +96,9 @@ class Concrete:
 
         if self.kappa_f <= self.kappa0:
             raise SceneError(
-                f"material: crack band width {self.band:g} m is >= 2 l_ch = "
-                f"{2 * self.hillerborg_length:g} m: linear softening would snap back")
+                f"material.crack_band_width: the crack band width {self.band:g} m is >= 2 l_ch "
+                f"= {2 * self.hillerborg_length:g} m (l_ch = E G_F/f_t^2 from material.G_F, "
+                f"material.f_t and the moduli): linear softening would snap back")
 
 
 # Not cached: numba's cache does not see edits in the inlined effect fragments, and this

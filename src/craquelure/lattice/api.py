@@ -10,14 +10,11 @@ import xarray as xr
 from craquelure.errors import CraquelureError
 from craquelure.lattice import beam
 from craquelure.lattice.build import beam_constants, build_system, engine_params
+from craquelure.lattice.engine import PARALLEL_MIN_BONDS
 from craquelure.lattice.run import run as _run
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
-
-# bond updates per second of the serial kernel (benchmarks/lattice_engine.py on this shared
-# 2-core machine, 2026-11-22, after the chunked kernel: 2.1-2.6e7 wall at load average 3.8,
-# 1.9e7 at 7.7); used only for wall-time estimates
-BOND_UPDATES_PER_S = 2.0e7
+from craquelure.throughput import prediction_lines
 
 __all__ = ["build_initial_state", "derived_numbers", "run"]
 
@@ -44,8 +41,17 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "particles": s.n, "bonds": int(s.bi.size), "k_n": c.kn, "k_s": c.ks,
         "E_b": c.E_b, "beam width": c.width, "lattice E": m["E"], "lattice nu": m["nu"],
         "P-wave speed": math.sqrt(m["M"] / rho2), "time step": p["dt"], "steps": steps,
-        "estimated wall time [s]": steps * s.bi.size / BOND_UPDATES_PER_S,
+        **prediction_lines("lattice", workload(scene)),
     }
+
+
+def workload(scene: Scene) -> dict[str, float]:
+    """Steps, particles and bonds per particle (2 x bonds / N) of a run; serial below
+    the engine's parallel threshold (the serial kernel runs whatever the thread count)."""
+    s, _ = build_system(scene, 0)
+    steps = math.ceil(scene.get("outputs.t_end") / engine_params(scene, s)["dt"])
+    return {"units": steps, "particles": s.n, "neighbours": 2.0 * s.bi.size / s.n,
+            "serial": s.bi.size < PARALLEL_MIN_BONDS}
 
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,

@@ -16,6 +16,7 @@ from craquelure.validation import Claim, verdict_of
 
 MODEL = "lattice"
 WEAK_SCALING_SPREAD = 0.30  # spec check 12
+CALVING_MIN_FRAGMENTS = 20  # spec check 11: fewer cannot decide the exponent
 
 
 def glen_claims(s: dict) -> list[Claim]:
@@ -46,10 +47,16 @@ def gravity_claim(s: dict) -> Claim:
 
 
 def calving_claim(s: dict) -> Claim:
-    verdict, note = verdict_of({
+    conditions = {
         "maximum-likelihood exponent of s^-tau exp(-s/s*) in [1.2, 1.9] (>= 20 fragments)":
             s["check11_slope_pass"],
-        "log-binned slope in [-1.9, -1.2] over >= 1 decade": s["binned_slope_in_band"]})
+        "log-binned slope in [-1.9, -1.2] over >= 1 decade": s["binned_slope_in_band"]}
+    undecided = {}
+    if s["fragments"] < CALVING_MIN_FRAGMENTS:  # too few fragments to fit an exponent
+        conditions = {}
+        undecided[f"exponent from {s['fragments']} fragments"] = (
+            f">= {CALVING_MIN_FRAGMENTS} fragments (spec check 11)")
+    verdict, note = verdict_of(conditions, undecided)
     return Claim(MODEL, "calved fragment sizes follow n(s) ~ s^-3/2 with a cut-off "
                  "(2D brittle fragmentation)", "lattice spec section 10 (calving); check 11",
                  "exponent in [1.2, 1.9] by maximum likelihood and by the log-binned slope",

@@ -13,7 +13,6 @@ omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, 
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, field
 
 import numba
@@ -26,15 +25,14 @@ from craquelure.periodic import minimum_image
 from craquelure.runner import Divergence, diverged, non_finite
 from craquelure.sph.neighbours import Box, neighbour_list
 
-# Waiting OpenMP threads sleep instead of spinning [D]: on this shared 2-core machine a
-# spinning thread steals the core its partner needs, and the parallel kernel ran 8x slower
-# (27 ms vs 3.2 ms per step at 6e4 bonds, load average 7). Must be set before numba starts its
-# OpenMP pool (the first parallel call); an explicit OMP_WAIT_POLICY in the environment wins.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-
+# Waiting OpenMP threads sleep instead of spinning: set for every engine by
+# craquelure.threads (imported through craquelure.codegen before any kernel runs).
 # below this many bonds a serial kernel is faster (thread start-up per parallel region);
 # measured with benchmarks/lattice_engine.py on this 2-core machine
 PARALLEL_MIN_BONDS = 20000
+# per-step displacements within this many rounding units of the positions: the energy budget
+# is lost to round-off (the guard then says to raise the step, not to lower it)
+ROUND_OFF_STEPS = 1000
 
 
 KERNEL_TEMPLATE = "craquelure.lattice.kernel_template"
@@ -290,7 +288,6 @@ class Engine:
     def advance(self, n_steps: int) -> Divergence | None:
         """Advance n_steps (fewer when the kernel's NaN/runaway guard stops it: then the
         failed check is returned)."""
-        s = self.system
         k = self.kernel
         remaining = int(n_steps)
         buf = np.zeros((remaining // self.series_every + 2, k.N_SERIES))
@@ -298,13 +295,12 @@ class Engine:
             chunk = remaining
             if self.freeze_every and self.flags["HAS_MELTING"]:
                 chunk = min(chunk, self.freeze_every - self.step % self.freeze_every)
-            status, done, rows = k.advance(
-                self.qm, self.q, self.qref, self.qbuild, s.mass, s.inertia,
-                s.diameter, s.fix, s.drive, s.load, s.bi, s.bj, self.bref, self.bk, s.state,
-                s.unbreakable, self.bprev, self.bforce, self.benergy, self.bratio, self.tbreak,
-                self.poff, self.pidx, self.cb, self.crange, self.cn, self.fn, self.cpi,
-                self.cpj, self.fc, self.p, self.acc, self.seed, self.step, chunk,
-                self.series_every, buf)
+            try:
+                status, done, rows = self._advance(chunk, buf)
+            except ArithmeticError as exc:  # numba raises division by zero as Python does
+                return Divergence("finite", f"the state can no longer be computed "
+                                  f"({type(exc).__name__}: {exc}) at dt = {self.dt:.6g}; "
+                                  f"check the loads and numerics.dt_factor")
             self.series.extend(buf[:rows].copy())
             self.step += done
             remaining -= done
@@ -328,8 +324,25 @@ class Engine:
         last = self.series[-1]
         v = (self.q - self.qm) / self.dt
         ke = 0.5 * self.system.mass * (v[0] ** 2 + v[1] ** 2)
+        step = float(np.abs(self.q[:2] - self.qm[:2]).max())
+        size = float(np.abs(self.q[:2]).max())
+        if step < ROUND_OFF_STEPS * np.finfo(float).eps * size:
+            hint = (f" at dt = {self.dt:.6g}, but the step is too small for the positions to "
+                    f"resolve the motion (largest displacement per step {step:.3g} against "
+                    f"positions up to {size:.3g}, within {ROUND_OFF_STEPS} rounding units): "
+                    f"increase numerics.dt_factor")
         return Divergence("runaway", f"energy ran away: E_tot = {last[10]:.6g} vs E_0 = "
                           f"{self.acc[6]:.6g}" + hint, int(np.argmax(ke)))
+
+    def _advance(self, chunk: int, buf: np.ndarray):
+        s, k = self.system, self.kernel
+        return k.advance(
+            self.qm, self.q, self.qref, self.qbuild, s.mass, s.inertia,
+            s.diameter, s.fix, s.drive, s.load, s.bi, s.bj, self.bref, self.bk, s.state,
+            s.unbreakable, self.bprev, self.bforce, self.benergy, self.bratio, self.tbreak,
+            self.poff, self.pidx, self.cb, self.crange, self.cn, self.fn, self.cpi,
+            self.cpj, self.fc, self.p, self.acc, self.seed, self.step, chunk,
+            self.series_every, buf)
 
     # bond-indexed arrays of the engine (rows, bond) and of the system (bond) in a checkpoint
     BOND_STATE = ("bref", "bk", "bprev", "bforce", "benergy", "bratio", "tbreak")

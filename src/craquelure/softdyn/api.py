@@ -20,9 +20,10 @@ from craquelure import runner
 from craquelure.errors import CraquelureError
 from craquelure.provenance import WallClock
 from craquelure.scene import Scene
-from craquelure.softdyn import studies
+from craquelure.softdyn import studies, theory
 from craquelure.softdyn.accuracy import run_accuracy
 from craquelure.softdyn.scenarios import build, predictions, series_dataset
+from craquelure.throughput import prediction_lines
 
 
 def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
@@ -64,7 +65,42 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     }
     if scene.get("study.kind") == "sweep":
         out["sweep points in window"] = len(studies.sweep_points(scene))
+    out.update(prediction_lines("softdyn", workload(scene)))
     return out
+
+
+def _integration_cost(scene: Scene, h0: float, force: float) -> float:
+    """Relative cost of one integration (the measure the sweep balances its batches by):
+    log(1 + T) (1 + log10(1/F~)), T the simulated time in tau (the predicted T1 duration,
+    or t_end when the run goes on past the stop or the stop is not the T1's)."""
+    t_end = scene.get("outputs.t_end")
+    k_n, c_n = scene.get("material.k_n", 1.0), scene.get("material.c_n")
+    t = t_end
+    if scene.get("particles.arrangement") == "t1" and not scene.get("outputs.run_past_stop"):
+        t = min(t_end, theory.t_separation(h0, force, k_n, c_n) + theory.t_poiseuille(h0, c_n))
+    return math.log(1.0 + t) * (1.0 + math.log10(1.0 / force))
+
+
+def workload(scene: Scene) -> dict[str, float]:
+    """Integrations of a run weighted by :func:`_integration_cost` (the throughput model's
+    unit), spheres and pair partners per sphere."""
+    setup = build(scene)
+    kind = scene.get("study.kind")
+    h0, force = scene.get("particles.h0"), scene.get("loads.reduced_force")
+    if kind == "sweep":
+        hs, fs, _ = studies.sweep_grid(scene)
+        units = sum(_integration_cost(scene, hs[i], fs[j]) for i, j in studies.sweep_points(scene))
+    elif kind == "phase":
+        units = sum(_integration_cost(scene, h0, float(f)) * len(scene.get("study.fh_over_fv"))
+                    for f in scene.get("study.reduced_force"))
+    elif kind == "accuracy":
+        runs = 1 + len(scene.get("study.integrators", ["LSODA", "BDF", "Radau"])) * len(
+            scene.get("study.rtol", [])) + len(scene.get("study.dt", []))
+        units = runs * _integration_cost(scene, h0, force)
+    else:
+        units = _integration_cost(scene, h0, force)
+    sysm = setup.system
+    return {"units": units, "particles": sysm.n, "neighbours": 2.0 * sysm.n_pairs / sysm.n}
 
 
 class StudyRun(runner.EngineRun):

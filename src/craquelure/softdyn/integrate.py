@@ -83,8 +83,8 @@ class Guard:
         worst = float(per_particle.max())
         if not math.isfinite(worst) or worst > self.drift_tolerance * self.force_scale:
             return Divergence("force balance",
-                              f"max_i |F_i + sum_j f_ij| = {worst:.3g} > "
-                              f"{self.drift_tolerance:g} x {self.force_scale:.3g} (drifted)",
+                              f"drifted: max_i |F_i + sum_j f_ij| = {worst:.3g} > "
+                              f"{self.drift_tolerance:g} x {self.force_scale:.3g}",
                               int(np.nanargmax(per_particle)))
         return None
 

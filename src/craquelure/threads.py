@@ -1,0 +1,57 @@
+"""Threads of a run: numba's workers and nothing else.
+
+A time step's work runs in numba ``prange`` loops on ``numba.get_num_threads()`` workers. A
+library call that starts its own thread pool inside a step (an OpenBLAS ``dot`` or ``solve``, an
+OpenMP section) would put a second set of busy threads on the same cores: on two cores that made
+two numba threads slower than one (the impact engine's energy sums, 0.5-0.6x). So every engine,
+when it imports its generated kernels (:func:`craquelure.codegen.import_generated`, the one
+place all of them pass through), calls :func:`single_threaded_libraries`, which holds the BLAS
+pools of numpy and scipy (the one numba's ``np.linalg`` uses) to one thread with threadpoolctl
+for the rest of the process, and numba's OpenMP workers sleep while they wait
+(``OMP_WAIT_POLICY=PASSIVE``) rather than spin against the thread they wait for.
+"""
+
+from __future__ import annotations
+
+import os
+
+# Waiting OpenMP threads sleep instead of spinning: on a shared 2-core machine a spinning
+# thread steals the core its partner needs (the lattice's parallel kernel ran 8x slower, 27 ms
+# vs 3.2 ms per step at 6e4 bonds, load average 7). numba's OpenMP pool reads this when it
+# starts (the first parallel call, after this module is imported by every engine's code
+# generator); an explicit OMP_WAIT_POLICY in the environment wins.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+_LIMITER = None
+
+
+def single_threaded_libraries() -> None:
+    """Limit the BLAS thread pools of the loaded numpy and scipy to 1 thread (idempotent).
+
+    scipy's linear algebra is imported first so that its BLAS, which numba's ``np.linalg``
+    calls through ``scipy.linalg.cython_lapack``, is loaded and therefore limited too."""
+    global _LIMITER
+    if _LIMITER is not None:
+        return
+    import scipy.linalg  # noqa: F401  (loads scipy's BLAS so that the limit reaches it)
+    from threadpoolctl import threadpool_limits
+
+    _LIMITER = threadpool_limits(limits=1, user_api="blas")
+
+
+def library_pools() -> list[dict]:
+    """threadpoolctl's description of the loaded thread pools (for benchmarks and tests)."""
+    from threadpoolctl import threadpool_info
+
+    return threadpool_info()
+
+
+def set_threads(n: int | None) -> int:
+    """Run with ``n`` numba threads (None: numba's default) and single-threaded libraries;
+    returns the number of numba threads in use."""
+    import numba
+
+    single_threaded_libraries()
+    if n is not None:
+        numba.set_num_threads(int(n))
+    return numba.get_num_threads()

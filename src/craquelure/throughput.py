@@ -1,0 +1,89 @@
+"""Measured throughput model of each engine: the wall time `craquelure check` predicts.
+
+A run of an engine is ``units`` repetitions of its unit of work (drying: rate evaluations,
+impact and lattice: steps, softdyn: T1 integrations weighted by their relative cost) over
+``particles`` particles with ``neighbours`` listed neighbours (or bonds, or pairs) each:
+
+    T(threads) = T_0 + units (c_unit + particles (c_particle + neighbours c_pair)) / S(threads)
+
+T_0 is the run's fixed cost (process start, imports, cached kernels, initial state, writing the
+dataset), c_unit the per-step cost (Python and array work independent of N), c_particle and
+c_pair the per-particle and per-neighbour costs, and S(threads) the measured speed-up of the
+compute part (S(1) = 1; S(2) from 1- and 2-thread timings, Amdahl's law beyond). The numbers
+are in ``throughput.yaml`` beside this file, written by ``benchmarks/predictions.py
+--calibrate`` (engine timings at two sizes and one end-to-end run per model); the same script
+prints predicted against measured wall times of every built-in scene.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+import yaml
+
+TABLE = Path(__file__).with_name("throughput.yaml")
+ENGINES = ("drying", "impact", "lattice", "softdyn")
+
+
+@dataclass(frozen=True)
+class CostModel:
+    unit: str
+    overhead_s: float
+    per_unit_s: float
+    per_particle_s: float
+    per_pair_s: float
+    speedup_2: float
+
+    def speedup(self, threads: int) -> float:
+        """Measured S(2); Amdahl's law with the same parallel fraction for other counts."""
+        threads = max(1, int(threads))
+        if threads == 1:
+            return 1.0
+        fraction = min(1.0, max(0.0, 2.0 * (1.0 - 1.0 / self.speedup_2)))
+        return 1.0 / ((1.0 - fraction) + fraction / threads)
+
+    def compute_seconds(self, units: float, particles: float, neighbours: float,
+                        threads: int = 1) -> float:
+        per_unit = (self.per_unit_s
+                    + particles * (self.per_particle_s + neighbours * self.per_pair_s))
+        return units * per_unit / self.speedup(threads)
+
+    def seconds(self, units: float, particles: float, neighbours: float,
+                threads: int = 1) -> float:
+        return self.overhead_s + self.compute_seconds(units, particles, neighbours, threads)
+
+
+@cache
+def table() -> dict:
+    return yaml.safe_load(TABLE.read_text())
+
+
+def cost_model(engine: str) -> CostModel:
+    entry = table()["engines"][engine]
+    return CostModel(**{k: entry[k] for k in CostModel.__dataclass_fields__})
+
+
+def predicted_wall_time(engine: str, workload: dict, threads: int = 1) -> float:
+    """Seconds of ``craquelure run`` for a workload dict (units, particles, neighbours; with
+    ``serial: True`` when the engine runs its serial kernels whatever the thread count)."""
+    if workload.get("serial"):
+        threads = 1
+    return cost_model(engine).seconds(workload["units"], workload["particles"],
+                                      workload["neighbours"], threads)
+
+
+def prediction_lines(engine: str, workload: dict) -> dict[str, object]:
+    """Entries for `craquelure check`'s derived numbers."""
+    meta = table()
+    model = cost_model(engine)
+    return {
+        f"work: {model.unit}, particles, neighbours": (
+            round(workload["units"], 1), workload["particles"],
+            round(float(workload["neighbours"]), 2)),
+        "predicted wall time [s], 1 / 2 threads": (
+            round(predicted_wall_time(engine, workload, 1), 1),
+            round(predicted_wall_time(engine, workload, 2), 1)),
+        "throughput model": f"{TABLE.name}, measured {meta['measured']} ({meta['machine']})",
+    }

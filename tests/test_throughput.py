@@ -1,0 +1,46 @@
+"""The throughput model behind `craquelure check`'s wall-time prediction."""
+
+from pathlib import Path
+
+import pytest
+
+from craquelure.models import model_api
+from craquelure.scene import load_scene
+from craquelure.throughput import ENGINES, CostModel, cost_model, predicted_wall_time
+
+SCENES = sorted(f"{p.parent.name}/{p.stem}"
+                for p in (Path(__file__).parents[1] / "config" / "scenes").glob("*/*.yaml"))
+
+
+def test_cost_model_terms_and_thread_speedup():
+    m = CostModel(unit="steps", overhead_s=2.0, per_unit_s=1e-4, per_particle_s=1e-7,
+                  per_pair_s=1e-8, speedup_2=1.8)
+    assert m.seconds(0, 1000, 20) == 2.0
+    one = m.compute_seconds(100, 1000, 20)
+    assert one == pytest.approx(100 * (1e-4 + 1000 * (1e-7 + 20 * 1e-8)))
+    assert m.compute_seconds(100, 1000, 20, threads=2) == pytest.approx(one / 1.8)
+    # Amdahl beyond 2 threads with the parallel fraction of S(2): f = 2(1 - 1/1.8)
+    f = 2 * (1 - 1 / 1.8)
+    assert m.speedup(4) == pytest.approx(1 / ((1 - f) + f / 4))
+
+
+def test_every_engine_has_a_measured_model():
+    for engine in ENGINES:
+        m = cost_model(engine)
+        assert m.overhead_s > 0 and m.speedup_2 >= 1.0
+        assert m.per_unit_s + m.per_particle_s + m.per_pair_s > 0
+
+
+@pytest.mark.parametrize("ref", SCENES)
+def test_every_built_in_scene_gets_a_prediction(ref):
+    scene = load_scene(ref)
+    work = model_api(scene.model).workload(scene)
+    assert work["units"] > 0 and work["particles"] > 0 and work["neighbours"] >= 0
+    one, two = (predicted_wall_time(scene.model, work, t) for t in (1, 2))
+    assert 0 < two <= one < 1e7
+
+
+def test_serial_workload_gains_nothing_from_threads():
+    work = {"units": 1000, "particles": 5000, "neighbours": 6.0}
+    assert predicted_wall_time("lattice", {**work, "serial": True}, 2) == \
+        predicted_wall_time("lattice", work, 1)
