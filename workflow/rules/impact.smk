@@ -5,10 +5,23 @@ from craquelure.impact import workflow as impact_workflow
 
 IMPACT = config["impact"]
 IMPACT_SCENE = IMPACT["scene"]
-IMPACT_FIGURES = ("masses", "damage_homogeneous", "damage_heterogeneous_kappa1",
-                  "damage_heterogeneous_kappa_low_high", "precracks", "contact_force")
+IMPACT_FIGURES = (
+    "masses",
+    "damage_homogeneous",
+    "damage_heterogeneous_kappa1",
+    "damage_heterogeneous_kappa_low_high",
+    "precracks",
+    "contact_force",
+)
 IMPACT_PNG = {name: f"results/impact/figures/impact_{name}.png" for name in IMPACT_FIGURES}
 IMPACT_FIGURE_RUNS = impact_workflow.figure_runs(IMPACT)
+
+
+# Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
+# process instead of waiting in a cluster queue.
+localrules:
+    impact_summary,
+    impact_figures,
 
 
 wildcard_constraints:
@@ -193,6 +206,10 @@ rule impact_regime:
 
 
 CLAIM_SOURCES["impact"] = ["results/impact/summary.json"]
-TARGETS["impact"] = ["results/impact/summary.json", *IMPACT_PNG.values(),
-                     "results/impact/figures/impact_accuracy.png",
-                     "results/impact/figures/impact_regime_map.png"]
+TARGETS["impact"] = [
+    "results/impact/summary.json",
+    *IMPACT_PNG.values(),
+    "results/impact/figures/impact_accuracy.png",
+    "results/impact/figures/impact_regime_map.png",
+]
+DATASETS["impact"] = impact_workflow.campaign_runs(IMPACT) + impact_workflow.regime_runs(IMPACT)
