@@ -263,7 +263,8 @@ def validate_scene_data(data: dict[str, Any], check_memory: bool = True) -> dict
     bad = scene_rules.non_finite_values(data)
     if bad:
         raise SceneError("invalid scene:\n  " + "\n  ".join(
-            f"{key}: {value!r} is not allowed; must be a finite number" for key, value in bad))
+            f"{key}: {value!r} is not allowed; must be a finite number (integers within "
+            f"+-2^63)" for key, value in bad))
     schema = model_schema(model)
     _fill_defaults(data, schema)
     validator = _Validator(schema)

@@ -31,9 +31,12 @@ MAX_STEPS = 1e12
 MEMORY_FRACTION = 0.8
 
 
+INT64_MAX = 2**63 - 1
+
+
 def non_finite_values(node: Any, path: str = "") -> list[tuple[str, float]]:
     """(dotted path such as ``outputs.times[2]``, value) of every NaN or infinite number under
-    ``node``."""
+    ``node``, and of every integer beyond 64 bits."""
     bad: list[tuple[str, float]] = []
     if isinstance(node, dict):
         for key, value in node.items():
@@ -43,6 +46,8 @@ def non_finite_values(node: Any, path: str = "") -> list[tuple[str, float]]:
             bad += non_finite_values(value, f"{path}[{k}]")
     elif isinstance(node, float) and not math.isfinite(node):
         bad.append((path or "(top level)", node))
+    elif isinstance(node, int) and not isinstance(node, bool) and abs(node) > INT64_MAX:
+        bad.append((path or "(top level)", node))  # no machine integer holds it (numba, numpy)
     return bad
 
 

@@ -159,3 +159,11 @@ def test_onset_verdicts_respect_what_the_sample_size_can_decide():
     out = checks.check_onset(times, many, np.full(100, 25.0), 100.0, 0.05, n_boot=100)
     assert out["verdict"] == "reproduced"
     assert out["all_samples_broken"]["ci95_over_t_star"] == [pytest.approx(0.3)] * 2
+
+
+def test_claim_recomputed_from_a_three_seed_collapse_check_stays_inconclusive():
+    from craquelure.drying.claims import _verdict
+
+    c15 = check15(campaign(offset_inverse_law, 3), 3)
+    assert not all(c15["equivalence"].values())  # the bounds fail on 3 seeds ...
+    assert _verdict(c15)[0] == c15["verdict"] == "inconclusive"  # ... and that decides nothing

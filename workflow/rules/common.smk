@@ -71,3 +71,33 @@ def thickness_fragments(wildcards):
         ]
     return files
 
+
+
+def speed_label(pi):
+    """Pi = tau/t* as a wildcard value (scene wildcards have no dots): 0.022 -> 0p022."""
+    return f"{pi:g}".replace(".", "p")
+
+
+def speed_run_settings(wildcards):
+    """`--set` arguments of a drying-speed run: v_r = Pi sigma_Y/tau, tau = eta/(2 mu), the end
+    time and the snapshots at the configured fractions of t* = sigma_Y/v_r."""
+    study = config["drying"]["speed"]
+    scene = load_scene(scene_file("drying", wildcards.scene))
+    pi = float(wildcards.pi.replace("p", "."))
+    tau = scene.get("material.eta") / (2.0 * scene.get("material.lame_mu"))
+    sigma_y = scene.get("material.yield_stress")
+    t_star = tau / pi
+    times = ", ".join(f"{f * t_star:.6g}" for f in study["times_over_t_star"])
+    items = [f"material.drying_rate={pi * sigma_y / tau:.6g}",
+             f"outputs.t_end={study['t_end_over_t_star'] * t_star:.6g}",
+             f"outputs.times=[{times}]", *study.get("set", [])]
+    return " ".join(f"--set {shlex.quote(item)}" for item in items)
+
+
+def speed_fragments(wildcards):
+    """Fragment datasets of the drying-speed study, grouped by Pi (inputs P<label>)."""
+    study = config["drying"]["speed"]
+    study_seeds = seeds("drying")[: study["n_seeds"]]
+    return {f"P{speed_label(pi)}": [
+        f"results/drying/{wildcards.scene}_Pi{speed_label(pi)}/fragments/seed{seed}.nc"
+        for seed in study_seeds] for pi in study["pis"]}

@@ -88,3 +88,35 @@ rule drying_thickness_run:
         "{params.cli} run {input.scene} --init {input.state} --out {output} --resume "
         "--threads {threads} {params.overrides} --set material.thickness={params.thickness} "
         "> {log} 2>&1"
+
+
+# Drying-speed study (rules drying_speed*): the same initial states dried at other speeds
+# Pi = tau/t* (config drying.speed), snapshots at fixed fractions of t*;
+# results/drying/<scene>_Pi<Pi>/ (decimal point spelled p) then goes through drying_fragments.
+ruleorder: drying_speed_run > drying_run
+
+
+rule drying_speed_run:
+    input:
+        scene=drying_scene,
+        state="results/mass/{scene}/seed{seed}.nc",
+    output:
+        "results/drying/{scene}_Pi{pi}/run/seed{seed}.nc",
+    wildcard_constraints:
+        pi=r"[0-9]+(?:p[0-9]+)?",
+    params:
+        cli=CRAQUELURE,
+        overrides=scene_overrides("drying"),
+        speed=speed_run_settings,
+    log:
+        "logs/drying_run/{scene}_Pi{pi}/seed{seed}.log",
+    benchmark:
+        "benchmarks/results/drying_run/{scene}_Pi{pi}/seed{seed}.tsv"
+    priority: 10
+    threads: config["drying"]["threads"]
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_run"],
+    shell:
+        "{params.cli} run {input.scene} --init {input.state} --out {output} --resume "
+        "--threads {threads} {params.overrides} {params.speed} > {log} 2>&1"

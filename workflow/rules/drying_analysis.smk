@@ -216,3 +216,60 @@ TARGETS["drying_thickness"] = [
     for ext in ("png", "pdf")
     if config["drying"]["thickness"]["n_seeds"] > 0
 ]
+
+
+rule drying_speed:
+    input:
+        unpack(speed_fragments),
+    output:
+        "results/drying/{scene}/speed.nc",
+    params:
+        fixed=config["drying"]["speed"]["fixed_times_over_t_star"],
+    log:
+        "logs/drying_speed/{scene}.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_speed.py"
+
+
+rule drying_speed_figure:
+    input:
+        "results/drying/{scene}/speed.nc",
+    output:
+        png=report(
+            "results/drying/figures/{scene}_speed.png",
+            caption="../report/drying_speed.rst",
+            category="Drying paste",
+            labels={"figure": "drying speed: onset and 1/t law against Pi"},
+        ),
+        pdf="results/drying/figures/{scene}_speed.pdf",
+    params:
+        figure="speed",
+        profile=config["profile"],
+    log:
+        "logs/drying_speed_figure/{scene}.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_dataset_figure.py"
+
+
+DRYING_SPEED = [
+    f"results/drying/{config['drying']['scene']}/speed.nc",
+    *(f"results/drying/figures/{config['drying']['scene']}_speed.{ext}" for ext in ("png", "pdf")),
+]
+
+
+# One target for the whole study: `snakemake drying_speed_study`.
+rule drying_speed_study:
+    localrule: True
+    input:
+        DRYING_SPEED,
+
+
+TARGETS["drying_speed"] = DRYING_SPEED if config["drying"]["speed"]["n_seeds"] > 0 else []

@@ -462,8 +462,9 @@ def check_collapse(area: np.ndarray, sample: np.ndarray, time: np.ndarray, n_sam
         "shape_drift_large_sample_ks": shape_drift[0],
         "shape_drift_large_sample_cv": shape_drift[1],
         "n_bootstrap_per_draw": int(n_boot_power), "n_bootstrap": int(n_boot),
-        "conditions": {**conditions, **{k: v for k, v in equivalence.items()
-                                        if k not in conditions}},
+        # The conditions that decide (the verdict is recomputed from these and `undecided`),
+        # and the equivalence bounds as measured, deciding or not.
+        "conditions": conditions, "equivalence": equivalence,
         "undecided": undecided, "verdict": verdict, "note": note,
     })
     return out

@@ -337,3 +337,62 @@ def fig_thickness(sweep: xr.Dataset, profile: str):
         f"{float(a['predicted_exponent']):g} (dimensional analysis, spec eq. (29))",
     ])
     return fig
+
+
+def fig_speed(study: xr.Dataset, profile: str):
+    """Drying-speed study: (a) onset in t* against Pi, (b) t0/t* and b/b*, (c) fragments per
+    unit area at fixed t/t*, each with its 95 % bootstrap interval; the paper's Pi and values
+    marked."""
+    pi = study["speed"].values
+    a = study.attrs
+    fig, (ax_o, ax_f, ax_n) = plt.subplots(1, 3, figsize=(14, 5.0))
+    fig.subplots_adjust(bottom=0.26, wspace=0.3)
+
+    def bars(ax, key, label, colour, marker="o"):
+        y = study[key].values
+        err = np.abs(np.stack([y - study[f"{key}_lo"].values, study[f"{key}_hi"].values - y]))
+        ax.errorbar(pi, y, yerr=np.nan_to_num(err), fmt=marker + "-", color=colour, capsize=3,
+                    ms=4, label=label)
+
+    for key, label, colour in (("first_removal_median", "first removal (median)", "C0"),
+                               ("first_sample_broken", "first sample broken", "C1"),
+                               ("half_samples_broken", "half broken", "C2"),
+                               ("all_samples_broken", "all broken", "C3")):
+        bars(ax_o, key, label, colour)
+    ax_o.axhline(a["paper_first_broken_over_t_star"], color="C1", ls=":", lw=1,
+                 label="paper: fragments from 0.40 t*")
+    ax_o.axhline(a["paper_all_broken_over_t_star"], color="C3", ls=":", lw=1,
+                 label="paper: all broken before 0.8 t*")
+    ax_o.set_ylabel("time / t*")
+    ax_o.set_title("Onset", fontsize=9)
+    bars(ax_f, "t0_over_t_star", "t0 / t*", "C4")
+    bars(ax_f, "b_over_b_star", "b / b*", "C5", "s")
+    ax_f.axhline(a["paper_t0_over_t_star_max"], color="C4", ls=":", lw=1,
+                 label="t0 <= t* (dimensional analysis)")
+    ax_f.set_title("1/<S>_t = b (t - t0) over the broken snapshots", fontsize=9)
+    fixed = study["fixed_time"].values
+    for colour, f in zip(_colours(fixed.size), fixed, strict=True):
+        row = study.sel(fixed_time=f)
+        y = row["fragments_per_area"].values
+        err = np.abs(np.stack([y - row["fragments_per_area_lo"].values,
+                               row["fragments_per_area_hi"].values - y]))
+        ax_n.errorbar(pi, y, yerr=np.nan_to_num(err), fmt="o-", color=colour, capsize=3, ms=4,
+                      label=f"t = {f:g} t*")
+    ax_n.set_ylabel("fragments per unit area [1/length^2]")
+    ax_n.set_title("Fragment density at fixed t/t*", fontsize=9)
+    for ax in (ax_o, ax_f, ax_n):
+        ax.set_xscale("log")
+        ax.set_xlim(min(pi.min(), a["paper_pi"]) / 1.5, max(pi.max(), a["paper_pi"]) * 1.5)
+        ax.axvline(a["paper_pi"], color="k", ls="--", lw=0.8, label="paper's Pi = 0.022")
+        ax.set_xlabel("Pi = tau / t*  (tau = eta/(2 mu), t* = sigma_Y/v_r)")
+        ax.legend(fontsize=6)
+    fig.suptitle(f"Drying paste: drying-speed study (profile {profile})")
+    seeds = ", ".join(str(int(n)) for n in study["n_seeds"].values)
+    _caption(fig, [
+        f"profile {profile}, scene {a.get('scene_name', '?')}: Pi = "
+        f"{', '.join(f'{v:.3g}' for v in pi)} (paper {a['paper_pi']:g}); seeds per speed {seeds};"
+        f" bars: 95 % bootstrap over seeds",
+        "t* = sigma_Y/v_r; onset from the snapshots (>= 2 fragments = broken); t0 and b from the "
+        "weighted fit of check 14 over the snapshots with every sample broken",
+    ])
+    return fig

@@ -1,0 +1,136 @@
+r"""Drying-speed study: how far is each profile from the paper's regime, and do its statistics
+converge toward the paper's as the drying slows down?
+
+The dimensionless drying speed is :math:`\Pi = \tau/t^*` with the Voigt shear retardation time
+:math:`\tau = \eta/(2\mu)` and :math:`t^* = \sigma_Y/v_r` (paper: :math:`\Pi = 5/227.3 =
+0.022`; the laptop profiles 0.66). Each speed is a campaign of the same scene with
+:math:`v_r = \Pi\sigma_Y/\tau`, snapshots at fixed fractions of :math:`t^*`. Per speed, in units
+of :math:`t^*` and each with its 95 % bootstrap interval over seeds
+(:func:`craquelure.drying.checks.check_onset`, :func:`craquelure.drying.checks.
+check_inverse_area`):
+
+- onset: earliest and median first removal, first / half / all samples broken (>= 2 fragments);
+- the 1/t law over the snapshots with every sample broken: :math:`t_0/t^*` and :math:`b/b^*`
+  (:math:`b^* = \mu v_r/((\lambda+2\mu)H^2\sigma_Y)`);
+- fragments per unit area at fixed :math:`t/t^*` (the snapshot nearest to it; bootstrap over
+  seeds of the mean count divided by :math:`L^2`).
+
+The paper's values for comparison (source: fragments from 0.40 t*, all samples broken before
+0.8 t*; dimensional analysis: :math:`t_0 \le t^*`) are attributes of the dataset.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from craquelure.drying import checks
+from craquelure.drying.campaign import build_campaign
+from craquelure.drying.statistics import drying_number
+from craquelure.errors import CraquelureError
+
+ONSET_ITEMS = ("first_removal_earliest", "first_removal_median", "first_sample_broken",
+               "half_samples_broken", "all_samples_broken")
+PAPER = {"paper_pi": 0.022, "paper_first_broken_over_t_star": 0.40,
+         "paper_all_broken_over_t_star": 0.8, "paper_t0_over_t_star_max": 1.0}
+N_BOOT = 1000
+SEED = 20261201
+
+
+def _broken_window(campaign: xr.Dataset) -> np.ndarray:
+    """Snapshots from which on every sample has >= 2 fragments."""
+    broken = np.all(campaign["n_fragments"].values >= 2, axis=0)
+    return np.flip(np.logical_and.accumulate(np.flip(broken)))
+
+
+def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
+               ) -> dict[str, float]:
+    campaign = build_campaign(list(fragments), window_mode="all_broken")
+    a = campaign.attrs
+    pi = drying_number(a)
+    tstar = pi["t_star"]
+    times = campaign["time"].values.astype(float)
+    out: dict[str, float] = {"pi": pi["pi"], "t_star": tstar,
+                             "drying_rate": float(a["drying_rate"]),
+                             "n_seeds": campaign.sizes["seed"]}
+    onset = checks.check_onset(times, campaign["n_fragments"].values,
+                               campaign["first_removal_time"].values, tstar, pi["pi"], n_boot)
+    for item in ONSET_ITEMS:
+        v = onset[item]
+        out[item] = np.nan if v["over_t_star"] is None else v["over_t_star"]
+        lo, hi = v["ci95_over_t_star"]
+        out[f"{item}_lo"] = np.nan if lo is None else lo
+        out[f"{item}_hi"] = np.nan if hi is None else hi
+    b_star = (float(a["lame_mu"]) * float(a["drying_rate"])
+              / ((float(a["lame_lambda"]) + 2 * float(a["lame_mu"]))
+                 * float(a["thickness"]) ** 2 * float(a["yield_stress"])))
+    seeds = campaign["seed"].values
+    n_t = times.size
+    area, count = campaign["fragment_area"].values, campaign["n_fragments"].values
+    owner = np.searchsorted(seeds, campaign["fragment_seed"].values)
+    total = np.bincount(owner * n_t + campaign["fragment_time_index"].values, area,
+                        seeds.size * n_t).reshape(seeds.size, n_t)
+    window = _broken_window(campaign)
+    fit = checks.check_inverse_area(times[window], total[:, window],
+                                    count[:, window].astype(float), tstar, b_star, n_boot,
+                                    n_power=200)
+    for key, value, ci, scale in (("t0_over_t_star", "x_intercept_t0", "t0_ci95", tstar),
+                                  ("b_over_b_star", "slope_b", "slope_b_ci95", b_star)):
+        out[key] = fit[value] / scale if "error" not in fit else np.nan
+        bounds = fit.get(ci) or [np.nan, np.nan]
+        out[f"{key}_lo"], out[f"{key}_hi"] = (v / scale for v in bounds)
+    rng = np.random.default_rng(SEED)
+    picks = rng.integers(0, seeds.size, size=(n_boot, seeds.size))
+    area_box = float(a["box_length"]) ** 2
+    density = np.full((3, fixed.size), np.nan)
+    for j, f in enumerate(fixed):
+        k = int(np.argmin(np.abs(times / tstar - f)))
+        if abs(times[k] / tstar - f) > 0.05 * f:
+            continue  # no snapshot near this t/t*
+        per_seed = count[:, k] / area_box
+        boot = per_seed[picks].mean(axis=1)
+        density[:, j] = per_seed.mean(), *np.percentile(boot, [2.5, 97.5])
+    out["fragments_per_area"], out["fragments_per_area_lo"], out["fragments_per_area_hi"] = (
+        density[0], density[1], density[2])
+    return out
+
+
+def speed_study(fragments: Mapping[Any, Sequence[xr.Dataset]],
+                fixed_over_t_star: Sequence[float], n_boot: int = N_BOOT) -> xr.Dataset:
+    """Study dataset (dims ``speed``, ``fixed_time``) from fragment datasets grouped by drying
+    speed (any key; each group one campaign: same scene, its own seeds; Pi is read from the
+    data)."""
+    if len(fragments) < 2:
+        raise CraquelureError(f"speed study: needs at least two drying speeds, got "
+                              f"{sorted(fragments)}")
+    fixed = np.asarray(fixed_over_t_star, float)
+    rows = [_one_speed(sets, fixed, n_boot) for sets in fragments.values()]
+    rows.sort(key=lambda r: r["pi"])
+    scalars = [k for k in rows[0] if k not in ("fragments_per_area", "fragments_per_area_lo",
+                                               "fragments_per_area_hi", "pi")]
+    long = {"t_star": "t* = sigma_Y/v_r", "drying_rate": "drying rate v_r",
+            "n_seeds": "samples (seeds)", "t0_over_t_star": "x-intercept t0 of 1/<S>_t, in t*",
+            "b_over_b_star": "slope b of 1/<S>_t, in b*"}
+    data = {}
+    for key in scalars:
+        base = key.removesuffix("_lo").removesuffix("_hi")
+        text = long.get(base, base.replace("_", " ") + ", in t*")
+        if key != base:
+            text += " (2.5 % bootstrap)" if key.endswith("_lo") else " (97.5 % bootstrap)"
+        data[key] = ("speed", np.array([r[key] for r in rows], float), {"long_name": text})
+    for key in ("fragments_per_area", "fragments_per_area_lo", "fragments_per_area_hi"):
+        data[key] = (("speed", "fixed_time"), np.stack([r[key] for r in rows]),
+                     {"long_name": "mean fragments per unit area at fixed t/t*"
+                      + ("" if key == "fragments_per_area" else
+                         f" ({'2.5' if key.endswith('lo') else '97.5'} % bootstrap)"),
+                      "units": "1/length^2"})
+    return xr.Dataset(
+        data,
+        coords={"speed": ("speed", np.array([r["pi"] for r in rows], float),
+                          {"long_name": "Pi = tau/t*, tau = eta/(2 mu)"}),
+                "fixed_time": ("fixed_time", fixed, {"long_name": "t/t*"})},
+        attrs={**PAPER, "n_bootstrap": n_boot},
+    )
