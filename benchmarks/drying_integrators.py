@@ -162,7 +162,7 @@ def main(argv: list[str] | None = None) -> None:
               f"removed by one scheme only; max |mean stress difference| on common particles "
               f"{gap / ys:.3g} sigma_Y")
     abm4, rkc = rows
-    if abm4["t"] < rkc["t"]:
+    if abm4["t"] < rkc["t"] - 1e-6:
         # ABM4 after a removal: 4 RK4 steps (4 evaluations instead of 2) restart it.
         extra = 4 * 2 * rkc["removal_steps"] / rkc["t"]
         print(f"# ABM4 ran to t = {abm4['t']:g} only; over the whole run it needs "

@@ -396,8 +396,7 @@ class DryingEngine:
         if self.controller is None:
             return {}
         return {**self.controller.state(), "spectral_radius": self.spectral_radius,
-                "dt_event": self.dt_event, "stage_evaluations": float(self.stage_evaluations),
-                "viscous_evaluations": float(self.viscous_evaluations)}
+                "dt_event": self.dt_event}
 
     def set_step_control_state(self, values: dict[str, float]) -> None:
         if self.controller is None:
@@ -405,8 +404,6 @@ class DryingEngine:
         self.controller.set_state(values)
         self.spectral_radius = float(values["spectral_radius"])
         self.dt_event = float(values["dt_event"])
-        self.stage_evaluations = int(values["stage_evaluations"])
-        self.viscous_evaluations = int(values["viscous_evaluations"])
 
     def remove_overstressed(self) -> int:
         doomed = np.nonzero(self.alive & (self.mean_stress > self.yield_stress))[0]

@@ -229,7 +229,7 @@ class DryingRun(runner.EngineRun):
 # that resuming needs no rebuild)
 ENGINE_STATE = ("state", "x0", "y0", "mass", "alive", "t", "step_count", "dt", "n_removed",
                 "evaluations", "neighbour_builds", "offsets", "index", "_built_x", "_built_y",
-                "f_current", "stress")
+                "f_current", "stress", "viscous_evaluations", "stage_evaluations")
 
 
 def _init_fingerprint(init: xr.Dataset) -> bytes:
