@@ -86,7 +86,8 @@ def error_versus_wall_time(scene: Scene, seed: int, time_steps: Sequence[float],
     ref_dt = float(reference_dt) if reference_dt else float(dts[-1]) / 2.0
     init = build_initial_state(scene, seed)
     # Compile (or load from the disk cache) before anything is timed.
-    warm_up = scene.with_overrides([f"outputs.t_end={ref_dt!r}", f"outputs.times=[{ref_dt!r}]"])
+    warm_up = scene.with_overrides([f"outputs.t_end={ref_dt!r}", f"outputs.times=[{ref_dt!r}]",
+                                    f"numerics.dt={ref_dt!r}"])
     _integrate(warm_up, init, "rk4", ref_dt)
     reference, ref_wall, _ = _integrate(scene, init, "rk4", ref_dt)
     ref_norm = float(np.linalg.norm(reference))
