@@ -1,11 +1,14 @@
-# Two commands: `make run` (whole workflow on config/config.yaml) and `make test`.
-# Both create .venv with the system python3 and install pinned dependencies themselves.
+# `make run` (whole workflow on config/config.yaml, then the report and the archive) and
+# `make test`. Both create .venv with the system python3 and install pinned dependencies.
+# Snakemake loads the default workflow profile profiles/default/ by itself (all cores,
+# keep-going, rerun-incomplete): `make run` passes no options. CORES=2 limits the cores.
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
-CORES ?= all
+CORES ?=
+SNAKEMAKE := $(BIN)/snakemake $(if $(CORES),--cores $(CORES))
 
-.PHONY: install run test lint bench clean-results
+.PHONY: install run test test-slurm lint bench clean-results
 
 $(BIN)/.installed: pyproject.toml requirements.lock
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -16,19 +19,29 @@ $(BIN)/.installed: pyproject.toml requirements.lock
 install: $(BIN)/.installed
 
 run: install
-	$(BIN)/snakemake --cores $(CORES)
-	$(BIN)/snakemake --cores 1 --report results/report.html
+	$(SNAKEMAKE)
+	$(SNAKEMAKE) --report results/report.html
+	$(SNAKEMAKE) archive
 
 test: install
 	$(BIN)/ruff check src tests workflow benchmarks
-	$(BIN)/pytest -q
+	$(BIN)/snakefmt --check Snakefile workflow/rules
+	$(BIN)/pytest -q -m "not slurm"
+
+# The CI config through the SLURM profile on a one-node cluster started on this machine
+# (needs root: installs and starts Debian's slurmctld, slurmd and munge).
+test-slurm: install
+	.ci/slurm-cluster start
+	$(BIN)/pytest -q -m slurm tests/workflow/test_slurm.py
 
 lint: install
 	$(BIN)/ruff check src tests workflow benchmarks
+	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/snakemake --lint --configfile config/ci.yaml
 
 bench: install
 	$(BIN)/python benchmarks/neighbours.py
 
 clean-results:
-	rm -rf results/* .snakemake
+	find results -mindepth 1 ! -name README.md -delete
+	rm -rf .snakemake logs benchmarks/results

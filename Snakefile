@@ -17,6 +17,7 @@ include: "workflow/rules/drying_analysis.smk"
 include: "workflow/rules/impact.smk"
 include: "workflow/rules/softdyn.smk"
 include: "workflow/rules/validation.smk"
+include: "workflow/rules/archive.smk"
 
 
 rule all:

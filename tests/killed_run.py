@@ -16,7 +16,8 @@ from craquelure.io import open_dataset
 from craquelure.runner import checkpoint_path
 
 # attributes that differ between any two runs of the same scene and seed
-VOLATILE = {"wall_time_s", "start_time", "run_particle_steps_per_s", "run_resumed_at_step"}
+VOLATILE = {"wall_time_s", "start_time", "run_particle_steps_per_s", "run_resumed_at_step",
+            "history"}  # history: UTC time and command line of the write (CF)
 
 
 def same_dataset(a, b) -> None:

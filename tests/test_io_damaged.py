@@ -53,6 +53,31 @@ def fail_line(argv, capsys) -> str:
     return lines[0]
 
 
+def damage_inside_data(data: bytes, path: Path) -> Path:
+    """``data`` with 64 bytes overwritten inside a data chunk, written to ``path``: the first
+    offset from the middle on (64-byte steps) where the header still opens but reading the
+    variables fails. (A fixed offset is not enough: where the chunks sit depends on how much
+    metadata precedes them.)"""
+    import netCDF4
+
+    for start in range(len(data) // 2, len(data) - 64, 64):
+        damaged = bytearray(data)
+        damaged[start:start + 64] = bytes(range(64))
+        path.write_bytes(bytes(damaged))
+        try:
+            nc = netCDF4.Dataset(path)
+        except OSError:
+            continue  # the header, not the data
+        try:
+            for var in nc.variables.values():
+                var[:]
+        except (OSError, RuntimeError):
+            return path
+        finally:
+            nc.close()
+    raise AssertionError("no offset damages a data chunk")
+
+
 @pytest.fixture(scope="module")
 def files(tmp_path_factory):
     """A scene file, its initial state, a finished run and damaged variants of the state."""
@@ -71,12 +96,8 @@ def files(tmp_path_factory):
     paths["empty"].write_bytes(b"")
     paths["text"] = folder / "text.nc"
     paths["text"].write_text("not a dataset\n")
-    # 64 bytes overwritten in the middle: inside the (checksummed) data chunks
-    damaged = bytearray(data)
-    middle = len(data) // 2
-    damaged[middle:middle + 64] = bytes(range(64))
-    paths["damaged"] = folder / "damaged.nc"
-    paths["damaged"].write_bytes(bytes(damaged))
+    # 64 bytes overwritten inside the (checksummed) data chunks
+    paths["damaged"] = damage_inside_data(data, folder / "damaged.nc")
     impact = xr.Dataset({"x": ("particle", np.zeros(3)), "series_contact_force": ("time", [0.0]),
                          "snap_damage": (("snapshot_time", "particle"), np.zeros((1, 3)))},
                         attrs={"model": "impact"})

@@ -1,7 +1,8 @@
 """Dataset writing and reading.
 
-Writing: compressed netCDF4, written to a temporary name ``.<name>.tmp-<pid>`` and renamed,
-so a killed job never leaves a file that looks finished; the temporaries a killed job left
+Writing: compressed netCDF4 with CF-1.11 metadata (:mod:`craquelure.cf`), written to a
+temporary name ``.<name>.tmp-<pid>`` and renamed, so a killed job never leaves a file that
+looks finished; the temporaries a killed job left
 next to the same output are removed by the next write of that output
 (:func:`remove_stale_temporaries`).
 
@@ -20,6 +21,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from craquelure import cf
 from craquelure.errors import CraquelureError
 
 HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
@@ -46,6 +48,9 @@ def _encoding(ds: xr.Dataset) -> dict[str, dict]:
             # fletcher32: a checksum per chunk, so a damaged file fails to read instead of
             # returning altered numbers
             enc[name] = {"zlib": True, "complevel": 4, "fletcher32": True}
+        if var.dims == (name,) and var.dtype.kind == "f":
+            # CF 2.5.1: a coordinate variable has no missing values, so no _FillValue.
+            enc.setdefault(name, {})["_FillValue"] = None
     return enc
 
 
@@ -67,7 +72,7 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     """Write ``ds`` to ``path`` atomically (temporary file in the same folder, then rename)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    ds = ds.copy()
+    ds = cf.apply(ds.copy())
     ds.attrs = _clean_attrs(ds.attrs)
     for var in ds.variables.values():
         var.attrs = _clean_attrs(var.attrs)

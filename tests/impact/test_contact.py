@@ -105,7 +105,8 @@ def test_zero_masses_safe_with_bulk_contact():
     sp, eng, _, _ = run([*ZERO_MASSES, f"effects={FULL.format(contact='contact_bulk')}"],
                         bottom_zero_seed())
     st = eng.state
-    assert (sp.mass == 0).sum() > 20
+    # PF#1 one particle column (10 on the 20-cell disc) + the Poisson-like zeros (1.8 %)
+    assert (sp.mass == 0).sum() > 12
     assert np.isfinite(st.x).all() and np.isfinite(st.y).all() and np.isfinite(st.sig).all()
     assert st.y.min() >= 0.5 * sp.spacing - 0.5 * sp.spacing  # r_c - 0.5 Delta
 

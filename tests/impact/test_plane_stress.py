@@ -58,7 +58,8 @@ def test_plane_stress_dzz_solves_the_plastic_return():
         s0 = rng.uniform(-40e6, 5e6, 3)  # xx, yy, xy (zz = 0)
         dxx, dyy, dxy = rng.uniform(-1e4, 2e3, 3)
         w = rng.uniform(-1e3, 1e3)
-        d = mod.plane_stress_dzz(s0[0], s0[1], s0[2], 0.0, dxx, dyy, dxy, w, dt, prm)
+        d = mod.plane_stress_dzz(s0[0], s0[1], s0[2], 0.0, 0.0, 0.0, dxx, dyy, dxy, w, dt,
+                                 prm)
         trial = mod.jaumann_trial(s0[0], s0[1], s0[2], 0.0, dxx, dyy, dxy, d, w, MAT.bulk,
                                   MAT.shear, dt)
         out = np.array([mod.dp_return(*trial, *MAT.dp, MAT.shear)[:4]])

@@ -95,3 +95,8 @@ def test_precrack_layouts_are_zero_mass_lines(layout, expected_angle):
     extent, angle, _ = principal_axis(sp.x[sp.precrack], sp.y[sp.precrack])
     assert extent == pytest.approx(sp.radius, abs=2 * sp.spacing)  # length R
     assert angle == pytest.approx(expected_angle, abs=3.0)
+    # one particle column wide: exactly one zero-mass particle in every grid row it spans
+    rows, counts = np.unique(np.round(sp.y[sp.precrack] / sp.spacing), return_counts=True)
+    assert (counts == 1).all()
+    assert rows.size == pytest.approx(sp.radius * math.cos(math.radians(expected_angle))
+                                      / sp.spacing, abs=1.01)

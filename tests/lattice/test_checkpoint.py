@@ -22,7 +22,7 @@ SCENES = {
 }
 # provenance attributes that differ between any two runs
 VOLATILE = {"wall_time_s", "start_time", "scene_overrides", "run_particle_steps_per_s",
-            "run_resumed_at_step"}
+            "run_resumed_at_step", "history"}
 
 
 def same_dataset(a, b):

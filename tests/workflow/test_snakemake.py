@@ -14,6 +14,7 @@ import re
 import shutil
 import subprocess
 import sys
+import tarfile
 from pathlib import Path
 
 import pytest
@@ -25,12 +26,15 @@ from craquelure.scene import project_root
 ROOT = project_root()
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 ALLOWED_LINT = "Specify a conda environment or container for each rule."
+# What Snakemake prints when it loads the embedded default profile (profiles/default/).
+DEFAULT_PROFILE_LINE = "Using workflow specific profile profiles/default"
 
 
 def workflow_copy(dest: Path) -> Path:
-    """Snakefile, workflow/ and config/ copied into ``dest`` (no results, no .snakemake)."""
+    """Snakefile, workflow/, config/ and profiles/ copied into ``dest`` (no results, no
+    .snakemake), as in a fresh clone."""
     shutil.copy2(ROOT / "Snakefile", dest / "Snakefile")
-    for folder in ("workflow", "config"):
+    for folder in ("workflow", "config", "profiles"):
         shutil.copytree(ROOT / folder, dest / folder,
                         ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
     return dest
@@ -70,6 +74,7 @@ def fresh(tmp_path_factory) -> Path:
 def test_dry_run_builds_the_dag(fresh, config):
     proc = snakemake(fresh, "-n", "--configfile", f"config/{config}.yaml")
     assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert DEFAULT_PROFILE_LINE in proc.stderr, proc.stderr[:2000]
     counts = job_stats(proc.stdout + proc.stderr)
     assert counts["all"] == 1
     # One mass-consistency job per seed of the profile (paper: Table I with 100 seeds).
@@ -78,6 +83,33 @@ def test_dry_run_builds_the_dag(fresh, config):
     if config == "paper":
         assert n_seeds == 100
     assert counts["total"] == sum(v for k, v in counts.items() if k != "total")
+
+
+def test_plain_snakemake_loads_the_default_profile(fresh):
+    """`snakemake` with no option at all: the default profile supplies the cores (else
+    Snakemake stops asking for --cores), keep-going and rerun-incomplete."""
+    proc = snakemake(fresh, "-n")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert DEFAULT_PROFILE_LINE in proc.stderr, proc.stderr[:2000]
+    settings = yaml.safe_load((ROOT / "profiles" / "default" / "config.yaml").read_text())
+    assert settings["cores"] == "all" and settings["keep-going"] and settings["rerun-incomplete"]
+    # Where Snakemake 9 never looks (the old place): nothing may be left there.
+    assert not list((ROOT / "workflow").glob("profiles/*/*.yaml"))
+
+
+def test_slurm_profile_is_one_workflow_profile_option(fresh):
+    """--workflow-profile profiles/slurm replaces the default profile (one workflow profile is
+    loaded, so its default-resources are not overwritten); the paper DAG builds with it."""
+    proc = snakemake(fresh, "-n", "--configfile", "config/paper.yaml",
+                     "--workflow-profile", "profiles/slurm")
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    assert "Using workflow specific profile profiles/slurm" in proc.stderr
+    assert "profiles/default" not in proc.stderr
+    settings = yaml.safe_load((ROOT / "profiles" / "slurm" / "config.yaml").read_text())
+    assert settings["executor"] == "slurm"
+    assert {"mem_mb", "runtime"} <= set(settings["default-resources"])
+    # No cpus_per_task: SLURM then allocates each job's `threads:`.
+    assert "cpus_per_task" not in settings["default-resources"]
 
 
 def test_profiles_have_the_same_sections():
@@ -147,7 +179,8 @@ def test_ci_outputs_are_valid(ci_run):
     # No temporary file survives (io.write_dataset names them .<name>.tmp-<pid>).
     assert [p for p in files if ".tmp" in p.name] == []
     # Everything is written under results/, logs/ and benchmarks/ (plus Snakemake's state).
-    allowed = {"Snakefile", "workflow", "config", "results", "logs", "benchmarks", ".snakemake"}
+    allowed = {"Snakefile", "workflow", "config", "profiles", "results", "logs", "benchmarks",
+               ".snakemake"}
     assert {p.name for p in work.iterdir()} <= allowed
     # The mass-consistency datasets carry what the issue asks for.
     for path in (results / "mass" / "ci").glob("seed*.nc"):
@@ -182,3 +215,105 @@ def test_ci_report_builds(ci_run):
     assert report.returncode == 0, report.stdout[-3000:] + report.stderr[-3000:]
     html = (work / "results" / "report.html").read_bytes()
     assert len(html) > 10_000 and b"<html" in html[:2000].lower()
+
+
+# The one high-priority finding compliance-checker makes on our datasets: its §5.1 heuristic
+# takes any dimension named "time" for a calendar axis (standard_name "time", units
+# "<unit> since <date>"). Simulated time is no date: such units would make xarray decode it
+# into datetimes, and reduced-unit models (drying, softdyn) have no time in seconds at all.
+TIME_AXIS_HEURISTIC = "Coordinate variable 'time' should have standard_name='time'"
+
+
+def cf_findings(path: Path) -> list[str]:
+    """High-priority failures of IOOS compliance-checker's CF-1.11 suite on ``path``."""
+    from compliance_checker.runner import CheckSuite, ComplianceChecker
+
+    CheckSuite().load_all_available_checkers()
+    out = path.with_suffix(".cf.json")
+    ComplianceChecker.run_checker(str(path), ["cf:1.11"], 0, "normal",
+                                  output_filename=str(out), output_format="json")
+    report = json.loads(out.read_text())["cf:1.11"]
+    out.unlink()
+    return [msg for check in report["high_priorities"]
+            if check["value"][0] != check["value"][1] for msg in check["msgs"]]
+
+
+def test_ci_datasets_are_cf(ci_run, tmp_path):
+    """Every variable of every dataset the CI workflow writes has a long name and units that
+    UDUNITS parses; compliance-checker finds nothing high-priority on one dataset per model but
+    the time-axis heuristic above."""
+    import cf_units
+
+    work, proc = ci_run
+    assert proc.returncode == 0
+    datasets = sorted((work / "results").rglob("*.nc"))
+    per_model: dict[str, Path] = {}
+    for path in datasets:
+        with xr.open_dataset(path) as ds:
+            assert ds.attrs["Conventions"] == "CF-1.11", path
+            for key in ("title", "source", "history", "references"):
+                assert ds.attrs.get(key), (path, key)
+            assert re.match(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ \S", ds.attrs["history"])
+            for name, var in ds.variables.items():
+                assert var.attrs.get("long_name"), (path, name)
+                if var.dtype.kind in "fiub":
+                    cf_units.Unit(var.attrs["units"])  # raises ValueError if UDUNITS cannot
+                    if var.attrs["units"] == "1" and "reduced_units" in var.attrs:
+                        assert ds.attrs["reduced_unit_system"], (path, name)
+            per_model.setdefault(ds.attrs["model"], path)
+    assert set(per_model) == {"drying", "impact", "lattice", "softdyn"}
+    for model, path in per_model.items():
+        local = tmp_path / f"{model}.nc"
+        shutil.copy2(path, local)
+        findings = cf_findings(local)
+        assert all(f.startswith(TIME_AXIS_HEURISTIC) for f in findings), (model, findings)
+
+
+def test_ci_archive_verifies(ci_run):
+    """Rule archive after the run; craquelure verify finds every file as packed."""
+    work, proc = ci_run
+    assert proc.returncode == 0
+    packed = snakemake(work, "archive", "--cores", "1", "--configfile", "config/ci.yaml")
+    assert packed.returncode == 0, packed.stdout[-3000:] + packed.stderr[-3000:]
+    archives = list((work / "results" / "archive").glob("craquelure-ci-*.tar.gz"))
+    assert len(archives) == 1
+    check = subprocess.run([sys.executable, "-m", "craquelure", "verify", str(archives[0])],
+                           capture_output=True, text=True)
+    assert check.returncode == 0, check.stdout + check.stderr
+    with tarfile.open(archives[0]) as tar:
+        names = {n.split("/", 1)[1] for n in tar.getnames() if "/" in n}
+    assert {"MANIFEST.sha256", "resolved-config.yaml", "config/ci.yaml",
+            "results/validation.json", "profiles/slurm/config.yaml"} <= names
+    assert any(n.startswith("results/impact/ci/") and n.endswith(".nc") for n in names)
+    assert any(n.endswith(".png") for n in names)
+
+
+def test_ci_runs_export_for_viewers(ci_run, tmp_path):
+    """craquelure export on one real run per model: every frame's VTU holds every
+    per-particle field the exporter found, equal to the dataset's values."""
+    import meshio
+
+    from craquelure.export import export, frames_from_dataset
+
+    work, proc = ci_run
+    assert proc.returncode == 0
+    runs = {
+        "drying": "results/drying/ci/run/seed1.nc",
+        "impact": "results/impact/ci/uniform_none/kappa1.0/seed1.nc",
+        "lattice": "results/lattice/calving/run.nc",
+        "softdyn": "results/softdyn/two_sphere_separation/run.nc",
+    }
+    for model, rel in runs.items():
+        pvd, xyz = export(work / rel, "vtu", tmp_path / model)
+        with xr.open_dataset(work / rel) as ds:
+            frames = frames_from_dataset(ds.load())
+        vtus = sorted((tmp_path / model).glob("frame_*.vtu"))
+        assert len(vtus) == frames.n_frames >= 1, model
+        assert frames.fields, model
+        last = meshio.read(vtus[-1])
+        assert set(last.point_data) == set(frames.fields), model
+        assert (last.points == frames.positions[-1]).all(), model
+        for name, values in frames.fields.items():
+            got = last.point_data[name].reshape(values[-1].shape)
+            assert (got == values[-1]).all(), (model, name)
+        assert xyz.read_text().count("Properties=") == frames.n_frames

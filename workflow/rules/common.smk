@@ -1,11 +1,11 @@
 # Helpers shared by all model files (config validation, scene paths, target registry).
 import shlex
 import sys
+from pathlib import Path
 
 from snakemake.utils import validate
 
 from craquelure.scene import load_scene
-
 
 validate(config, schema="../schemas/config.schema.yaml")
 
@@ -21,12 +21,31 @@ TARGETS = {}
 CLAIM_SOURCES = {}
 
 
+# And its final datasets (runs and aggregates) beyond those two registries: rule archive packs
+# targets, claim sources and these.
+DATASETS = {}
+
+
 def claim_sources(wildcards):
     return {model: paths for model, paths in CLAIM_SOURCES.items() if paths}
 
 
 def all_targets():
     return [path for paths in TARGETS.values() for path in paths]
+
+
+def archive_outputs():
+    """What the archive packs from results/ (targets, claim sources, final datasets)."""
+    registries = (TARGETS, CLAIM_SOURCES, DATASETS)
+    return sorted(
+        {path for registry in registries for paths in registry.values() for path in paths}
+    )
+
+
+def archive_configs():
+    """Config files, scenes and workflow profiles (what the outputs were made from)."""
+    paths = [*Path("config").rglob("*.yaml"), *Path("profiles").glob("*/config.yaml")]
+    return sorted(str(path) for path in paths)
 
 
 def scene_file(model, scene):
@@ -72,7 +91,6 @@ def thickness_fragments(wildcards):
     return files
 
 
-
 def speed_label(pi):
     """Pi = tau/t* as a wildcard value (scene wildcards have no dots): 0.022 -> 0p022."""
     return f"{pi:g}".replace(".", "p")
@@ -88,9 +106,12 @@ def speed_run_settings(wildcards):
     sigma_y = scene.get("material.yield_stress")
     t_star = tau / pi
     times = ", ".join(f"{f * t_star:.6g}" for f in study["times_over_t_star"])
-    items = [f"material.drying_rate={pi * sigma_y / tau:.6g}",
-             f"outputs.t_end={study['t_end_over_t_star'] * t_star:.6g}",
-             f"outputs.times=[{times}]", *study.get("set", [])]
+    items = [
+        f"material.drying_rate={pi * sigma_y / tau:.6g}",
+        f"outputs.t_end={study['t_end_over_t_star'] * t_star:.6g}",
+        f"outputs.times=[{times}]",
+        *study.get("set", []),
+    ]
     return " ".join(f"--set {shlex.quote(item)}" for item in items)
 
 
@@ -98,6 +119,10 @@ def speed_fragments(wildcards):
     """Fragment datasets of the drying-speed study, grouped by Pi (inputs P<label>)."""
     study = config["drying"]["speed"]
     study_seeds = seeds("drying")[: study["n_seeds"]]
-    return {f"P{speed_label(pi)}": [
-        f"results/drying/{wildcards.scene}_Pi{speed_label(pi)}/fragments/seed{seed}.nc"
-        for seed in study_seeds] for pi in study["pis"]}
+    return {
+        f"P{speed_label(pi)}": [
+            f"results/drying/{wildcards.scene}_Pi{speed_label(pi)}/fragments/seed{seed}.nc"
+            for seed in study_seeds
+        ]
+        for pi in study["pis"]
+    }

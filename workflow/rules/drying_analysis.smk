@@ -5,11 +5,22 @@
 DRYING_FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
 DRYING_CAMPAIGN = f"results/drying/{config['drying']['scene']}/campaign.nc"
 # Run dataset of the first seed, drawn in the crack-pattern figure.
-DRYING_SNAPSHOT_RUN = (
-    f"results/drying/{config['drying']['scene']}/run/seed{seeds('drying')[0]}.nc"
-)
+DRYING_SNAPSHOT_RUN = f"results/drying/{config['drying']['scene']}/run/seed{seeds('drying')[0]}.nc"
 DRYING_PNG = {name: f"results/drying/figures/drying_{name}.png" for name in DRYING_FIGURES}
 DRYING_PDF = [f"results/drying/figures/drying_{name}.pdf" for name in DRYING_FIGURES]
+
+
+# Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
+# process instead of waiting in a cluster queue.
+localrules:
+    drying_campaign,
+    drying_summary,
+    drying_figures,
+    drying_accuracy_figure,
+    drying_thickness,
+    drying_thickness_figure,
+    drying_speed,
+    drying_speed_figure,
 
 
 rule drying_fragments:
@@ -217,6 +228,16 @@ TARGETS["drying_thickness"] = [
     if config["drying"]["thickness"]["n_seeds"] > 0
 ]
 
+DATASETS["drying"] = [
+    DRYING_CAMPAIGN,
+    "results/drying/accuracy.nc",
+    *expand(
+        "results/drying/{scene}/fragments/seed{seed}.nc",
+        scene=config["drying"]["scene"],
+        seed=seeds("drying"),
+    ),
+]
+
 
 rule drying_speed:
     input:
@@ -273,3 +294,4 @@ rule drying_speed_study:
 
 
 TARGETS["drying_speed"] = DRYING_SPEED if config["drying"]["speed"]["n_seeds"] > 0 else []
+DATASETS["drying"] += DRYING_SPEED[:1] if config["drying"]["speed"]["n_seeds"] > 0 else []

@@ -5,10 +5,23 @@ from craquelure.impact import workflow as impact_workflow
 
 IMPACT = config["impact"]
 IMPACT_SCENE = IMPACT["scene"]
-IMPACT_FIGURES = ("masses", "damage_homogeneous", "damage_heterogeneous_kappa1",
-                  "damage_heterogeneous_kappa_low_high", "precracks", "contact_force")
+IMPACT_FIGURES = (
+    "masses",
+    "damage_homogeneous",
+    "damage_heterogeneous_kappa1",
+    "damage_heterogeneous_kappa_low_high",
+    "precracks",
+    "contact_force",
+)
 IMPACT_PNG = {name: f"results/impact/figures/impact_{name}.png" for name in IMPACT_FIGURES}
 IMPACT_FIGURE_RUNS = impact_workflow.figure_runs(IMPACT)
+
+
+# Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
+# process instead of waiting in a cluster queue.
+localrules:
+    impact_summary,
+    impact_figures,
 
 
 wildcard_constraints:
@@ -142,6 +155,61 @@ rule impact_accuracy:
         "../scripts/impact_accuracy.py"
 
 
+rule impact_regime_run:
+    input:
+        scene="config/scenes/impact/{scene}.yaml",
+    output:
+        "results/impact/{scene}/regime/ft{ft}_a{a}_v{v}.nc",
+    wildcard_constraints:
+        ft="[0-9.]+",
+        a="[0-9.]+|auto",
+        v="[0-9.]+",
+    params:
+        cli=CRAQUELURE,
+        variant=impact_workflow.regime_overrides(IMPACT),
+        overrides=scene_overrides("impact"),
+    log:
+        "logs/impact_regime_run/{scene}/ft{ft}_a{a}_v{v}.log",
+    benchmark:
+        "benchmarks/results/impact_regime_run/{scene}/ft{ft}_a{a}_v{v}.tsv"
+    threads: IMPACT["threads"]
+    resources:
+        mem_mb=IMPACT["mem_mb"],
+        runtime=IMPACT["runtime_run"],
+    shell:
+        "{params.cli} run {input.scene} --seed 0 --out {output} --threads {threads} "
+        "{params.variant} {params.overrides} > {log} 2>&1"
+
+
+rule impact_regime:
+    input:
+        impact_workflow.regime_runs(IMPACT),
+    output:
+        json="results/impact/regime.json",
+        png=report(
+            "results/impact/figures/impact_regime_map.png",
+            caption="../report/impact_regime_map.rst",
+            category="Concrete impact",
+            labels={"figure": "regime map: splits once or fans out"},
+        ),
+    params:
+        profile=config["profile"],
+        scene=IMPACT_SCENE,
+    log:
+        "logs/impact_regime.log",
+    threads: 1
+    resources:
+        mem_mb=IMPACT["mem_mb"],
+        runtime=10,
+    script:
+        "../scripts/impact_regime.py"
+
+
 CLAIM_SOURCES["impact"] = ["results/impact/summary.json"]
-TARGETS["impact"] = ["results/impact/summary.json", *IMPACT_PNG.values(),
-                     "results/impact/figures/impact_accuracy.png"]
+TARGETS["impact"] = [
+    "results/impact/summary.json",
+    *IMPACT_PNG.values(),
+    "results/impact/figures/impact_accuracy.png",
+    "results/impact/figures/impact_regime_map.png",
+]
+DATASETS["impact"] = impact_workflow.campaign_runs(IMPACT) + impact_workflow.regime_runs(IMPACT)

@@ -7,6 +7,13 @@ LATTICE = config["lattice"]
 LATTICE_JOBS = lattice_workflow.Jobs(LATTICE, config["profile"])
 
 
+# Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
+# process instead of waiting in a cluster queue.
+localrules:
+    lattice_glen_figure,
+    lattice_scene_figure,
+
+
 wildcard_constraints:
     kind="glen|frozen",
     k="[0-9]+",
@@ -164,4 +171,9 @@ CLAIM_SOURCES["lattice"] = [
     *(path for path in TARGETS["lattice"] if path.endswith("summary.json")),
     "results/lattice/accuracy/summary.json",
     "results/lattice/scaling/scaling.tsv",
+]
+DATASETS["lattice"] = [
+    *LATTICE_JOBS.glen_points("glen"),
+    *LATTICE_JOBS.glen_points("frozen"),
+    *(f"results/lattice/{scene}/run.nc" for scene in LATTICE["runs"]),
 ]

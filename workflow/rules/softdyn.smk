@@ -6,6 +6,16 @@ from craquelure.softdyn import workflow as softdyn_workflow
 SOFTDYN_JOBS = softdyn_workflow.Jobs(config["softdyn"])
 
 
+# Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
+# process instead of waiting in a cluster queue.
+localrules:
+    softdyn_sweep,
+    softdyn_fig4,
+    softdyn_fig3,
+    softdyn_pair_figure,
+    softdyn_summary,
+
+
 wildcard_constraints:
     scene="[A-Za-z0-9_]+",
     i="[0-9]+",
@@ -79,8 +89,12 @@ rule softdyn_sweep:
         points=SOFTDYN_JOBS.sweep_batch_files,
     output:
         data="results/softdyn/{scene}/sweep.nc",
-        figure=report("results/softdyn/{scene}/fig5.png", caption="../report/softdyn_fig5.rst",
-                      category="Soft Dynamics", subcategory="T1 duration"),
+        figure=report(
+            "results/softdyn/{scene}/fig5.png",
+            caption="../report/softdyn_fig5.rst",
+            category="Soft Dynamics",
+            subcategory="T1 duration",
+        ),
     params:
         overrides=SOFTDYN_JOBS.overrides(),
     log:
@@ -98,9 +112,12 @@ rule softdyn_accuracy:
         scene=SOFTDYN_JOBS.scene_path,
     output:
         data="results/softdyn/{scene}/accuracy.nc",
-        figure=report("results/softdyn/{scene}/accuracy.png",
-                      caption="../report/softdyn_accuracy.rst", category="Soft Dynamics",
-                      subcategory="accuracy vs cost"),
+        figure=report(
+            "results/softdyn/{scene}/accuracy.png",
+            caption="../report/softdyn_accuracy.rst",
+            category="Soft Dynamics",
+            subcategory="accuracy vs cost",
+        ),
     params:
         overrides=SOFTDYN_JOBS.overrides(),
     log:
@@ -119,8 +136,12 @@ rule softdyn_fig4:
     input:
         "results/softdyn/{scene}/run.nc",
     output:
-        report("results/softdyn/{scene}/fig4.png", caption="../report/softdyn_fig4.rst",
-               category="Soft Dynamics", subcategory="T1 in time"),
+        report(
+            "results/softdyn/{scene}/fig4.png",
+            caption="../report/softdyn_fig4.rst",
+            category="Soft Dynamics",
+            subcategory="T1 in time",
+        ),
     params:
         kind="fig4",
         scene="{scene}",
@@ -138,8 +159,12 @@ rule softdyn_fig3:
     input:
         "results/softdyn/{scene}/run.nc",
     output:
-        report("results/softdyn/{scene}/fig3.png", caption="../report/softdyn_fig3.rst",
-               category="Soft Dynamics", subcategory="T1 occurrence"),
+        report(
+            "results/softdyn/{scene}/fig3.png",
+            caption="../report/softdyn_fig3.rst",
+            category="Soft Dynamics",
+            subcategory="T1 occurrence",
+        ),
     params:
         kind="fig3",
         scene="{scene}",
@@ -157,8 +182,12 @@ rule softdyn_pair_figure:
     input:
         "results/softdyn/{scene}/run.nc",
     output:
-        report("results/softdyn/{scene}/gaps.png", caption="../report/softdyn_pair.rst",
-               category="Soft Dynamics", subcategory="two spheres"),
+        report(
+            "results/softdyn/{scene}/gaps.png",
+            caption="../report/softdyn_pair.rst",
+            category="Soft Dynamics",
+            subcategory="two spheres",
+        ),
     params:
         kind="pair",
         scene="{scene}",
@@ -199,6 +228,7 @@ rule softdyn_summary:
 
 
 CLAIM_SOURCES["softdyn"] = ["results/softdyn/summary.json"] if SOFTDYN_RUNS else []
+DATASETS["softdyn"] = SOFTDYN_RUNS
 TARGETS["softdyn"] = (
     expand("results/softdyn/{scene}/fig4.png", scene=config["softdyn"]["single"])
     + expand("results/softdyn/{scene}/gaps.png", scene=config["softdyn"]["pairs"])

@@ -2,6 +2,12 @@
 # analysis outputs the model files registered in CLAIM_SOURCES, one table for the report.
 
 
+# Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
+# process instead of waiting in a cluster queue.
+localrules:
+    validation_report,
+
+
 rule validation_report:
     input:
         unpack(claim_sources),

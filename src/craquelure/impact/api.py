@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure import runner
-from craquelure.errors import CraquelureError
+from craquelure.errors import CraquelureError, SceneError
 from craquelure.impact.effects.artificial_stress import auto_epsilon
 from craquelure.impact.effects.contact_bulk import bulk_stiffness, half_cell_scale
 from craquelure.impact.effects.contact_mass import DEFAULT_SCALE
@@ -38,10 +38,23 @@ def concrete(scene: Scene) -> Concrete:
                    shear=scene.get("material.shear_modulus", 1.0),
                    f_c=scene.get("material.f_c", 1e30), f_bc_ratio=scene.get("material.f_bc_ratio"),
                    f_t=scene.get("material.f_t", 1e30), G_F=scene.get("material.G_F", 1e30),
-                   band=band)
+                   band=band, gfc_ratio=scene.get("material.G_fc_ratio", 100.0))
     if scene.has("damage"):
         mat.check()
+    for name in ("compressive_damage", "rate_effects"):
+        if scene.has(name) and not scene.has("cap_plasticity"):
+            raise SceneError(f"effects: {name} acts on the cap model's surface and needs "
+                             f"cap_plasticity in effects (it has: {', '.join(scene.effects)})")
     return mat
+
+
+def material_model(scene: Scene) -> str:
+    """The concrete model a run uses, for its dataset: 'cap' (CSCM-like), 'drucker_prager' or
+    'elastic', with '+compressive_damage' / '+rate_effects' when those are on."""
+    base = ("cap" if scene.has("cap_plasticity") else
+            "drucker_prager" if scene.has("plasticity") else "elastic")
+    extra = [e for e in ("compressive_damage", "rate_effects") if scene.has(e)]
+    return "+".join([base, *extra])
 
 
 def artificial_stress_epsilon(scene: Scene) -> float:
@@ -118,7 +131,12 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "kinematic below m / m_bar": (4.0 * bulk_stiffness(st.contact_a, mat.bulk, st.spacing)
                                       * dt**2 / (st.rho0 * st.spacing**2)
                                       if scene.has("contact_bulk") else None),
-        "Drucker-Prager alpha, k [Pa]": mat.dp,
+        "Drucker-Prager alpha, k [Pa]": mat.dp if scene.has("plasticity") else None,
+        "cap model alpha, lambda [Pa], beta [1/Pa], theta, e, X0 [Pa]": (
+            (mat.cap.alpha, mat.cap.lam, mat.cap.beta, mat.cap.theta, mat.cap.e, mat.cap.X0)
+            if scene.has("cap_plasticity") else None),
+        "compressive damage eps_fc": mat.eps_fc if scene.has("compressive_damage") else None,
+        "crack band width l_c [m]": mat.band,
         "kappa0, kappa_f": (mat.kappa0, mat.kappa_f),
         "Hillerborg length [m]": mat.hillerborg_length,
         "initial time step [s]": dt,
@@ -322,7 +340,8 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         "x": ("particle", st.x), "y": ("particle", st.y), "vx": ("particle", st.vx),
         "vy": ("particle", st.vy), "damage": ("particle", st.dmg),
         "softening": ("particle", softening(st.kap, eng.s.material)),
-        "plastic_strain": ("particle", st.epsp), "h": ("particle", st.h),
+        "plastic_strain": ("particle", st.epsp), "plastic_compaction": ("particle", st.epsv),
+        "h": ("particle", st.h),
         "rho": ("particle", st.rho),
     }
     for key, arr in series.items():
@@ -350,6 +369,9 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         "max_penetration": eng.max_penetration, "kinematic_impulse": eng.impulse_kin,
         "min_y_final": float(st.y.min()), "spacing": sp.spacing, "radius": sp.radius,
         "kappa": g("numerics.kappa"), "as_epsilon": eng.s.as_epsilon,
+        "crack_band_width": eng.s.material.band, "material_model": material_model(scene),
+        "effects": ",".join(scene.effects), "f_t": g("material.f_t"),
+        "impact_velocity": g("particles.impact_velocity"),
         "contact_a": eng.s.contact_a, "plane": g("domain.plane"),
         "distribution": g("particles.masses.distribution"),
         "precrack_layout": g("particles.precrack"), "n_particles": sp.n,

@@ -3,19 +3,16 @@
 Source: ``results/impact/summary.json`` (:mod:`craquelure.impact.analysis`), whose ``findings``
 already carry the spec's check-12 criteria and ``reproduced`` flags computed from the runs;
 this module only words them as claims and adds the robustness demand (every variant to the end,
-closed energy balance). A finding that did not run, or that is stated as a fraction of seeds
-whose exact binomial 95 % interval at this seed count straddles the threshold, is inconclusive
-(with the seed count that would decide), never reproduced or not reproduced.
+closed energy balance).
 """
 
 from __future__ import annotations
 
 import json
 import math
-import re
 from pathlib import Path
 
-from craquelure.validation import Claim, fraction_decision, verdict_of
+from craquelure.validation import VERDICTS, Claim, verdict_of
 
 MODEL = "impact"
 # Spec check 9's energy-balance tolerance, applied to every run of the campaign.
@@ -36,38 +33,62 @@ def _number(value) -> str:
     return str(value)
 
 
-# Findings stated as a fraction of seeds ("in >= 60 % of seeds"): value key -> threshold.
-FRACTION_KEYS = ("fraction_N_mc_1", "fraction_1_crossing")
+def _brief(value) -> str:
+    """Medians with their interval for the report: {median, ci95, agreement, n}."""
+    if isinstance(value, dict) and "median" in value and "ci95" in value:
+        if value["median"] is None:
+            return "no data"
+        lo, hi = value["ci95"]
+        return (f"median {_number(value['median'])} [95 % {_number(lo)}, {_number(hi)}], "
+                f"n = {value['n']}, bootstrap agreement {value['agreement']:.2f}")
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k}: {_brief(v)}" for k, v in value.items()) + "}"
+    return _number(value)
 
 
-def _undecided(finding: dict, n_seeds: int) -> dict[str, str]:
-    """What the seeds cannot decide: a finding that did not run, or a fraction of seeds whose
-    exact binomial interval straddles the finding's threshold."""
-    if finding["reproduced"] is None:
-        return {"not run": "the case's runs"}
-    out = {}
-    for key in FRACTION_KEYS:
-        value = finding["values"].get(key)
-        match = re.search(r">= (\d+) % of seeds", finding["criterion"])
-        if value is None or match is None or n_seeds <= 0:
-            continue
-        threshold = float(match.group(1)) / 100.0
-        decided, need = fraction_decision(round(value * n_seeds), n_seeds, threshold)
-        if decided is None:
-            out[f"{key} = {value:.2f} of {n_seeds} seeds against {threshold:.0%}"] = need
-    return out
+SHORT = {"n_main_cracks_revised": "N", "cracked_fraction": "phi_c", "crushed_area": "A_cr",
+         "n_secondary_cracks": "short", "cracked_fraction_near_main": "phi_near",
+         "main_crossings_x_mm": "x_mm", "precrack_coverage": "coverage",
+         "main_cracks_elsewhere": "elsewhere", "as_epsilon": "eps_AS",
+         "crack_band_width": "l_c"}
 
 
-def finding_claim(finding: dict, caveat: str, n_seeds: int = 0) -> Claim:
-    measured = "; ".join(f"{k} = {_number(v)}" for k, v in finding["values"].items())
-    undecided = _undecided(finding, n_seeds)
-    if undecided:  # the seeds cannot decide this finding: no pass or miss on it
-        verdict, note = verdict_of({}, undecided)
-    else:
-        verdict, note = verdict_of({finding["criterion"]: bool(finding["reproduced"])})
-    return Claim(MODEL, finding["finding"], "impact spec section 7; check 12",
-                 finding["criterion"], measured, verdict,
-                 f"{note}; {caveat}" if note else caveat)
+def per_seed_text(per_seed: dict) -> str:
+    """Every seed's values, compact: 'seed 1: N 5, phi_c 0.63, ...' (nested by kappa where a
+    finding compares two cases)."""
+    def one(values: dict) -> str:
+        return ", ".join(f"{SHORT[q]} {_number(v)}" for q, v in values.items() if q in SHORT)
+
+    parts = []
+    for key, val in per_seed.items():
+        if val and all(isinstance(v, dict) for v in val.values()):
+            parts.append(f"kappa {key}: " + "; ".join(f"seed {s}: {one(v)}"
+                                                     for s, v in val.items()))
+        elif isinstance(val, dict):
+            parts.append(f"seed {key}: {one(val)}")
+    return " | ".join(parts)
+
+
+def finding_claim(finding: dict, caveat: str) -> Claim:
+    """A check-12 finding of :mod:`.check12` (status computed there), with every seed's values
+    (all of them are in summary.json too)."""
+    measured = "; ".join(f"{k} = {_brief(v)}" for k, v in finding["values"].items())
+    seeds = per_seed_text(finding.get("per_seed", {}))
+    if seeds and finding.get("n_seeds", 1) > 1:
+        measured += f"; per seed: {seeds}"
+    status = finding.get("status")
+    dim = finding.get("dim", "2D")
+    notes = [f"{dim}; {caveat}"]
+    if finding.get("failed"):
+        notes.insert(0, "fails: " + ", ".join(finding["failed"]))
+    if status == "inconclusive":
+        notes.insert(0, f"inconclusive: {finding['n_seeds']} seeds, the profile needs >= "
+                        f"{finding['min_seeds']} per heterogeneous case to decide")
+    elif status not in VERDICTS:  # a finding whose case did not run
+        status = "inconclusive"
+        notes.insert(0, "not run")
+    return Claim(MODEL, f"[{dim}] {finding['finding']}", "impact spec section 7; check 12 "
+                 "(revised 2026-12)", finding["criterion"], measured, status, "; ".join(notes))
 
 
 def robustness_claim(summary: dict) -> Claim:
@@ -89,9 +110,9 @@ def claims(sources: list[Path]) -> list[Claim]:
         if path.name != "summary.json":
             raise ValueError(f"impact claims: unexpected source {path} (summary.json)")
         summary = json.loads(path.read_text())
-        caveat = (f"profile {summary['profile']}, 2D, {summary['n_seeds_heterogeneous']} "
-                  f"heterogeneous specimens per kappa")
-        n_het = int(summary.get("n_seeds_heterogeneous") or 0)
-        out += [finding_claim(f, caveat, n_het) for f in summary["findings"]]
+        caveat = (f"profile {summary['profile']}, {summary['n_seeds_heterogeneous']} "
+                  f"heterogeneous specimens per kappa, concrete model "
+                  f"{', '.join(summary.get('material_model', ['drucker_prager']))}")
+        out += [finding_claim(f, caveat) for f in summary["findings"]]
         out.append(robustness_claim(summary))
     return out

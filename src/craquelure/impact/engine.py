@@ -96,6 +96,9 @@ class Settings:
         m = self.material
         alpha, k = m.dp
         lx, ly = self.periodic_box if self.periodic_box is not None else (0.0, 0.0)
+        cap = (m.cap_vector() if any(e in self.effects for e in ("cap_plasticity",
+                                                                   "rate_effects"))
+               else np.zeros(len(module.CAP_PARAMS)))
         return pack_parameters(module.PARAMS, dict(
             bulk=m.bulk, shear=m.shear, young=m.young, alpha_dp=alpha, k_dp=k,
             kappa0=m.kappa0, kappa_f=m.kappa_f, wave_speed=self.wave_speed,
@@ -105,7 +108,8 @@ class Settings:
             contact_a=self.contact_a,
             k_bulk=bulk_stiffness(self.contact_a, m.bulk, self.spacing),
             kinematic_ratio=self.kinematic_ratio, lx=lx, ly=ly,
-            flush_below=self.flush_below))
+            flush_below=self.flush_below,
+            **dict(zip(module.CAP_PARAMS, cap, strict=True))))
 
 
 @dataclass
@@ -126,6 +130,7 @@ class State:
     dmg: np.ndarray = field(default=None)
     epsp: np.ndarray = field(default=None)
     wp: np.ndarray = field(default=None)    # plastic work per unit mass
+    epsv: np.ndarray = field(default=None)  # plastic compaction (cap model)
     eint: np.ndarray = field(default=None)  # internal energy per unit mass
     eel: np.ndarray = field(default=None)   # elastic energy per unit mass
 
@@ -135,7 +140,7 @@ class State:
             # always a private copy: the engine updates these arrays in place
             setattr(self, name, np.array(getattr(self, name), dtype=np.float64, copy=True))
         for name, shape in (("sig", (n, 4)), ("nom", (n, 4)), ("kap", n), ("dmg", n),
-                            ("epsp", n), ("wp", n), ("eint", n), ("eel", n)):
+                            ("epsp", n), ("wp", n), ("epsv", n), ("eint", n), ("eel", n)):
             if getattr(self, name) is None:
                 setattr(self, name, np.zeros(shape))
 
@@ -257,7 +262,7 @@ class Engine:
         self.e_as += dt * mass_sum(st.m, self.pas)
         mom_half, ke_half = self._kick(dt)
         k.material_pass(st.x, st.y, st.vx, st.vy, st.m, st.rho, st.h, st.h0, st.sig, st.nom,
-                        st.kap, st.dmg, st.epsp, st.wp, st.eint, st.eel, self.offsets,
+                        st.kap, st.dmg, st.epsp, st.wp, st.epsv, st.eint, st.eel, self.offsets,
                         self.index, dt, self.prm)
         st.x += dt * st.vx
         st.y += dt * st.vy

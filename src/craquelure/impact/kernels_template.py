@@ -18,11 +18,14 @@ from numba import njit, prange
 
 from craquelure.impact.effects.artificial_stress import artificial_stress_tensor
 from craquelure.impact.effects.artificial_viscosity import monaghan_pi
+from craquelure.impact.effects.cap_plasticity import cap_return
+from craquelure.impact.effects.compressive_damage import ductile_damage
 from craquelure.impact.effects.contact_bulk import bulk_penalty
 from craquelure.impact.effects.contact_mass import mass_penalty
 from craquelure.impact.effects.damage import damage_update
 from craquelure.impact.effects.elasticity import elastic_energy_density, jaumann_trial
 from craquelure.impact.effects.plasticity import dp_return
+from craquelure.impact.effects.rate_effects import increase_factor, principal_rates
 from craquelure.impact.effects.variable_smoothing_length import benz_update
 from craquelure.periodic import minimum_image
 from craquelure.sph.kernels import CUBIC, kernel_dwdr, kernel_w
@@ -30,6 +33,9 @@ from craquelure.sph.kernels import CUBIC, kernel_dwdr, kernel_w
 # BEGIN FLAGS
 ELASTICITY = True
 PLASTICITY = True
+CAP_PLASTICITY = False
+COMPRESSIVE_DAMAGE = False
+RATE_EFFECTS = False
 DAMAGE = True
 ARTIFICIAL_VISCOSITY = True
 ARTIFICIAL_STRESS = True
@@ -45,7 +51,11 @@ KIND = CUBIC
 # the parameter vector: names in order, declared once (the engine packs by name)
 PARAMS = ("bulk", "shear", "young", "alpha_dp", "k_dp", "kappa0", "kappa_f", "wave_speed",
           "av_alpha", "av_beta", "as_epsilon", "as_n", "spacing", "h_min", "h_max", "base_y",
-          "contact_radius", "contact_a", "k_bulk", "kinematic_ratio", "lx", "ly", "flush_below")
+          "contact_radius", "contact_a", "k_bulk", "kinematic_ratio", "lx", "ly", "flush_below",
+          # cap model (Concrete.cap_vector order; contiguous from P_CAP)
+          "cap_alpha", "cap_lambda", "cap_beta", "cap_theta", "cap_e", "cap_x0", "cap_w",
+          "cap_d1", "cap_d2", "eps_fc", "eta0_t", "n_t", "eta0_c", "n_c", "overt", "overc",
+          "f_t", "f_c")
 N_PARAMS = len(PARAMS)
 _index = PARAMS.index
 P_BULK, P_SHEAR, P_YOUNG, P_ALPHA_DP, P_K_DP, P_KAPPA0, P_KAPPA_F = (
@@ -61,6 +71,8 @@ P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = (
     _index("contact_a"), _index("k_bulk"), _index("kinematic_ratio"),
 )
 P_LX, P_LY = _index("lx"), _index("ly")
+P_CAP = _index("cap_alpha")
+CAP_PARAMS = PARAMS[P_CAP:P_CAP + 18]
 P_FLUSH = _index("flush_below")
 
 
@@ -88,7 +100,7 @@ def pair_vector(x, y, i, j, prm):
 
 
 @njit(inline="always", cache=True)
-def plane_stress_dzz(sxx, syy, sxy, szz, dxx, dyy, dxy, w, dt, prm):
+def plane_stress_dzz(sxx, syy, sxy, szz, epsv, epsp, dxx, dyy, dxy, w, dt, prm):
     """Plane stress (``domain.plane: stress``): the out-of-plane strain rate D_zz that leaves
     σ_zz = 0 after the Jaumann trial and, with plasticity, after the Drucker-Prager return.
     Elastic: D_zz = −(λ(D_xx + D_yy) + σ_zz/Δt)/(λ + 2G), exact. Plastic: the return maps the
@@ -97,33 +109,52 @@ def plane_stress_dzz(sxx, syy, sxy, szz, dxx, dyy, dxy, w, dt, prm):
     bulk, shear = prm[P_BULK], prm[P_SHEAR]
     lam = bulk - 2.0 * shear / 3.0
     d0 = -(lam * (dxx + dyy) + szz / dt) / (lam + 2.0 * shear)
-    if not PLASTICITY:
+    if not (PLASTICITY or CAP_PLASTICITY):
         return d0
     tol = 1e-9 * (abs(sxx) + abs(syy) + abs(sxy) + prm[P_K_DP])
-    g0 = _returned_szz(d0, sxx, syy, sxy, szz, dxx, dyy, dxy, w, dt, prm)
+    g0 = _returned_szz(d0, sxx, syy, sxy, szz, epsv, epsp, dxx, dyy, dxy, w, dt, prm)
     if abs(g0) <= tol:
         return d0
     # second point from the elastic slope (λ + 2G)Δt, then secant steps
     d1 = d0 - g0 / ((lam + 2.0 * shear) * dt)
-    g1 = _returned_szz(d1, sxx, syy, sxy, szz, dxx, dyy, dxy, w, dt, prm)
+    g1 = _returned_szz(d1, sxx, syy, sxy, szz, epsv, epsp, dxx, dyy, dxy, w, dt, prm)
     for _ in range(30):
         if abs(g1) <= tol or g1 == g0:
             break
         d0, g0, d1 = d1, g1, d1 - g1 * (d1 - d0) / (g1 - g0)
-        g1 = _returned_szz(d1, sxx, syy, sxy, szz, dxx, dyy, dxy, w, dt, prm)
+        g1 = _returned_szz(d1, sxx, syy, sxy, szz, epsv, epsp, dxx, dyy, dxy, w, dt, prm)
     return d1
 
 
 @njit(inline="always", cache=True)
-def _returned_szz(dzz, sxx, syy, sxy, szz, dxx, dyy, dxy, w, dt, prm):
+def _returned_szz(dzz, sxx, syy, sxy, szz, epsv, epsp, dxx, dyy, dxy, w, dt, prm):
     """σ_zz after the Jaumann trial with out-of-plane rate ``dzz`` and the DP return."""
     txx, tyy, txy, tzz = jaumann_trial(sxx, syy, sxy, szz, dxx, dyy, dxy, dzz, w, prm[P_BULK],
                                        prm[P_SHEAR], dt)
+    if CAP_PLASTICITY:
+        return plastic_return(txx, tyy, txy, tzz, epsv, epsp, dxx, dyy, dxy, dzz, prm)[3]
     return dp_return(txx, tyy, txy, tzz, prm[P_ALPHA_DP], prm[P_K_DP], prm[P_SHEAR])[3]
 
 
+@njit(inline="always", cache=True)
+def plastic_return(sxx, syy, sxy, szz, epsv, epsp, dxx, dyy, dxy, dzz, prm):
+    """Cap model return (CAP_PLASTICITY) with the compressive damage and the compressive rate
+    factor when those effects are on; returns (sxx, syy, sxy, szz, d_eps_v, d_eps_p, work)."""
+    c = P_CAP
+    strength = 1.0
+    if COMPRESSIVE_DAMAGE:
+        strength = 1.0 - ductile_damage(epsp, prm[c + 9])
+    dif = 1.0
+    if RATE_EFFECTS:
+        dif = increase_factor(-principal_rates(dxx, dyy, dxy, dzz)[1], prm[P_YOUNG],
+                              prm[c + 12], prm[c + 13], prm[c + 15], prm[c + 17])
+    return cap_return(sxx, syy, sxy, szz, epsv, prm[c], prm[c + 1], prm[c + 2], prm[c + 3],
+                      prm[c + 4], prm[c + 5], prm[c + 6], prm[c + 7], prm[c + 8], prm[P_BULK],
+                      prm[P_SHEAR], strength, dif)
+
+
 @njit(parallel=True, cache=True)
-def material_pass(x, y, vx, vy, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, eint, eel,
+def material_pass(x, y, vx, vy, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, epsv, eint, eel,
                   offsets, index, dt, prm):
     """Velocity gradient with the mid-step velocities, then per particle: ρ and h (exact
     exponential update), Jaumann trial → DP return → damage → nominal stress; stress power
@@ -165,16 +196,24 @@ def material_pass(x, y, vx, vy, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, ein
         w = 0.5 * (lxy - lyx)
         oxx, oyy, oxy = nom[i, 0], nom[i, 1], nom[i, 2]
         sxx, syy, sxy, szz = sig[i, 0], sig[i, 1], sig[i, 2], sig[i, 3]
+        dzz = 0.0
         if ELASTICITY:
-            dzz = 0.0
             if PLANE_STRESS:
-                dzz = plane_stress_dzz(sxx, syy, sxy, szz, lxx, lyy, dxy, w, dt, prm)
+                dzz = plane_stress_dzz(sxx, syy, sxy, szz, epsv[i], epsp[i], lxx, lyy, dxy, w,
+                                       dt, prm)
             sxx, syy, sxy, szz = jaumann_trial(sxx, syy, sxy, szz, lxx, lyy, dxy, dzz, w,
                                                prm[P_BULK], prm[P_SHEAR], dt)
         if PLASTICITY:
             sxx, syy, sxy, szz, deps, work = dp_return(sxx, syy, sxy, szz, prm[P_ALPHA_DP],
                                                        prm[P_K_DP], prm[P_SHEAR])
             epsp[i] += deps
+            wp[i] += work / rho[i]
+        if CAP_PLASTICITY:
+            sxx, syy, sxy, szz, dv, deps, work = plastic_return(sxx, syy, sxy, szz, epsv[i],
+                                                                epsp[i], lxx, lyy, dxy, dzz,
+                                                                prm)
+            epsp[i] += deps
+            epsv[i] += dv
             wp[i] += work / rho[i]
         if PLANE_STRESS:
             szz = 0.0  # removes the solve's round-off residual
@@ -183,7 +222,12 @@ def material_pass(x, y, vx, vy, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, ein
         sxy, szz = flushed(sxy, tiny), flushed(szz, tiny)
         sig[i, 0], sig[i, 1], sig[i, 2], sig[i, 3] = sxx, syy, sxy, szz
         if DAMAGE:
-            k, d, nxx, nyy, nxy, nzz = damage_update(sxx, syy, sxy, szz, kap[i], prm[P_YOUNG],
+            young = prm[P_YOUNG]
+            if RATE_EFFECTS:
+                young *= increase_factor(principal_rates(lxx, lyy, dxy, dzz)[0], young,
+                                         prm[P_CAP + 10], prm[P_CAP + 11], prm[P_CAP + 14],
+                                         prm[P_CAP + 16])
+            k, d, nxx, nyy, nxy, nzz = damage_update(sxx, syy, sxy, szz, kap[i], young,
                                                      prm[P_KAPPA0], prm[P_KAPPA_F])
             kap[i] = k
             dmg[i] = d

@@ -1,8 +1,11 @@
 r"""Material point model of the concrete (spec section 2), composed from the effect fragments.
 
 Update order per particle and step (spec section 3): Jaumann trial effective stress
-(:mod:`.effects.elasticity`) → Drucker-Prager return (:mod:`.effects.plasticity`) → Rankine damage
-and nominal stress (:mod:`.effects.damage`). :class:`Concrete` holds the derived constants.
+(:mod:`.effects.elasticity`) → Drucker-Prager return (:mod:`.effects.plasticity`) or the
+CSCM-like cap return (:mod:`.effects.cap_plasticity`, shear strength scaled by the compressive
+damage of :mod:`.effects.compressive_damage` and the rate factor of :mod:`.effects.rate_effects`)
+→ Rankine damage and nominal stress (:mod:`.effects.damage`). :class:`Concrete` holds the derived
+constants.
 :func:`drive` is a strain-driven single-point driver (no SPH) with stress-free lateral directions,
 used by check 6: the prescribed strain-rate components are imposed, the free ones are found by a
 Newton iteration (finite-difference Jacobian) so that the free *nominal* stresses vanish.
@@ -15,9 +18,19 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from craquelure.impact.effects.cap_plasticity import CapSurface, cap_return, surface_constants
+from craquelure.impact.effects.compressive_damage import ductile_damage, softening_strain
 from craquelure.impact.effects.damage import damage_update
 from craquelure.impact.effects.elasticity import jaumann_trial
 from craquelure.impact.effects.plasticity import dp_constants, dp_return
+from craquelure.impact.effects.rate_effects import (
+    increase_factor,
+    principal_rates,
+    rate_constants,
+)
+
+# Plasticity variants of the material point (the SPH kernels select them by effect flags).
+NO_PLASTICITY, DRUCKER_PRAGER, CAP = 0, 1, 2
 
 
 @dataclass(frozen=True)
@@ -31,6 +44,7 @@ class Concrete:
     f_t: float
     G_F: float
     band: float  # crack-band width l_c
+    gfc_ratio: float = 100.0  # G_fc / G_F (compressive damage)
 
     @property
     def young(self) -> float:
@@ -43,6 +57,27 @@ class Concrete:
     @property
     def dp(self) -> tuple[float, float]:
         return dp_constants(self.f_c, self.f_bc_ratio)
+
+    @property
+    def cap(self) -> CapSurface:
+        return surface_constants(self.f_c, self.f_bc_ratio)
+
+    @property
+    def eps_fc(self) -> float:
+        """Plastic strain at full compressive damage (G_fc = gfc_ratio G_F dissipated over l_c
+        in uniaxial compression)."""
+        return softening_strain(self.f_c, self.G_F, self.band, self.cap, self.gfc_ratio)
+
+    @property
+    def rates(self) -> dict[str, float]:
+        return rate_constants(self.f_c)
+
+    def cap_vector(self) -> np.ndarray:
+        """Constants of :func:`point_update`'s cap/rate branches, in its order."""
+        c, r = self.cap, self.rates
+        return np.array([c.alpha, c.lam, c.beta, c.theta, c.e, c.X0, c.W, c.D1, c.D2,
+                         self.eps_fc, r["eta0_t"], r["n_t"], r["eta0_c"], r["n_c"], r["overt"],
+                         r["overc"], self.f_t, self.f_c])
 
     @property
     def kappa0(self) -> float:
@@ -70,20 +105,39 @@ class Concrete:
 # driver is not a hot path (the SPH kernels are generated per effect set, see engine.py).
 @njit
 def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young, kappa0,
-                 kappa_f, plastic, damage):
-    """Advance one point. ``state`` = [sxx, syy, sxy, szz (effective), kappa, D_t, eps_p, wp];
+                 kappa_f, plastic, damage, cap, compressive, rate):
+    """Advance one point with strain rate D (xx, yy, xy, zz), spin w over ``dt``.
+    ``state`` = [sxx, syy, sxy, szz (effective), kappa, D_t, eps_p, wp, eps_v^p]; ``plastic``:
+    NO_PLASTICITY, DRUCKER_PRAGER or CAP (constants ``cap`` = Concrete.cap_vector());
     returns the nominal stress (xx, yy, xy, zz)."""
     sxx, syy, sxy, szz = jaumann_trial(state[0], state[1], state[2], state[3], dxx, dyy, dxy,
                                        dzz, w, bulk, shear, dt)
-    if plastic:
+    dif_t = 1.0
+    if rate:
+        r1, r3 = principal_rates(dxx, dyy, dxy, dzz)
+        dif_t = increase_factor(r1, young, cap[10], cap[11], cap[14], cap[16])
+    if plastic == DRUCKER_PRAGER:
         sxx, syy, sxy, szz, deps, work = dp_return(sxx, syy, sxy, szz, alpha, k, shear)
         state[6] += deps
         state[7] += work
+    elif plastic == CAP:
+        strength = 1.0
+        if compressive:
+            strength = 1.0 - ductile_damage(state[6], cap[9])
+        dif_c = 1.0
+        if rate:
+            dif_c = increase_factor(-r3, young, cap[12], cap[13], cap[15], cap[17])
+        sxx, syy, sxy, szz, dv, deps, work = cap_return(
+            sxx, syy, sxy, szz, state[8], cap[0], cap[1], cap[2], cap[3], cap[4], cap[5],
+            cap[6], cap[7], cap[8], bulk, shear, strength, dif_c)
+        state[6] += deps
+        state[7] += work
+        state[8] += dv
     state[0], state[1], state[2], state[3] = sxx, syy, sxy, szz
     nom = np.empty(4)
     if damage:
-        kap, d, nxx, nyy, nxy, nzz = damage_update(sxx, syy, sxy, szz, state[4], young, kappa0,
-                                                   kappa_f)
+        kap, d, nxx, nyy, nxy, nzz = damage_update(sxx, syy, sxy, szz, state[4], young * dif_t,
+                                                   kappa0, kappa_f)
         state[4], state[5] = kap, d
         nom[0], nom[1], nom[2], nom[3] = nxx, nyy, nxy, nzz
     else:
@@ -96,16 +150,24 @@ COMPONENTS = ("xx", "yy", "xy", "zz")
 
 
 def drive(mat: Concrete, strain_path: np.ndarray, free: tuple[str, ...],
-          plastic: bool = True, damage: bool = True) -> tuple[np.ndarray, np.ndarray]:
+          plastic: bool | str = True, damage: bool = True, compressive: bool = False,
+          rate: bool = False, targets: np.ndarray | None = None,
+          dt: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """Strain-driven material point without spin.
 
     ``strain_path``: (n, 4) prescribed total strains (xx, yy, xy, zz) at each step; components
-    named in ``free`` are ignored and solved so that their nominal stress is zero.
+    named in ``free`` are ignored and solved so that their nominal stress is zero, or equals
+    ``targets`` (n, len(free)) when given. ``plastic``: True (Drucker-Prager), False or "cap";
+    ``compressive`` and ``rate`` switch on the compressive damage and rate effects (cap only);
+    ``dt`` is the time per step (the strain rate is the increment / dt).
     Returns (strains (n, 4) actually followed, nominal stresses (n, 4)); state starts at zero.
     """
     alpha, k = mat.dp
+    variant = {True: DRUCKER_PRAGER, False: NO_PLASTICITY, "cap": CAP}[plastic]
+    cap = mat.cap_vector() if variant == CAP or rate else np.zeros(18)
     free_idx = [COMPONENTS.index(c) for c in free]
-    state = np.zeros(8)
+    goal = np.zeros((strain_path.shape[0], len(free_idx))) if targets is None else targets
+    state = np.zeros(9)
     eps = np.zeros(4)
     out_eps = np.zeros_like(strain_path)
     out_sig = np.zeros_like(strain_path)
@@ -120,8 +182,9 @@ def drive(mat: Concrete, strain_path: np.ndarray, free: tuple[str, ...],
 
     def trial(d):
         st = state.copy()
-        nom = point_update(st, d[0], d[1], d[2], d[3], 0.0, 1.0, mat.bulk, mat.shear, alpha, k,
-                           mat.young, mat.kappa0, mat.kappa_f, plastic, damage)
+        nom = point_update(st, d[0] / dt, d[1] / dt, d[2] / dt, d[3] / dt, 0.0, dt, mat.bulk,
+                           mat.shear, alpha, k, mat.young, mat.kappa0, mat.kappa_f, variant,
+                           damage, cap, compressive, rate)
         return st, nom
 
     for n in range(strain_path.shape[0]):
@@ -132,14 +195,14 @@ def drive(mat: Concrete, strain_path: np.ndarray, free: tuple[str, ...],
             scale = max(abs(d).max(), 1e-14)
             for _ in range(50):
                 st, nom = trial(d)
-                res = nom[free_idx]
+                res = nom[free_idx] - goal[n]
                 if np.abs(res).max() < 1e-9 * max(mat.f_c, 1.0):
                     break
                 jac = np.empty((len(free_idx), len(free_idx)))
                 for a, ia in enumerate(free_idx):
                     dd = d.copy()
                     dd[ia] += 1e-6 * scale
-                    jac[:, a] = (trial(dd)[1][free_idx] - res) / (1e-6 * scale)
+                    jac[:, a] = (trial(dd)[1][free_idx] - goal[n] - res) / (1e-6 * scale)
                 if abs(np.linalg.det(jac)) < 1e-12 * abs(np.linalg.det(
                         stiff[np.ix_(free_idx, free_idx)])):
                     jac = stiff[np.ix_(free_idx, free_idx)]

@@ -149,4 +149,122 @@ def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
                                                               cracked)
         _, angle, _ = principal_axis(x0[precrack], y0[precrack])
         out["precrack_angle_deg"] = angle
+        out.update(precrack_following(x0, y0, damage, plastic, precrack, spacing, centre_y,
+                                      cracked, crushed))
+    out.update(revised_cracks(x0, y0, damage, plastic, spacing, centre_y, cracked, crushed))
     return out
+
+
+# --- check 12 as revised (spec section 10, 2026-12) -----------------------------------------
+# "Main crack": a connected cracked cluster reaching from the contact zone at least 0.5 D
+# towards the far rim. Decisions [D]: cracked = cracked and not crushed (as above); the contact
+# zone is the crushed zone plus the two lowest grid rows; a cluster starts at the contact zone
+# if one of its particles lies within 1.5 Delta of it; its reach is its own vertical extent (from
+# where it leaves the contact zone towards the far rim: a crack sitting on top of a tall crushed
+# zone does not reach far because the zone is tall). A cluster that splits into branches above the
+# contact counts one main crack per separate cracked run along the centre row (a fan joined at
+# the contact zone is several cracks, as in centre_line_crossings).
+
+def _near(points_a, points_b, radius) -> np.ndarray:
+    """Mask over points_a: within ``radius`` of any of points_b."""
+    if len(points_b) == 0:
+        return np.zeros(len(points_a), bool)
+    d, _ = cKDTree(points_b).query(points_a)
+    return d <= radius * (1 + 1e-9)
+
+
+def _centre_row(y0, centre_y, spacing):
+    row = np.abs(y0 - centre_y) <= np.abs(y0 - centre_y).min() + 0.01 * spacing
+    return row & (y0 <= centre_y + 0.01 * spacing)
+
+
+def _runs(xs: np.ndarray, spacing: float) -> list[float]:
+    """Mean x of the runs of consecutive grid positions in the sorted ``xs``."""
+    if xs.size == 0:
+        return []
+    xs = np.sort(xs)
+    breaks = np.flatnonzero(np.diff(xs) > 1.5 * spacing) + 1
+    return [float(r.mean()) for r in np.split(xs, breaks)]
+
+
+def revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked=0.9,
+                   crushed=0.0035) -> dict:
+    """Per-run quantities of the revised check 12 (main cracks from the contact zone)."""
+    diameter = float(np.ptp(y0)) + spacing
+    member = (crack >= cracked) & (plastic < crushed)
+    crushed_mask = plastic >= crushed
+    bottom = y0 <= y0.min() + 1.01 * spacing
+    zone = bottom.copy()
+    for c in clusters(x0, y0, crushed_mask, spacing):
+        if bottom[c].any():
+            zone[c] = True
+    zone_pts = np.column_stack([x0[zone], y0[zone]])
+    row = _centre_row(y0, centre_y, spacing)
+    mains, others = [], []
+    for c in clusters(x0, y0, member, spacing):
+        pts = np.column_stack([x0[c], y0[c]])
+        extent, angle, _ = principal_axis(x0[c], y0[c])
+        reach = float(np.ptp(y0[c])) + spacing
+        starts = bool(_near(pts, zone_pts, 1.5 * spacing).any())
+        info = {"idx": c, "length": extent + spacing, "angle": angle, "reach": reach,
+                "crossings": _runs(x0[c][row[c]], spacing)}
+        (mains if starts and reach >= 0.5 * diameter else others).append(info)
+    mains.sort(key=lambda d: -d["length"])
+    crossings = [x for m in mains for x in (m["crossings"] or [float("nan")])]
+    n_main = len(crossings)
+    out = {"n_main_cracks_revised": n_main,
+           "main_crossings_x_mm": ",".join(f"{1e3 * x:.0f}" for x in crossings),
+           "n_secondary_cracks": sum(o["length"] > 2 * spacing for o in others)}
+    if mains:
+        main = mains[0]
+        central = min(main["crossings"], key=abs) if main["crossings"] else float("nan")
+        rest = [o["length"] for o in others] + [m["length"] for m in mains[1:]]
+        near = _near(np.column_stack([x0, y0]),
+                     np.column_stack([x0[main["idx"]], y0[main["idx"]]]), 3 * spacing)
+        out.update({"main_crack_length_revised": main["length"],
+                    "main_crack_theta_deg": main["angle"],
+                    "main_crack_x_mid": central,
+                    "second_crack_length": max(rest) if rest else 0.0,
+                    "cracked_fraction_near_main": float(np.mean(crack[near] >= cracked))})
+    else:
+        out.update({"main_crack_length_revised": 0.0, "main_crack_theta_deg": float("nan"),
+                    "main_crack_x_mid": float("nan"),
+                    "second_crack_length": max((o["length"] for o in others), default=0.0),
+                    "cracked_fraction_near_main": float("nan")})
+    return out
+
+
+def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, cracked=0.9,
+                       crushed=0.0035) -> dict:
+    """Does the crack follow a zero-mass line? The line is the principal axis of the pre-crack
+    particles between their extreme projections. Coverage: fraction of the line's length
+    (sampled every Delta/2) with a cracked (not pre-crack) particle within Delta of the line and
+    Delta/2 along it. Tips: how far the cracked clusters that touch the line extend beyond each
+    end along it. Elsewhere: main cracks (revised definition) crossing the centre row more than
+    3 Delta from the line."""
+    px, py = x0[precrack], y0[precrack]
+    cx, cy = px.mean(), py.mean()
+    _, angle, _ = principal_axis(px, py)
+    u = np.array([math.sin(math.radians(angle)), math.cos(math.radians(angle))])
+    nvec = np.array([-u[1], u[0]])
+    rel = np.column_stack([x0 - cx, y0 - cy])
+    along, across = rel @ u, rel @ nvec
+    s_lo, s_hi = float(along[precrack].min()), float(along[precrack].max())
+    hit = (crack >= cracked) & (plastic < crushed) & ~precrack
+    close = hit & (np.abs(across) <= spacing * (1 + 1e-9))
+    samples = np.arange(s_lo, s_hi + 1e-12, 0.5 * spacing)
+    covered = [bool(np.any(close & (np.abs(along - s) <= 0.5 * spacing * (1 + 1e-9))))
+               for s in samples]
+    beyond_lo = beyond_hi = 0.0
+    for c in clusters(x0, y0, hit, spacing):
+        if close[c].any():
+            beyond_hi = max(beyond_hi, float(along[c].max()) - s_hi)
+            beyond_lo = max(beyond_lo, s_lo - float(along[c].min()))
+    rc = revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked, crushed)
+    line_x = cx + (centre_y - cy) * (u[0] / u[1]) if abs(u[1]) > 1e-9 else cx
+    xs = [float(v) * 1e-3 for v in rc["main_crossings_x_mm"].split(",") if v]
+    elsewhere = sum(abs(x - line_x) > 3 * spacing for x in xs)
+    return {"precrack_coverage": float(np.mean(covered)) if covered else float("nan"),
+            "precrack_tip_extension_low": max(beyond_lo, 0.0),
+            "precrack_tip_extension_high": max(beyond_hi, 0.0),
+            "main_cracks_elsewhere": int(elsewhere)}

@@ -12,7 +12,11 @@ r"""Specimen: regular grid geometry, random particle masses, pre-crack layouts (
   :math:`\rho_i(0) = \rho_0` and :math:`h_i(0) = \kappa\,h_{factor}\Delta` for every particle, so
   the geometry stays the homogeneous grid and only the "virtual volume" :math:`m_i/\rho_0` varies.
 - Pre-cracks: a layout is data in the scene (``precracks``: name → segments in units of R from
-  the disc centre); particles whose centre lies within Δ/2 of a segment get m = 0, the others keep
+  the disc centre); the particles of a line one particle column wide get m = 0 (spec check 12:
+  "one particle column of zero mass"; revised 2026-12 from "within Δ/2 of the segment", which
+  on the cell-centred grid took the two columns at x = ±Δ/2 for PF#1): for a segment steeper
+  than 45° one particle per grid row, the one with −Δ/2 ≤ x − x_line(y) < Δ/2, over the rows
+  the segment spans (one per column, in y, for flatter segments). The others keep
   the homogeneous mass; the total mass is not renormalised [C maps]. A pre-crack is applied on top
   of the chosen mass distribution (the paper's cases use homogeneous masses).
 """
@@ -73,17 +77,22 @@ def draw_weights(distribution: str, n: int, rng: np.random.Generator, normal_sd:
     raise SceneError(f"particles.masses.distribution: {distribution!r} is not allowed")
 
 
-def segment_distance(px, py, ax, ay, bx, by) -> np.ndarray:
-    ux, uy = bx - ax, by - ay
-    t = np.clip(((px - ax) * ux + (py - ay) * uy) / (ux * ux + uy * uy), 0.0, 1.0)
-    return np.hypot(px - ax - t * ux, py - ay - t * uy)
-
-
 def precrack_mask(x_rel, y_rel, segments, radius: float, spacing: float) -> np.ndarray:
+    """Zero-mass line one particle column wide per segment (module docstring)."""
     mask = np.zeros(x_rel.size, bool)
+    tol = 1e-9 * spacing
     for (x0, y0), (x1, y1) in segments:
-        d = segment_distance(x_rel, y_rel, x0 * radius, y0 * radius, x1 * radius, y1 * radius)
-        mask |= d <= 0.5 * spacing * (1 + 1e-9)
+        ax, ay, bx, by = x0 * radius, y0 * radius, x1 * radius, y1 * radius
+        # across: the grid coordinate the line is one particle wide in; along: the other
+        if abs(by - ay) >= abs(bx - ax):
+            along, across, a0, a1, c0, c1 = y_rel, x_rel, ay, by, ax, bx
+        else:
+            along, across, a0, a1, c0, c1 = x_rel, y_rel, ax, bx, ay, by
+        lo, hi = min(a0, a1), max(a0, a1)
+        span = (along >= lo - tol) & (along <= hi + tol)
+        line = c0 + (along - a0) * (c1 - c0) / (a1 - a0)
+        offset = across - line
+        mask |= span & (offset >= -0.5 * spacing - tol) & (offset < 0.5 * spacing - tol)
     return mask
 
 

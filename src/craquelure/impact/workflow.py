@@ -52,3 +52,21 @@ def variant_overrides(wildcards) -> str:
     return (f"--set particles.masses.distribution={wildcards.masses} "
             f"--set particles.precrack={wildcards.precrack} "
             f"--set numerics.kappa={wildcards.kappa}")
+
+
+def regime_runs(section: dict) -> list[str]:
+    """Runs of the regime map (config ``impact.regime``): f_t x contact_a x speed."""
+    reg = section["regime"]
+    return [f"results/impact/{section['scene']}/regime/ft{f_t / 1e6:g}_a{a}_v{v:g}.nc"
+            for f_t in reg["f_t"] for a in reg["contact_a"] for v in reg["velocities"]]
+
+
+def regime_overrides(section: dict):
+    """`--set` arguments of one regime run from its wildcards (f_t in MPa, a, speed)."""
+    def overrides(wildcards) -> str:
+        return (f"--set material.f_t={wildcards.ft}e+6 "
+                f"--set numerics.contact_a={wildcards.a} "
+                f"--set particles.impact_velocity={wildcards.v} "
+                f"--set outputs.t_end={section['regime']['t_end']!r} "
+                f"--set particles.masses.distribution=homogeneous --set particles.precrack=none")
+    return overrides
