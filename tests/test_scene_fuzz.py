@@ -332,7 +332,7 @@ def test_mutations_cover_every_model_and_kind():
     ("particles.n=1.6e3", "particles.n"),
     ("particles.n=true", "particles.n"),
     ("effects=[]", "effects"),
-    ("numerics.dt=8.0", "numerics.dt"),
+    ("numerics.dt=8.5", "numerics.dt"),
     ("outputs.times=[2, 9]", "outputs.times"),
 ])
 def test_drying_bad_values_are_named(override, key):

@@ -142,9 +142,9 @@ def _drying_rules(data: dict) -> list[str]:
         out.append(f"outputs.times: {late[0]!r} is after outputs.t_end = {t_end!r}; snapshot "
                    f"times must lie in [0, t_end]")
     dt = float(_get(data, "numerics.dt"))
-    if dt >= t_end:
-        out.append(f"numerics.dt: {dt!r} is not allowed; the step must be shorter than "
-                   f"outputs.t_end = {t_end!r}")
+    if dt > t_end:
+        out.append(f"numerics.dt: {dt!r} is not allowed; the step must not be longer than "
+                   f"outputs.t_end = {t_end!r} (the run would take no step)")
     else:
         problem = _steps_problem("numerics.dt", t_end, drying_run_step(data))
         if problem:
@@ -221,9 +221,9 @@ def _softdyn_rules(data: dict) -> list[str]:
     out = []
     t_end = float(_get(data, "outputs.t_end"))
     dt = _get(data, "numerics.dt")
-    if dt is not None and dt >= t_end:
-        out.append(f"numerics.dt: {dt!r} is not allowed; the step must be shorter than "
-                   f"outputs.t_end = {t_end!r}")
+    if dt is not None and dt > t_end:
+        out.append(f"numerics.dt: {dt!r} is not allowed; the step must not be longer than "
+                   f"outputs.t_end = {t_end!r} (the run would take no step)")
     elif dt is not None and _get(data, "numerics.integrator") == "heun":
         problem = _steps_problem("numerics.dt", t_end, dt)
         if problem:
