@@ -86,7 +86,7 @@ def error_versus_wall_time(scene: Scene, seed: int, time_steps: Sequence[float],
     ref_dt = float(reference_dt) if reference_dt else float(dts[-1]) / 2.0
     init = build_initial_state(scene, seed)
     # Compile (or load from the disk cache) before anything is timed.
-    # Two steps: a scene's step must be shorter than its run.
+    # Two reference steps: a short but real run.
     warm_end = 2.0 * ref_dt
     warm_up = scene.with_overrides([f"numerics.dt={ref_dt!r}", f"outputs.t_end={warm_end!r}",
                                    f"outputs.times=[{warm_end!r}]"])
