@@ -132,6 +132,7 @@ IMPACT = ModelMetadata(
         "damage": ("final damage D", "1"),
         "softening": ("final softening s = (kappa - kappa0)/(kappa_f - kappa0)", "1"),
         "plastic_strain": ("final equivalent plastic strain", "1"),
+        "plastic_compaction": ("final plastic volumetric compaction on the cap", "1"),
         "h": ("final smoothing length", "m"),
         "rho": ("final density", "kg m-3"),
         "series_contact_force_penalty": ("base contact force per unit thickness (penalty "
