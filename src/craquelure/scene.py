@@ -27,7 +27,6 @@ from craquelure.errors import SceneError
 from craquelure.registry import known_effects
 
 MODELS = ("drying", "impact", "lattice", "softdyn")
-_MISSING = object()
 
 
 class _SceneLoader(yaml.SafeLoader):
@@ -85,7 +84,7 @@ def scenes_dir() -> Path:
 
 
 @dataclass(frozen=True)
-class Scene:
+class Scene(scene_rules.SceneAccess):
     """A validated scene: ``data`` is the resolved mapping (defaults and overrides applied)."""
 
     name: str
@@ -94,27 +93,6 @@ class Scene:
     overrides: tuple[str, ...] = ()
     path: Path | None = None
     text: str = field(default="", compare=False)
-
-    @property
-    def model(self) -> str:
-        return self.data["model"]
-
-    @property
-    def effects(self) -> tuple[str, ...]:
-        return tuple(self.data["effects"])
-
-    def has(self, effect: str) -> bool:
-        return effect in self.data["effects"]
-
-    def get(self, dotted: str, default: Any = _MISSING) -> Any:
-        node: Any = self.data
-        for key in dotted.split("."):
-            if not isinstance(node, dict) or key not in node:
-                if default is _MISSING:
-                    raise KeyError(dotted)
-                return default
-            node = node[key]
-        return node
 
     def with_overrides(self, overrides: list[str] | tuple[str, ...]) -> Scene:
         """A new validated scene with more ``key.path=value`` overrides applied."""

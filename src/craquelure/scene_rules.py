@@ -60,14 +60,11 @@ def _get(data: dict, dotted: str, default: Any = None) -> Any:
     return node
 
 
-class SceneView:
-    """The ``get``/``has`` of :class:`~craquelure.scene.Scene` over validated data, so that the
-    models' own formulas (stable steps, beam constants) serve the rules before a Scene exists."""
+class SceneAccess:
+    """Read access to a scene's resolved mapping ``self.data``: shared by
+    :class:`~craquelure.scene.Scene` and :class:`SceneView`."""
 
     _MISSING = object()
-
-    def __init__(self, data: dict) -> None:
-        self.data = data
 
     def get(self, dotted: str, default: Any = _MISSING) -> Any:
         value = _get(self.data, dotted, self._MISSING)
@@ -87,6 +84,14 @@ class SceneView:
     @property
     def effects(self) -> tuple[str, ...]:
         return tuple(self.data["effects"])
+
+
+class SceneView(SceneAccess):
+    """The ``get``/``has`` of :class:`~craquelure.scene.Scene` over validated data, so that the
+    models' own formulas (stable steps, beam constants) serve the rules before a Scene exists."""
+
+    def __init__(self, data: dict) -> None:
+        self.data = data
 
     name = "scene"
 

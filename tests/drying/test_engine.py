@@ -215,6 +215,37 @@ def test_long_run_stability_of_a_random_velocity_field(make_scene, integrator):
     assert eng.kinetic_energy() < ke0
 
 
+def _noisy_paste(make_scene, numerics):
+    """Check 9's paste: per-particle white-noise velocities of amplitude 1e-3, sigma_e = 0,
+    50 time units; the engine and its initial kinetic energy."""
+    from craquelure.drying.initial_state import build_initial_state
+    from craquelure.drying.run import engine_from_initial
+
+    scene = make_scene(effects=["elasticity", "viscosity", "substrate", "xsph", "continuity"],
+                       particles={"placement": "rsa"}, numerics=numerics,
+                       outputs={"t_end": 50.0, "times": [50.0]})
+    eng = engine_from_initial(scene, build_initial_state(scene, seed=5))
+    rng = np.random.default_rng(1)
+    eng.state[VX:VY + 1] = rng.uniform(-1e-3, 1e-3, size=(2, eng.n))
+    eng.rebuild()
+    return eng, eng.kinetic_energy()
+
+
+def _early_and_late_speed(eng, check_each_step):
+    """Step to t = 50; max|v| over the first and the last 10 time units."""
+    early = late = 0.0
+    while eng.t < 50.0 - 1e-9:
+        eng.step()
+        if check_each_step:
+            eng.check_health()
+        vmax = float(np.hypot(eng.state[VX], eng.state[VY]).max())
+        if eng.t <= 10.0:
+            early = max(early, vmax)
+        elif eng.t > 40.0:
+            late = max(late, vmax)
+    return early, late
+
+
 @pytest.mark.parametrize("integrator", ["rk4", "abm4"])
 def test_long_run_stability(make_scene, integrator):
     """Check 9 with per-particle random velocities (white noise at the particle scale) of
@@ -229,25 +260,8 @@ def test_long_run_stability(make_scene, integrator):
     (XSPH shortens the displacement that the spring sees), so its phases can add up above the
     initial maximum. The oscillation is bounded and does not grow, which is what this checks.
     """
-    from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
-
-    scene = make_scene(effects=["elasticity", "viscosity", "substrate", "xsph", "continuity"],
-                       particles={"placement": "rsa"}, numerics={"integrator": integrator},
-                       outputs={"t_end": 50.0, "times": [50.0]})
-    eng = engine_from_initial(scene, build_initial_state(scene, seed=5))
-    rng = np.random.default_rng(1)
-    eng.state[VX:VY + 1] = rng.uniform(-1e-3, 1e-3, size=(2, eng.n))
-    eng.rebuild()
-    ke0 = eng.kinetic_energy()
-    early = late = 0.0
-    while eng.t < 50.0 - 1e-9:
-        eng.step()
-        vmax = float(np.hypot(eng.state[VX], eng.state[VY]).max())
-        if eng.t <= 10.0:
-            early = max(early, vmax)
-        elif eng.t > 40.0:
-            late = max(late, vmax)
+    eng, ke0 = _noisy_paste(make_scene, {"integrator": integrator})
+    early, late = _early_and_late_speed(eng, check_each_step=False)
     eng.check_health()
     assert late <= 1.01 * early
     assert eng.kinetic_energy() < ke0
@@ -452,33 +466,12 @@ def test_rkc2_stable_far_beyond_the_abm4_limit(make_scene, integrator):
     dt = 0.2, 26x ABM4's viscous limit 0.0076: rkc2 (8 stages) stays finite, the kinetic
     energy ends below its initial value and max|v| over the last 10 time units stays within
     1 % of its maximum over the first 10. ABM4 at the same step blows up (the test can fail)."""
-    from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
-
-    scene = make_scene(effects=["elasticity", "viscosity", "substrate", "xsph", "continuity"],
-                       particles={"placement": "rsa"},
-                       numerics={"integrator": integrator, "dt": 0.2, "adapt_dt": False},
-                       outputs={"t_end": 50.0, "times": [50.0]})
-    eng = engine_from_initial(scene, build_initial_state(scene, seed=5))
-    rng = np.random.default_rng(1)
-    eng.state[VX:VY + 1] = rng.uniform(-1e-3, 1e-3, size=(2, eng.n))
-    eng.rebuild()
-    ke0 = eng.kinetic_energy()
-    early = late = 0.0
+    eng, ke0 = _noisy_paste(make_scene, {"integrator": integrator, "dt": 0.2, "adapt_dt": False})
     if integrator == "abm4":
         with pytest.raises(SimulationDiverged):
-            while eng.t < 50.0 - 1e-9:
-                eng.step()
-                eng.check_health()
+            _early_and_late_speed(eng, check_each_step=True)
         return
-    while eng.t < 50.0 - 1e-9:
-        eng.step()
-        eng.check_health()
-        vmax = float(np.hypot(eng.state[VX], eng.state[VY]).max())
-        if eng.t <= 10.0:
-            early = max(early, vmax)
-        elif eng.t > 40.0:
-            late = max(late, vmax)
+    early, late = _early_and_late_speed(eng, check_each_step=True)
     assert eng.stepper.stages == 8
     assert late <= 1.01 * early
     assert eng.kinetic_energy() < ke0
