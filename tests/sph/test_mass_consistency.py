@@ -215,7 +215,7 @@ def test_guarded_stop_just_above_rtol_is_accepted_when_the_result_meets_the_boun
                           MassBounds())
 
 
-@pytest.mark.parametrize("gap", [0.7, 0.6])
+@pytest.mark.parametrize("gap", [0.7, 0.65, 0.6])
 def test_clamped_cg_keeps_every_mass_positive_on_disordered_points(gap):
     """Spec section 12, doubt 3: below a minimum gap of 0.8 Delta truncated CG has to stop
     early (the guard) and misses the residual; the clamped solve reaches it with every mass
@@ -233,6 +233,25 @@ def test_clamped_cg_keeps_every_mass_positive_on_disordered_points(gap):
     assert report.density_error_max <= MassBounds().max_density_error
     assert report.total_mass_error <= MassBounds().total_mass_tolerance
     assert report.masses_at_floor > 0
+
+
+def test_clamped_cg_keeps_masses_positive_at_half_the_spacing():
+    """The smallest gap of the initial-disorder study (benchmarks/drying_initial_disorder.py):
+    at 0.5 Delta every mass stays at or above the floor 0.1 m_bar (truncated CG there stops by
+    its guard far from the residual), but the result misses spec check 3's density bound, so a
+    scene with this gap is refused by `craquelure init` and only the study uses it."""
+    length, n, h = 2.0, 1600, 0.2
+    x, y = random_sequential_addition(n, length, 0.5 * length / np.sqrt(n),
+                                      np.random.default_rng(1))
+    m_bar = length**2 / n
+    _, truncated = consistent_masses(x, y, length, h, 1.0, check=False)
+    mass, report = consistent_masses(x, y, length, h, 1.0, check=False, method="clamped_cg")
+    assert np.all(mass >= 0.1 * m_bar * (1 - 1e-12)) and report.masses_at_floor > 0
+    assert truncated.stopped_by == "min_mass" and report.stopped_by == "rtol"
+    assert report.cg_residual < 0.5 * truncated.cg_residual
+    assert report.total_mass_error <= MassBounds().total_mass_tolerance
+    with pytest.raises(MassSolveError, match="mass-consistency solve misses"):
+        consistent_masses(x, y, length, h, 1.0, method="clamped_cg")
 
 
 def test_clamped_cg_equals_truncated_cg_when_no_mass_reaches_the_floor():
