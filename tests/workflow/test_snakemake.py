@@ -70,7 +70,7 @@ def fresh(tmp_path_factory) -> Path:
     return workflow_copy(tmp_path_factory.mktemp("dag"))
 
 
-@pytest.mark.parametrize("config", ["config", "paper", "ci"])
+@pytest.mark.parametrize("config", ["config", "paper", "ci", "medium", "faithful"])
 def test_dry_run_builds_the_dag(fresh, config):
     proc = snakemake(fresh, "-n", "--configfile", f"config/{config}.yaml")
     assert proc.returncode == 0, proc.stdout + proc.stderr
@@ -82,7 +82,29 @@ def test_dry_run_builds_the_dag(fresh, config):
     assert counts["mass_consistency"] == n_seeds
     if config == "paper":
         assert n_seeds == 100
+    # The drying-speed study runs where its section has seeds (medium): one run per Pi and seed.
+    study = {**profile("config")["drying"]["speed"], **profile(config)["drying"]["speed"]}
+    assert counts.get("drying_speed_run", 0) == len(study["pis"]) * study["n_seeds"]
+    assert counts.get("drying_speed_figure", 0) == (1 if study["n_seeds"] else 0)
     assert counts["total"] == sum(v for k, v in counts.items() if k != "total")
+
+
+def test_faithful_profile_is_the_paper_regime_at_l5():
+    """config/faithful.yaml: Table I material and drying speed, t = 0..300 with the paper's
+    window, L = 5 (N = 1e4), the rkc2 integrator; only L differs from drying/table1."""
+    from craquelure.scene import load_scene
+
+    faithful = profile("faithful")
+    assert faithful["profile"] == "faithful" and faithful["drying"]["window"] == "paper"
+    scene = load_scene(ROOT / "config/scenes/drying" / f"{faithful['drying']['scene']}.yaml")
+    table1 = load_scene(ROOT / "config/scenes/drying/table1.yaml")
+    assert scene.get("numerics.integrator") == "rkc2" and scene.get("outputs.t_end") == 300.0
+    assert scene.get("domain.box_length") == 5.0 and scene.get("particles.n") == 10000
+    for key in ("material.rho0", "material.lame_lambda", "material.lame_mu", "material.eta",
+                "material.thickness", "material.yield_stress", "material.drying_rate",
+                "material.initial_stress_amplitude", "numerics.h",
+                "particles.rsa_min_separation", "outputs.times"):
+        assert scene.get(key) == table1.get(key), key
 
 
 def test_plain_snakemake_loads_the_default_profile(fresh):

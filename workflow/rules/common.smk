@@ -8,6 +8,14 @@ from snakemake.utils import validate
 from craquelure.scene import load_scene
 
 validate(config, schema="../schemas/config.schema.yaml")
+_speed = config["drying"]["speed"]
+if isinstance(_speed["t_end_over_t_star"], list) and len(_speed["t_end_over_t_star"]) != len(
+    _speed["pis"]
+):
+    raise ValueError(
+        f"config drying.speed.t_end_over_t_star: one number or one value per entry of "
+        f"drying.speed.pis ({len(_speed['pis'])}), got {_speed['t_end_over_t_star']}"
+    )
 
 # The CLI of the interpreter running Snakemake (the project's .venv), whatever PATH says.
 CRAQUELURE = f"{sys.executable} -m craquelure"
@@ -96,19 +104,33 @@ def speed_label(pi):
     return f"{pi:g}".replace(".", "p")
 
 
+def speed_end_over_t_star(study, pi):
+    """End of the speed run at Pi in units of t*: one number for every speed, or one per
+    entry of `pis` (slow drying is expensive per t*, fast drying breaks late in t*)."""
+    ends = study["t_end_over_t_star"]
+    if not isinstance(ends, list):
+        return float(ends)
+    by_pi = {speed_label(p): float(e) for p, e in zip(study["pis"], ends, strict=True)}
+    return by_pi[speed_label(pi)]
+
+
 def speed_run_settings(wildcards):
     """`--set` arguments of a drying-speed run: v_r = Pi sigma_Y/tau, tau = eta/(2 mu), the end
-    time and the snapshots at the configured fractions of t* = sigma_Y/v_r."""
+    time and the snapshots at the configured fractions of t* = sigma_Y/v_r (those up to the
+    run's end)."""
     study = config["drying"]["speed"]
     scene = load_scene(scene_file("drying", wildcards.scene))
     pi = float(wildcards.pi.replace("p", "."))
     tau = scene.get("material.eta") / (2.0 * scene.get("material.lame_mu"))
     sigma_y = scene.get("material.yield_stress")
     t_star = tau / pi
-    times = ", ".join(f"{f * t_star:.6g}" for f in study["times_over_t_star"])
+    end = speed_end_over_t_star(study, pi)
+    times = ", ".join(
+        f"{f * t_star:.6g}" for f in study["times_over_t_star"] if f <= end * (1 + 1e-9)
+    )
     items = [
         f"material.drying_rate={pi * sigma_y / tau:.6g}",
-        f"outputs.t_end={study['t_end_over_t_star'] * t_star:.6g}",
+        f"outputs.t_end={end * t_star:.6g}",
         f"outputs.times=[{times}]",
         *study.get("set", []),
     ]
