@@ -135,6 +135,8 @@ def main(argv: list[str] | None = None) -> None:
         for gap in args.gaps:
             scene = base.with_overrides([f"particles.rsa_min_separation={gap!r}"])
             out = args.out_dir / f"{_label(gap)}_seed{seed}.nc"
+            if args.analyse_only and not out.exists():
+                continue
             init, info = initial_state(scene, args.out_dir, gap, seed)
             if not args.analyse_only:
                 spent = simulate(scene, init, out)
