@@ -596,11 +596,8 @@ def _fits(times: np.ndarray, total: np.ndarray, count: np.ndarray, window: np.nd
     departure = np.max(np.abs(np.polyval(quad, t) - (a + b * t)))
     rise = b * (t[-1] - t[0])
     # Bootstrap over seeds: weights = how often each seed is drawn.
-    rng = np.random.default_rng(BOOTSTRAP_SEED)
-    n_s = total.shape[0]
-    draws = rng.integers(0, n_s, size=(n_boot, n_s))
-    weights = np.zeros((n_boot, n_s))
-    np.add.at(weights, (np.repeat(np.arange(n_boot), n_s), draws.ravel()), 1.0)
+    weights = checks.bootstrap_weights(total.shape[0], n_boot,
+                                       np.random.default_rng(BOOTSTRAP_SEED))
     with np.errstate(invalid="ignore", divide="ignore"):
         boot_mean = (weights @ total[:, window]) / (weights @ count[:, window])
     ok = np.all(np.isfinite(boot_mean) & (boot_mean > 0), axis=1)
