@@ -21,15 +21,13 @@ def add_arguments(parser) -> None:
 def main(args) -> int:
     from pathlib import Path
 
-    from craquelure.drying.analysis import campaign_from_files
+    from craquelure.drying.analysis import WINDOW_MODES, campaign_from_files
 
     missing = [p for p in args.fragments if not Path(p).is_file()]
     if missing:
         raise CraquelureError(f"fragment datasets not found: {', '.join(missing)}")
     if args.bins < 2:
         raise CraquelureError(f"--bins {args.bins} is not allowed; must be >= 2")
-    from craquelure.drying.analysis import WINDOW_MODES
-
     if args.window not in WINDOW_MODES:
         raise CraquelureError(f"--window {args.window} is not allowed; allowed values: "
                               f"{', '.join(WINDOW_MODES)}")
