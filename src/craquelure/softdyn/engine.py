@@ -2,8 +2,7 @@
 right-hand side, with the diagnostics the runs and tests need.
 
 Units are the scene's (radius R, viscosity eta, Young modulus E); the force unit F and the Stokes
-time tau = eta R^2 / F are chosen by the scenario (:mod:`craquelure.softdyn.t1`,
-:mod:`craquelure.softdyn.pair`).
+time tau = eta R^2 / F are chosen by the scenario (:mod:`craquelure.softdyn.scenarios`).
 
 Velocity solve: ``linear_solver: dense`` runs the whole right-hand side in one numba function
 (N d <= 128 with ``auto``); ``sparse`` computes the per-pair blocks in numba and solves the
