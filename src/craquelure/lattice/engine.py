@@ -130,9 +130,9 @@ def chunks(n: int, bi: np.ndarray, bj: np.ndarray, nchunk: int
 
 
 def pair_keys(i: np.ndarray, j: np.ndarray, n: int) -> np.ndarray:
-    """One integer per ordered pair (i, j) of n particles: i n + j (membership tests of pair
-    lists by np.isin instead of Python sets of tuples, which cost ~1 us per pair per contact
-    rebuild)."""
+    """One integer per ordered pair (i, j) of n particles: i n + j (re-freezing tests its
+    candidate pairs against the bond list with np.isin on these, not with Python sets of
+    tuples)."""
     return np.asarray(i, np.int64) * n + np.asarray(j, np.int64)
 
 
