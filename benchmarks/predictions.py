@@ -34,7 +34,7 @@ thread on an idle machine they equal the wall figures, on a busy one they are th
 check of the model.
 
     python benchmarks/predictions.py --calibrate          # ~3 min on an idle 2-core machine
-    python benchmarks/predictions.py                      # every scene, ~15 min idle
+    python benchmarks/predictions.py                      # every scene, ~10 min idle
     python benchmarks/predictions.py --fraction 1 --scenes lattice/glen impact/default
 """
 
@@ -53,6 +53,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from craquelure.errors import SceneError
 from craquelure.models import model_api
 from craquelure.scene import load_scene
 from craquelure.threads import set_threads
@@ -260,6 +261,22 @@ def run_factor(ref: str, threads: int, compute_seconds: float, max_stretch: floa
     return min(max_stretch, compute_seconds / compute) if compute > 0 else max_stretch
 
 
+def warm_up(ref: str, threads: int) -> None:
+    """An untimed short run that compiles the scene's kernels: t_end x 1e-3 (a scene may refuse
+    a run shorter than its step: then x 1e-2, x 1e-1); softdyn: t_end = 0.01."""
+    if load_scene(ref).model not in STEPPED:
+        cuts = [["outputs.t_end=0.01"]]
+    else:
+        cuts = [scaled_overrides(ref, f) for f in (1e-3, 1e-2, 1e-1)]
+    for overrides in cuts:
+        try:
+            load_scene(ref, overrides)
+            run_once(ref, overrides, threads)
+            return
+        except (SceneError, RuntimeError):
+            continue  # a warm-up only compiles; some studies refuse a cut run
+
+
 def measure(scenes: list[str], threads: int, fraction: float | None = None,
             compute_seconds: float = 20.0, max_stretch: float = 20.0) -> None:
     rule = (f"t_end x {fraction:g} (time-stepped models)" if fraction is not None else
@@ -276,12 +293,7 @@ def measure(scenes: list[str], threads: int, fraction: float | None = None,
         overrides = scaled_overrides(ref, factor)
         fixed, compute = predicted(ref, overrides, threads)
         total = fixed + compute
-        warm = (scaled_overrides(ref, 1e-3) if load_scene(ref).model in STEPPED
-                else ["outputs.t_end=0.01"])
-        try:
-            run_once(ref, warm, threads)
-        except RuntimeError:
-            pass  # a warm-up only compiles; some studies refuse a cut run
+        warm_up(ref, threads)
         try:
             measured, cpu = run_once(ref, overrides, threads, cpu=True)
         except RuntimeError as exc:
