@@ -33,18 +33,16 @@ is a smoke test (about 40 s after compilation).
 from __future__ import annotations
 
 import argparse
-import glob
 import math
 import os
 import statistics
-import threading
 import time
 
 import numba
 import numpy as np
 
 from craquelure.scene import load_scene
-from craquelure.threads import set_threads, single_threaded_libraries
+from craquelure.threads import set_threads, single_threaded_libraries, thread_cpu
 
 TARGET = 1.8
 
@@ -111,23 +109,6 @@ def repeat(step):
         for _ in range(k):
             step()
     return advance
-
-
-def thread_cpu() -> dict[str, int]:
-    """CPU nanoseconds of each thread of this process (Linux schedstat; empty elsewhere).
-    schedstat is brought up to date when a thread stops running, so it is exact for the
-    waiting workers; the calling thread's own figure (up to a scheduler tick stale) is its
-    thread CPU clock instead."""
-    out = {}
-    for path in glob.glob(f"/proc/{os.getpid()}/task/*/schedstat"):
-        try:
-            with open(path) as f:
-                out[path.split("/")[-2]] = int(f.read().split()[0])
-        except (OSError, ValueError, IndexError):
-            pass
-    if out:
-        out[str(threading.get_native_id())] = time.thread_time_ns()
-    return out
 
 
 def timed(advance, steps: int) -> tuple[float, float, float]:
