@@ -30,10 +30,11 @@ only the start-up. The "compute" column is the predicted compute share of the ro
 softdyn studies are not time-stepped and run as they are (all take seconds). ``--fraction f``
 instead scales every time-stepped scene's t_end by f (f = 1: the scenes as they are). The
 verdict is on the wall time; the run's CPU time and predicted / CPU are printed beside it: at one
-thread on an idle machine they equal the wall figures, on a busy one they are the load-free
-check of the model.
+thread on an idle machine they equal the wall figures; on a busy one the CPU time is the less
+load-sensitive check (not load-free: at load average 20 on 2 cores a process start took ~1.5x
+its idle CPU time).
 
-    python benchmarks/predictions.py --calibrate          # ~3 min on an idle 2-core machine
+    python benchmarks/predictions.py --calibrate          # ~5 min on an idle 2-core machine
     python benchmarks/predictions.py                      # every scene, ~10 min idle
     python benchmarks/predictions.py --fraction 1 --scenes lattice/glen impact/default
 """
