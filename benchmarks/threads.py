@@ -198,7 +198,8 @@ def main() -> None:
             verdict = f"below the {TARGET}x target with {cores:.2f} cores busy"
         print(f"{LABEL[name]:<11} {r['n']:>6} {r['neighbours']:>6.1f} {r['rate1']:>10.3g} "
               f"{r['rate2']:>10.3g} {r['ratio']:>6.2f} "
-              f"{r['spread'][0]:>5.2f}-{r['spread'][1]:<5.2f} {r['cpu_bound']:>9.2f} "
+              f"{r['spread'][0]:>5.2f}-{r['spread'][1]:<5.2f} "
+              f"{'-' if name in CANNOT else format(r['cpu_bound'], '.2f'):>9} "
               f"{r['cpu1'] * 1e3:>15.2f} "
               f"{r['cpu2'] * 1e3:>7.2f}  {r['unit']}; {verdict}", flush=True)
 
