@@ -60,12 +60,12 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
 
 
 def workload(scene: Scene) -> dict[str, float]:
-    """Steps, particles and bonds per particle (2 x bonds / N) of a run; serial below
+    """Steps, particles, bonds per particle (2 x bonds / N) and effects of a run; serial below
     the engine's parallel threshold (the serial kernel runs whatever the thread count)."""
     s, _ = build_system(scene, 0)
     steps = math.ceil(scene.get("outputs.t_end") / engine_params(scene, s)["dt"])
     return {"units": steps, "particles": s.n, "neighbours": 2.0 * s.bi.size / s.n,
-            "serial": s.bi.size < PARALLEL_MIN_BONDS}
+            "effects": tuple(scene.effects), "serial": s.bi.size < PARALLEL_MIN_BONDS}
 
 
 def frame_marks(scene: Scene, dt: float) -> np.ndarray:
