@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from craquelure.drying.fragments import analyse_run
+from craquelure.drying.analysis import analyse_run
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.drying.run import run
 from craquelure.errors import CraquelureError
