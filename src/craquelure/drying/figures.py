@@ -27,6 +27,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
@@ -383,6 +384,9 @@ def fig_speed(study: xr.Dataset, profile: str):
     for ax in (ax_o, ax_f, ax_n):
         ax.set_xscale("log")
         ax.set_xlim(min(pi.min(), a["paper_pi"]) / 1.5, max(pi.max(), a["paper_pi"]) * 1.5)
+        # Ticks at the study's speeds only: log-axis minor labels overlap over one decade.
+        ax.set_xticks(pi, [f"{v:.3g}" for v in pi])
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.axvline(a["paper_pi"], color="k", ls="--", lw=0.8, label="paper's Pi = 0.022")
         ax.set_xlabel("Pi = tau / t*  (tau = eta/(2 mu), t* = sigma_Y/v_r)")
         ax.legend(fontsize=6)
