@@ -207,3 +207,34 @@ def brute_force_pairs(x, y, radius, box: Box) -> set[tuple[int, int]]:
     close = (dx * dx + dy * dy < radius * radius)
     np.fill_diagonal(close, False)
     return {(int(i), int(j)) for i, j in zip(*np.nonzero(close), strict=True)}
+
+
+def neighbour_list_points(points: np.ndarray, radius: float,
+                          box_lengths: tuple[float, ...] | None = None
+                          ) -> tuple[np.ndarray, np.ndarray]:
+    """All pairs with ``|r_I - r_J| < radius`` for points of any dimension (rows of
+    ``points``), as the CSR arrays of :func:`neighbour_list` (both rows of every pair, each row
+    sorted by J, so the order is reproducible). A k-d tree (scipy, single-threaded); with
+    ``box_lengths`` the box [0, L_1) x ... is periodic (minimum image). The 3D impact engine
+    uses it; the 2D cell list above stays the engines' plane search."""
+    from scipy.spatial import cKDTree
+
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    n = points.shape[0]
+    if radius <= 0:
+        raise ValueError(f"search radius must be > 0, got {radius}")
+    if box_lengths is not None:
+        if min(box_lengths) < 2 * radius:
+            raise ValueError(f"periodic box {box_lengths} is smaller than twice the search "
+                             f"radius {radius}: the minimum image is ambiguous")
+        points = np.mod(points, np.asarray(box_lengths, float))
+        # np.mod can round a tiny negative coordinate up to L itself, outside [0, L)
+        points[points >= np.asarray(box_lengths, float)] = 0.0
+    tree = cKDTree(points, boxsize=box_lengths)
+    pairs = tree.query_pairs(radius * (1 - 1e-15), output_type="ndarray")
+    i = np.concatenate([pairs[:, 0], pairs[:, 1]]).astype(np.int64)
+    j = np.concatenate([pairs[:, 1], pairs[:, 0]]).astype(np.int64)
+    order = np.lexsort((j, i))
+    offsets = np.zeros(n + 1, np.int64)
+    np.cumsum(np.bincount(i, minlength=n), out=offsets[1:])
+    return offsets, np.ascontiguousarray(j[order])
