@@ -91,7 +91,8 @@ def settings(scene: Scene) -> Settings:
         contact_radius=g("numerics.contact_radius"), contact_a=contact_scale(scene),
         kinematic_ratio=g("numerics.kinematic_ratio"),
         energy_runaway_factor=g("numerics.energy_runaway_factor"),
-        neighbour_skin=g("numerics.neighbour_skin"), plane_stress=g("domain.plane") == "stress")
+        neighbour_skin=g("numerics.neighbour_skin"), plane_stress=g("domain.plane") == "stress",
+        dim=g("domain.dim"))
 
 
 def initial_state(scene: Scene, specimen: Specimen) -> State:
@@ -99,7 +100,8 @@ def initial_state(scene: Scene, specimen: Specimen) -> State:
         return State.grid(specimen.x, specimen.y, specimen.vx, 0.0, specimen.mass,
                           scene.get("material.rho0"), initial_smoothing_length(scene))
     return State.grid(specimen.x, specimen.y, 0.0, -scene.get("particles.impact_velocity"),
-                      specimen.mass, scene.get("material.rho0"), initial_smoothing_length(scene))
+                      specimen.mass, scene.get("material.rho0"), initial_smoothing_length(scene),
+                      z=specimen.z)
 
 
 def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
@@ -123,13 +125,15 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     return {
         "particles": sp.n,
         "E [Pa], nu": (mat.young, mat.poisson),
-        "2D": f"plane {scene.get('domain.plane')}",
+        "dimension": (f"2D plane {scene.get('domain.plane')}" if st.dim == 2 else
+                      f"3D, {scene.get('particles.thickness_cells')} layers"),
         "c_p, c_s [m/s]": (st.wave_speed, math.sqrt(mat.shear / st.rho0)),
         "h(0) [m]": h0,
         "artificial stress eps_AS": st.as_epsilon if scene.has("artificial_stress") else None,
         "penalty scale a, k [N/m]": _penalty(scene, st),
-        "kinematic below m / m_bar": (4.0 * bulk_stiffness(st.contact_a, mat.bulk, st.spacing)
-                                      * dt**2 / (st.rho0 * st.spacing**2)
+        "kinematic below m / m_bar": (4.0 * bulk_stiffness(st.contact_a, mat.bulk, st.spacing,
+                                                           st.dim)
+                                      * dt**2 / (st.rho0 * st.spacing**st.dim)
                                       if scene.has("contact_bulk") else None),
         "Drucker-Prager alpha, k [Pa]": mat.dp if scene.has("plasticity") else None,
         "cap model alpha, lambda [Pa], beta [1/Pa], theta, e, X0 [Pa]": (
@@ -152,10 +156,11 @@ def workload(scene: Scene) -> dict[str, float]:
     h0 = initial_smoothing_length(scene)
     av = (st.av_alpha * st.wave_speed * 1.2) if scene.has("artificial_viscosity") else 0.0
     dt = min(st.dt_max, st.cfl * h0 / (st.wave_speed + _speed(scene) + av))
-    radius = (2.0 + st.neighbour_skin) * h0
+    radius = (2.0 + st.neighbour_skin) * h0 / st.spacing
+    listed = 4.0 / 3.0 * math.pi * radius**3 if st.dim == 3 else math.pi * radius**2
     return {"units": math.ceil(scene.get("outputs.t_end") / dt),
             "particles": build_specimen(scene, 0).n,
-            "neighbours": math.pi * radius**2 / st.spacing**2 - 1.0}
+            "neighbours": listed - 1.0}
 
 
 def _speed(scene: Scene) -> float:
@@ -166,7 +171,7 @@ def _speed(scene: Scene) -> float:
 
 def _penalty(scene: Scene, st: Settings):
     if scene.has("contact_bulk"):
-        return st.contact_a, bulk_stiffness(st.contact_a, st.material.bulk, st.spacing)
+        return st.contact_a, bulk_stiffness(st.contact_a, st.material.bulk, st.spacing, st.dim)
     if scene.has("contact_mass"):
         return st.contact_a, "a m_i / dt^2"
     return None
@@ -344,6 +349,9 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         "h": ("particle", st.h),
         "rho": ("particle", st.rho),
     }
+    if sp.dim == 3:
+        data.update({"z0": ("particle", sp.z), "z": ("particle", st.z),
+                     "vz": ("particle", st.vz)})
     for key, arr in series.items():
         if key != "time":
             data[f"series_{key}"] = ("time", arr)
@@ -352,13 +360,16 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
                                np.stack([f[key] for _, f in snapshots]))
     ds = xr.Dataset(data, coords={"time": series["time"],
                                   "snapshot_time": [t for t, _ in snapshots]})
-    ds["series_contact_force"].attrs.update(units="N/m", long_name="base contact force per "
-                                            "metre (interval average of the impulse)")
+    ds.attrs["dim"] = sp.dim
+    ds["series_contact_force"].attrs.update(
+        units="N/m" if sp.dim == 2 else "N",
+        long_name=("base contact force per metre" if sp.dim == 2 else "base contact force")
+        + " (interval average of the impulse)")
     g = scene.get
     crack = crack_indicator(scene, st.dmg, st.kap)
     metrics = run_metrics(sp.x, sp.y, crack, st.epsp, sp.precrack, sp.spacing, sp.radius,
                           g("material.cracked_threshold"), g("material.crushed_strain"),
-                          sp.centre_y)
+                          sp.centre_y, z0=sp.z)
     metrics["cracked_fraction_damage"] = float(np.mean(st.dmg >= g("material.cracked_threshold")))
     metrics["cracked_measure"] = g("material.cracked_measure")
     metrics.update(contact_metrics(series["time"], series["contact_force"], series["vcm_y"]))
