@@ -388,10 +388,11 @@ def force_pass(x, y, z, vx, vy, vz, m, rho, h, nom, rst, offsets, index, prm, ax
         mumax[i] = mu_max
 
 
-@njit(cache=True)
+@njit(parallel=True, cache=True)
 def artificial_stress_pass(nom, rho, prm, rst):
-    """R_i of every particle: (xx, yy, xy) in 2D, (xx, yy, xy, zz, xz, yz) in 3D."""
-    for i in range(rho.size):
+    """R_i of every particle: (xx, yy, xy) in 2D, (xx, yy, xy, zz, xz, yz) in 3D (per particle,
+    so threads do not change it)."""
+    for i in prange(rho.size):
         if ARTIFICIAL_STRESS:
             r = artificial_stress_tensor(stress_of(nom, i), rho[i], prm[P_AS_EPS])
             for c in range(rst.shape[1]):

@@ -44,7 +44,12 @@ value used is recorded in each run's attributes (``metric_as_epsilon``).
 import numpy as np
 from numba import njit
 
-from craquelure.impact.effects.damage import from_principal, in_plane_principal, principal
+from craquelure.impact.effects.damage import (
+    from_principal,
+    in_plane_principal,
+    principal,
+    principal_bound,
+)
 from craquelure.registry import Effect
 
 EFFECT = Effect(
@@ -82,6 +87,8 @@ def artificial_stress_tensor(s, rho, eps):
         cc, ss, cs = 0.5 * (1.0 + c2), 0.5 * (1.0 - c2), 0.5 * s2t
         rzz = inv * szz if szz > 0.0 else 0.0
         return cc * r1 + ss * r2, ss * r1 + cc * r2, cs * (r1 - r2), rzz, 0.0, 0.0
+    if principal_bound(s) <= 0.0:  # no tensile principal stress
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     lam, vec = principal(s)
     for a in range(3):
         lam[a] = inv * lam[a] if lam[a] > 0.0 else 0.0

@@ -125,6 +125,14 @@ def principal(s):
 
 
 @njit(inline="always", cache=True)
+def principal_bound(s):
+    """Gershgorin's upper bound of the principal values of s = (xx, yy, xy, zz, xz, yz): the
+    3D paths skip the Jacobi rotations when it shows no tensile part (compressed particles)."""
+    return max(s[0] + abs(s[2]) + abs(s[4]),
+               max(s[1] + abs(s[2]) + abs(s[5]), s[3] + abs(s[4]) + abs(s[5])))
+
+
+@njit(inline="always", cache=True)
 def from_principal(r, v):
     """Σ_a r_a v_a v_aᵀ as (xx, yy, xy, zz, xz, yz) (v_a the columns of v)."""
     xx = yy = xy = zz = xz = yz = 0.0
@@ -157,6 +165,13 @@ def damage_update(s, kap, young, kappa0, kappa_f):
         c = 0.5 * (n1 + n2)
         a = 0.5 * (n1 - n2)
         return kap, d, (c + a * c2, c - a * c2, a * s2t, nzz, 0.0, 0.0)
+    bound = principal_bound(s)
+    if bound <= 0.0 or bound <= kap * young:
+        # no principal value above the history: kappa unchanged; no tensile part to soften
+        # when all are <= 0, nothing to soften when D = 0
+        d = damage_from_kappa(kap, kappa0, kappa_f)
+        if bound <= 0.0 or d == 0.0:
+            return kap, d, s
     lam, vec = principal(s)
     kap = max(kap, max(lam.max(), 0.0) / young)
     d = damage_from_kappa(kap, kappa0, kappa_f)
