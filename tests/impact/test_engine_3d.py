@@ -160,24 +160,43 @@ FULL = ("[elasticity, plasticity, damage, artificial_viscosity, artificial_stres
         "variable_smoothing_length, contact_bulk]")
 
 
+def zero_mass_run(contact):
+    """Poisson-like masses and the PF#1 zero-mass plane on a 16-cell, 3-layer disc, kappa = 1,
+    15 m/s, 0.15 ms (as in 2D), with the given contact effect; the first seed with a zero mass
+    in the bottom row. Returns (specimen, engine, zero masses of the bottom row)."""
+    scene = small_disc("particles.masses.distribution=poisson", "particles.precrack=pf1",
+                       "outputs.t_end=1.5e-4", "outputs.snapshot_times=[]",
+                       f"effects={FULL.replace('contact_bulk', contact)}", cells=16, layers=3)
+
+    def bottom_zeros(sp):
+        return (sp.mass == 0) & (sp.y <= sp.y.min() + 0.5 * sp.spacing)
+
+    seed = next(s for s in range(100) if bottom_zeros(build_specimen(scene, s)).any())
+    sp, eng, _, _ = simulate(scene, seed, progress=False)
+    return sp, eng, bottom_zeros(sp)
+
+
 def test_zero_masses_safe_with_bulk_contact_3d():
     """Check 10 in 3D: Poisson-like masses and the PF#1 zero-mass plane, kappa = 1, 15 m/s,
     bulk contact with the kinematic fallback: no NaN, no particle below r_c - 0.5 Delta; the
-    zero masses that reach the base are held at the kinematic floor r_c - 0.05 Delta (with the
-    mass-based formula they pass through it)."""
-    scene = small_disc("particles.masses.distribution=poisson", "particles.precrack=pf1",
-                       "outputs.t_end=1.0e-4", "outputs.snapshot_times=[]", f"effects={FULL}",
-                       cells=16, layers=3)
-    seed = next(s for s in range(100) if (lambda sp: ((sp.mass == 0) & (
-        sp.y <= sp.y.min() + 0.5 * sp.spacing)).any())(build_specimen(scene, s)))
-    sp, eng, _, _ = simulate(scene, seed, progress=False)
+    zero masses that reach the base are held at the kinematic floor r_c - 0.05 Delta."""
+    sp, eng, reached = zero_mass_run("contact_bulk")
     st = eng.state
     assert (sp.mass[sp.precrack] == 0).all() and sp.precrack.sum() == 3 * 8
     assert all(np.isfinite(a).all() for a in (st.x, st.y, st.z, st.sig))
     assert st.y.min() >= 0.0  # r_c - 0.5 Delta = 0
-    reached = (sp.mass == 0) & (sp.y <= sp.y.min() + 0.5 * sp.spacing)
     assert reached.any()
     assert (st.y[reached] >= 0.45 * sp.spacing * (1 - 1e-12)).all()
+
+
+def test_zero_masses_fall_through_with_mass_contact_3d():
+    """Check 10's documented failure mode in 3D: with k = a m / dt^2 the zero masses that reach
+    the base get no force and end below it; the massive particles do not."""
+    sp, eng, reached = zero_mass_run("contact_mass")
+    st = eng.state
+    assert reached.any()
+    assert (st.y[reached] < 0.0).all()
+    assert st.y[sp.mass > 0].min() > 0.0
 
 
 def test_homogeneous_disc_damage_is_mirror_symmetric_3d():
