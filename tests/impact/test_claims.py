@@ -61,8 +61,11 @@ def test_3d_and_2d_verdicts_side_by_side(tmp_path):
              for f in SUMMARY["findings"][:2]]
     path = tmp_path / "summary.json"
     path.write_text(json.dumps(dict(SUMMARY, findings=three + SUMMARY["findings"],
-                                    dimensions=["3D", "2D"])))
-    rows = [(c.claim, c.verdict) for c in claims.claims([path])][:6]
+                                    dimensions=["3D", "2D"],
+                                    n_seeds_heterogeneous_by_dim={"3D": 8, "2D": 3})))
+    out = claims.claims([path])
+    rows = [(c.claim, c.verdict) for c in out][:6]
+    assert "8 heterogeneous specimens" in out[0].note and "3 heterogeneous" in out[1].note
     assert rows[0] == ("[3D] pf2: failure follows the zero-mass line", "reproduced")
     assert rows[1] == ("[2D] pf2: failure follows the zero-mass line", "reproduced")
     assert rows[2] == ("[3D] pf1: failure follows the zero-mass line", "reproduced")

@@ -118,7 +118,14 @@ def not_run_claim(finding: dict, dim: str, profile: str) -> Claim:
                  f"not run: profile {profile} has no {dim} runs of this case")
 
 
-def check12_claims(summary: dict, caveat: str) -> list[Claim]:
+def caveat_of(summary: dict, dim: str) -> str:
+    seeds = summary.get("n_seeds_heterogeneous_by_dim", {}).get(
+        dim, summary["n_seeds_heterogeneous"])
+    return (f"profile {summary['profile']}, {seeds} heterogeneous specimens per kappa, "
+            f"concrete model {', '.join(summary.get('material_model', ['drucker_prager']))}")
+
+
+def check12_claims(summary: dict) -> list[Claim]:
     """Check 12's findings with each finding's 3D and 2D rows side by side (3D first, the
     source's runs); a dimension the profile did not run gets a 'not run' row."""
     names: dict[str, dict] = {}
@@ -128,7 +135,7 @@ def check12_claims(summary: dict, caveat: str) -> list[Claim]:
     for by_dim in names.values():
         for dim in DIMENSIONS:
             if dim in by_dim:
-                out.append(finding_claim(by_dim[dim], caveat))
+                out.append(finding_claim(by_dim[dim], caveat_of(summary, dim)))
             else:
                 out.append(not_run_claim(next(iter(by_dim.values())), dim, summary["profile"]))
     return out
@@ -153,9 +160,6 @@ def claims(sources: list[Path]) -> list[Claim]:
         if path.name != "summary.json":
             raise ValueError(f"impact claims: unexpected source {path} (summary.json)")
         summary = json.loads(path.read_text())
-        caveat = (f"profile {summary['profile']}, {summary['n_seeds_heterogeneous']} "
-                  f"heterogeneous specimens per kappa, concrete model "
-                  f"{', '.join(summary.get('material_model', ['drucker_prager']))}")
-        out += check12_claims(summary, caveat)
+        out += check12_claims(summary)
         out.append(robustness_claim(summary))
     return out
