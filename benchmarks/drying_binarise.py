@@ -15,7 +15,7 @@ import time
 import numba
 import numpy as np
 
-from craquelure.drying.fragments import label_periodic
+from craquelure.drying.binarise import label_periodic
 from craquelure.sph.field import mesh_field
 
 H = 0.2

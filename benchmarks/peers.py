@@ -34,6 +34,8 @@ rebound speed): agreement within 5 % of the initial approach is the acceptance.
     python benchmarks/peers.py                     # 17 592 particles, ~5 min idle
     python benchmarks/peers.py --n 70320           # ~20 min idle
     python benchmarks/peers.py --physics --skip-speed   # Δ = 1 mm to 3.2e-4 s, ~8 min idle
+    python benchmarks/peers.py --n 4416 --steps 20 --rounds 1 --physics --physics-dx 2e-3 \
+        --t-end 2e-5                               # smoke test of every path, ~2 min idle
 
 The first call installs the peers (PySPH builds from source: ~10 min idle, 35 min at load 20)
 and PySPH compiles its kernels at its first run (~1 min).
@@ -58,8 +60,9 @@ from craquelure.codegen import generated_dir
 from craquelure.scene import load_scene
 from craquelure.threads import set_threads
 
-SPACING = {17592: 5e-4, 70320: 2.5e-4}
-STRIP = {17592: (733, 24), 70320: (1172, 60)}
+# particle counts: the two, and 4 416 (Δ = 1 mm, a strip of 368 x 12) for a smoke test
+SPACING = {4416: 1e-3, 17592: 5e-4, 70320: 2.5e-4}
+STRIP = {4416: (368, 12), 17592: (733, 24), 70320: (1172, 60)}
 PYSPH_DT = 1e-8
 TARGETS = {"PySPH": 3.0, "LAMMPS": 2.0}
 

@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import ast
+import importlib
+import inspect
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from craquelure import codegen
@@ -108,3 +112,68 @@ def test_pack_parameters_orders_by_name_and_rejects_unknown_names():
         codegen.pack_parameters(("a",), {"a": 1, "z": 2})
     with pytest.raises(KeyError, match="without a value"):
         codegen.pack_parameters(("a", "b"), {"a": 1})
+
+
+def _index_constants(module) -> dict[str, str]:
+    """{constant: parameter name} for every ``NAME = _index("name")`` in a template."""
+    found = {}
+    for node in ast.parse(inspect.getsource(module)).body:
+        if not isinstance(node, ast.Assign):
+            continue
+        targets = node.targets[0]
+        names = targets.elts if isinstance(targets, ast.Tuple) else [targets]
+        values = node.value.elts if isinstance(node.value, ast.Tuple) else [node.value]
+        for target, value in zip(names, values, strict=False):
+            if (isinstance(value, ast.Call) and isinstance(value.func, ast.Name)
+                    and value.func.id == "_index"):
+                found[target.id] = value.args[0].value
+    return found
+
+
+def _pack_lattice(values):
+    from craquelure.lattice.engine import default_params
+    return default_params(**values)
+
+
+def _pack_softdyn(values):
+    from craquelure.softdyn.engine import Flags, System
+    system = System(
+        x0=np.array([[0.0, 0.0], [2.0, 0.0]]), pairs=np.array([[0, 1]]), F0=np.zeros((2, 2)),
+        radius=values["R"], viscosity=values["eta"], young=values["E"], k_n=values["k_n"],
+        k_t=values["k_t"], c_n=values["c_n"], c_t=values["c_t"],
+        tau_baumgarte=1.0 / values["inv_tau_B"], ramp_time=values["t_r"], flags=Flags())
+    return system.p
+
+
+def _pack_drying(values):
+    from craquelure.drying.engine import parameters
+
+    class Scene:  # the scene paths the engine reads, each with its own value
+        paths = {"material.lame_lambda": "lame_lambda", "material.lame_mu": "lame_mu",
+                 "material.eta": "eta", "material.drying_rate": "drying_rate",
+                 "material.thickness": "thickness", "numerics.xsph_epsilon": "xsph_epsilon",
+                 "numerics.h": "support", "domain.box_length": "box_length",
+                 "material.drying_stress_cap": "drying_stress_cap"}
+
+        def get(self, path, default=None):
+            return values[self.paths[path]]
+
+    return parameters(Scene())
+
+
+@pytest.mark.parametrize(("template", "pack"), [
+    ("craquelure.lattice.kernel_template", _pack_lattice),
+    ("craquelure.softdyn._rhs_template", _pack_softdyn),
+    ("craquelure.sph.drying_rate", _pack_drying),
+], ids=["lattice", "softdyn", "drying"])
+def test_every_parameter_has_one_index_and_packing_puts_it_there(template, pack):
+    """Parameters declared once: the template's index constants and the engine's packing by
+    name agree for every parameter of the template's PARAMS tuple."""
+    template = importlib.import_module(template)
+    consts = _index_constants(template)
+    assert sorted(consts.values()) == sorted(template.PARAMS)  # each parameter exactly once
+    values = {name: 0.5 + i for i, name in enumerate(template.PARAMS)}
+    p = pack(values)
+    assert p.shape == (len(template.PARAMS),)
+    for const, name in consts.items():
+        assert p[getattr(template, const)] == values[name], (const, name)

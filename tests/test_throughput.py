@@ -2,11 +2,19 @@
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from craquelure.impact.api import listed_neighbours
 from craquelure.models import model_api
 from craquelure.scene import load_scene
-from craquelure.throughput import ENGINES, CostModel, cost_model, predicted_wall_time
+from craquelure.throughput import (
+    ENGINES,
+    CostModel,
+    cost_model,
+    predicted_parts,
+    predicted_wall_time,
+)
 
 SCENES = sorted(f"{p.parent.name}/{p.stem}"
                 for p in (Path(__file__).parents[1] / "config" / "scenes").glob("*/*.yaml"))
@@ -22,6 +30,12 @@ def test_cost_model_terms_and_thread_speedup():
     # Amdahl beyond 2 threads with the parallel fraction of S(2): f = 2(1 - 1/1.8)
     f = 2 * (1 - 1 / 1.8)
     assert m.speedup(4) == pytest.approx(1 / ((1 - f) + f / 4))
+    # an effect's extra per-particle cost counts only when the scene lists the effect
+    e = CostModel(unit="steps", overhead_s=2.0, per_unit_s=0.0, per_particle_s=1e-7,
+                  per_pair_s=0.0, speedup_2=1.0, per_particle_effect_s={"melting": 2e-8})
+    assert e.compute_seconds(100, 1000, 6, effects=("beams",)) == pytest.approx(100 * 1e-4)
+    assert e.compute_seconds(100, 1000, 6, effects=("beams", "melting")) == \
+        pytest.approx(100 * 1000 * 1.2e-7)
 
 
 def test_every_engine_has_a_measured_model():
@@ -44,3 +58,24 @@ def test_serial_workload_gains_nothing_from_threads():
     work = {"units": 1000, "particles": 5000, "neighbours": 6.0}
     assert predicted_wall_time("lattice", {**work, "serial": True}, 2) == \
         predicted_wall_time("lattice", work, 1)
+
+
+def test_prediction_is_fixed_cost_plus_compute_part():
+    work = {"units": 1000, "particles": 5000, "neighbours": 20.0}
+    fixed, compute = predicted_parts("impact", work, 2)
+    assert fixed == cost_model("impact").overhead_s and compute > 0
+    assert fixed + compute == pytest.approx(predicted_wall_time("impact", work, 2))
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_impact_neighbour_count_matches_the_grid_in_2d_and_3d(dim):
+    """The impact workload's neighbours (ball area or volume in cells, minus the particle)
+    against the grid points within the radius (square grid in 2D, cubic in 3D), averaged over
+    the radii a scene uses (2 h + skin = 2.5-3.6 cells; at one radius the count jumps by
+    shells): within 5 %, so a 3D scene is not charged 2D's neighbour count (3-4x fewer)."""
+    axis = np.arange(-4, 5)
+    r2 = np.sum(np.stack(np.meshgrid(*[axis] * dim), -1).reshape(-1, dim) ** 2, axis=1)
+    radii = np.linspace(2.5, 3.6, 45)
+    exact = np.mean([np.count_nonzero(r2 < r * r) - 1 for r in radii])
+    model = np.mean([listed_neighbours(r, dim) for r in radii])
+    assert model == pytest.approx(exact, rel=0.05)

@@ -56,10 +56,6 @@ def parse_manifest(text: str) -> dict[str, str]:
     return digests
 
 
-def archive_name(profile: str, date: str) -> str:
-    return f"craquelure-{profile}-{date}"
-
-
 def build_archive(out: str | Path, files: Iterable[str | Path],
                   texts: Mapping[str, str] | None = None) -> Path:
     """Pack ``files`` (paths relative to the working directory, kept as archive paths) and

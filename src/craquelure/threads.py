@@ -13,7 +13,10 @@ for the rest of the process, and numba's OpenMP workers sleep while they wait
 
 from __future__ import annotations
 
+import glob
 import os
+import threading
+import time
 
 # Waiting OpenMP threads sleep instead of spinning: on a shared 2-core machine a spinning
 # thread steals the core its partner needs (the lattice's parallel kernel ran 8x slower, 27 ms
@@ -55,3 +58,22 @@ def set_threads(n: int | None) -> int:
     if n is not None:
         numba.set_num_threads(int(n))
     return numba.get_num_threads()
+
+
+def thread_cpu() -> dict[str, int]:
+    """CPU nanoseconds used so far by each thread of this process, by thread id (Linux
+    schedstat; empty elsewhere). For benchmarks: per-thread CPU time does not depend on what
+    else runs on the machine, so the busiest thread's share of a parallel section measures its
+    serial part and imbalance under any load. schedstat is brought up to date when a thread
+    stops running, so it is exact for waiting workers; the calling thread's own figure (up to a
+    scheduler tick stale) is its thread CPU clock instead."""
+    out = {}
+    for path in glob.glob(f"/proc/{os.getpid()}/task/*/schedstat"):
+        try:
+            with open(path) as f:
+                out[path.split("/")[-2]] = int(f.read().split()[0])
+        except (OSError, ValueError, IndexError):
+            pass
+    if out:
+        out[str(threading.get_native_id())] = time.thread_time_ns()
+    return out

@@ -4,11 +4,14 @@ A run of an engine is ``units`` repetitions of its unit of work (drying: rate ev
 impact and lattice: steps, softdyn: T1 integrations weighted by their relative cost) over
 ``particles`` particles with ``neighbours`` listed neighbours (or bonds, or pairs) each:
 
-    T(threads) = T_0 + units (c_unit + particles (c_particle + neighbours c_pair)) / S(threads)
+    T(threads) = T_0 + units (c_unit + particles (c_particle + sum_e c_e + neighbours c_pair))
+                 / S(threads)
 
 T_0 is the run's fixed cost (process start, imports, cached kernels, initial state, writing the
 dataset), c_unit the per-step cost (Python and array work independent of N), c_particle and
-c_pair the per-particle and per-neighbour costs, and S(threads) the measured speed-up of the
+c_pair the per-particle and per-neighbour costs, c_e the extra per-particle cost of effect e
+where the calibration probe lacks it (lattice: the probe is a beams-only block, and melting's
+random draw per beam adds ~25 %), and S(threads) the measured speed-up of the
 compute part (S(1) = 1; S(2) from 1- and 2-thread timings, Amdahl's law beyond). The numbers
 are in ``throughput.yaml`` beside this file, written by ``benchmarks/predictions.py
 --calibrate`` (engine timings at two sizes and one end-to-end run per model); the same script
@@ -17,7 +20,7 @@ prints predicted against measured wall times of every built-in scene.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 
@@ -35,6 +38,7 @@ class CostModel:
     per_particle_s: float
     per_pair_s: float
     speedup_2: float
+    per_particle_effect_s: dict = field(default_factory=dict)
 
     def speedup(self, threads: int) -> float:
         """Measured S(2); Amdahl's law with the same parallel fraction for other counts."""
@@ -45,14 +49,16 @@ class CostModel:
         return 1.0 / ((1.0 - fraction) + fraction / threads)
 
     def compute_seconds(self, units: float, particles: float, neighbours: float,
-                        threads: int = 1) -> float:
+                        threads: int = 1, effects: tuple[str, ...] = ()) -> float:
+        extra = sum(self.per_particle_effect_s.get(name, 0.0) for name in effects)
         per_unit = (self.per_unit_s
-                    + particles * (self.per_particle_s + neighbours * self.per_pair_s))
+                    + particles * (self.per_particle_s + extra + neighbours * self.per_pair_s))
         return units * per_unit / self.speedup(threads)
 
     def seconds(self, units: float, particles: float, neighbours: float,
-                threads: int = 1) -> float:
-        return self.overhead_s + self.compute_seconds(units, particles, neighbours, threads)
+                threads: int = 1, effects: tuple[str, ...] = ()) -> float:
+        return self.overhead_s + self.compute_seconds(units, particles, neighbours, threads,
+                                                      effects)
 
 
 @cache
@@ -62,16 +68,24 @@ def table() -> dict:
 
 def cost_model(engine: str) -> CostModel:
     entry = table()["engines"][engine]
-    return CostModel(**{k: entry[k] for k in CostModel.__dataclass_fields__})
+    return CostModel(**{k: entry[k] for k in CostModel.__dataclass_fields__ if k in entry})
+
+
+def predicted_parts(engine: str, workload: dict, threads: int = 1) -> tuple[float, float]:
+    """(fixed cost T_0, compute part) in seconds of ``craquelure run`` for a workload dict
+    (units, particles, neighbours; optional: ``effects``, the scene's effects, and ``serial:
+    True`` when the engine runs its serial kernels whatever the thread count)."""
+    if workload.get("serial"):
+        threads = 1
+    model = cost_model(engine)
+    return model.overhead_s, model.compute_seconds(workload["units"], workload["particles"],
+                                                   workload["neighbours"], threads,
+                                                   tuple(workload.get("effects", ())))
 
 
 def predicted_wall_time(engine: str, workload: dict, threads: int = 1) -> float:
-    """Seconds of ``craquelure run`` for a workload dict (units, particles, neighbours; with
-    ``serial: True`` when the engine runs its serial kernels whatever the thread count)."""
-    if workload.get("serial"):
-        threads = 1
-    return cost_model(engine).seconds(workload["units"], workload["particles"],
-                                      workload["neighbours"], threads)
+    """Seconds of ``craquelure run`` for a workload dict (see :func:`predicted_parts`)."""
+    return sum(predicted_parts(engine, workload, threads))
 
 
 def prediction_lines(engine: str, workload: dict) -> dict[str, object]:

@@ -1,10 +1,18 @@
-"""Binarisation of run snapshots (drying spec section 9; section 13, check 12)."""
+"""Binarisation of run snapshots and periodic fragment labelling (drying spec section 9;
+section 13, checks 12 and 13)."""
 
 import numpy as np
 import pytest
+from skimage.measure import label as sk_label
 
-from craquelure.drying.binarise import binarise, edge_depth, phi_field, snapshot_image
-from craquelure.drying.fragments import fragment_areas, label_periodic
+from craquelure.drying.binarise import (
+    binarise,
+    edge_depth,
+    fragment_areas,
+    label_periodic,
+    phi_field,
+    snapshot_image,
+)
 from craquelure.sph.field import mesh_field
 
 from .synthetic_run import lattice_run
@@ -128,3 +136,131 @@ def test_mesh_refinement_converges_areas():
 def test_binarise_threshold():
     phi = np.array([0.79, 0.8, 0.81])
     assert binarise(phi, 0.8).tolist() == [False, True, True]
+
+
+# --- fragments: periodic labelling (check 13) ----------------------------------------------
+
+M = 40  # synthetic image side (pixels)
+DX = 0.25  # pixel spacing, so the image side is 10
+L_IMAGE = M * DX
+
+
+def areas(image):
+    return np.sort(fragment_areas(image, DX))
+
+
+# --- check 13 -----------------------------------------------------------------------------
+
+def test_all_ones_is_one_fragment_of_area_l2():
+    a = areas(np.ones((M, M), bool))
+    assert a.tolist() == [pytest.approx(L_IMAGE * L_IMAGE)]
+
+
+def test_one_crack_row_leaves_one_fragment():
+    image = np.ones((M, M), bool)
+    image[7, :] = False
+    assert areas(image).tolist() == [pytest.approx((M - 1) * M * DX * DX)]
+
+
+def test_row_and_column_leave_one_fragment():
+    image = np.ones((M, M), bool)
+    image[7, :] = False
+    image[:, 30] = False
+    assert areas(image).tolist() == [pytest.approx((M - 1) ** 2 * DX * DX)]
+
+
+def test_two_rows_give_two_with_expected_areas():
+    image = np.ones((M, M), bool)
+    image[5, :] = False
+    image[20, :] = False  # strips of 14 rows (6..19) and 24 rows (21..39, 0..4)
+    assert areas(image) == pytest.approx(np.array([14, 24]) * M * DX * DX)
+
+
+def test_two_rows_two_columns_give_four():
+    image = np.ones((M, M), bool)
+    image[[5, 20], :] = False
+    image[:, [10, 35]] = False  # column strips of 24 (11..34) and 14 (36..39, 0..9)
+    expected = np.sort(np.outer([14, 24], [24, 14]).ravel()) * DX * DX
+    assert areas(image) == pytest.approx(expected)
+
+
+def test_blob_cut_by_both_edges_counts_once():
+    """A disc centred on the corner is four pieces for plain labelling, one on the torus."""
+    j, i = np.mgrid[0:M, 0:M]
+    dj = np.minimum(j, M - j)
+    di = np.minimum(i, M - i)
+    image = di**2 + dj**2 <= 8**2
+    assert sk_label(image, connectivity=1).max() == 4
+    labels, n = label_periodic(image)
+    assert n == 1
+    assert fragment_areas(image, DX)[0] == pytest.approx(image.sum() * DX * DX)
+    # The pixel count approximates the disc area pi R^2 within the boundary pixels.
+    assert image.sum() == pytest.approx(np.pi * 64, abs=2 * np.pi * 8)
+
+
+def test_blob_wrapping_across_one_edge():
+    j, i = np.mgrid[0:M, 0:M]
+    di = np.minimum(i, M - i)  # centre on the x = 0 | L edge
+    image = (di**2 + (j - 20) ** 2 <= 6**2) | ((i - 20) ** 2 + (j - 5) ** 2 <= 3**2)
+    assert sk_label(image, connectivity=1).max() == 3
+    labels, n = label_periodic(image)
+    assert n == 2
+    sizes = np.bincount(labels.ravel())[1:]
+    wrapped = (di**2 + (j - 20) ** 2 <= 6**2).sum()
+    assert sorted(sizes.tolist()) == sorted([wrapped, image.sum() - wrapped])
+
+
+def test_blocks_touching_at_a_corner_are_two():
+    image = np.zeros((M, M), bool)
+    image[10:15, 10:15] = True
+    image[15:20, 15:20] = True
+    assert label_periodic(image)[1] == 2
+    # ... also when they touch diagonally across the periodic corner.
+    image = np.zeros((M, M), bool)
+    image[0:3, 0:3] = True
+    image[M - 3:, M - 3:] = True
+    assert label_periodic(image)[1] == 2
+
+
+def test_empty_image_has_no_fragment():
+    assert label_periodic(np.zeros((M, M), bool))[1] == 0
+    assert fragment_areas(np.zeros((M, M), bool), DX).size == 0
+
+
+# --- periodic Voronoi-like tessellation ---------------------------------------------------
+
+def test_periodic_voronoi_tessellation():
+    """Cells of a periodic Voronoi tessellation separated by one-pixel cracks: one fragment per
+    cell, each with exactly its cell's paste pixels (cells cut by the edges count once)."""
+    size, n_cells = 160, 14
+    rng = np.random.default_rng(7)
+    seeds = []
+    while len(seeds) < n_cells:  # well separated seeds, so no cell is thinner than a crack
+        p = rng.uniform(0, size, 2)
+        d = [np.abs((p - q + size / 2) % size - size / 2) for q in seeds]
+        if all(np.hypot(*dd) > 30 for dd in d):
+            seeds.append(p)
+    seeds = np.array(seeds)
+    j, i = np.mgrid[0:size, 0:size]
+    dx = (i[..., None] + 0.5 - seeds[:, 0] + size / 2) % size - size / 2
+    dy = (j[..., None] + 0.5 - seeds[:, 1] + size / 2) % size - size / 2
+    owner = np.argmin(dx**2 + dy**2, axis=-1)
+    crack = (owner != np.roll(owner, -1, axis=1)) | (owner != np.roll(owner, -1, axis=0))
+    image = ~crack
+    labels, n = label_periodic(image)
+    assert n == n_cells
+    assert sk_label(image, connectivity=1).max() > n_cells  # some cells do wrap
+    for k in range(1, n + 1):
+        owners = np.unique(owner[labels == k])
+        assert owners.size == 1  # a fragment is one cell ...
+        assert (labels == k).sum() == np.sum(image & (owner == owners[0]))  # ... all of it
+
+
+def test_labels_numbered_in_raster_order_of_first_pixel():
+    rng = np.random.default_rng(2)
+    image = rng.random((120, 120)) > 0.45  # near the percolation threshold: many clusters
+    labels, n = label_periodic(image)
+    assert n > 10
+    values, first = np.unique(labels.ravel(), return_index=True)
+    assert values.tolist() == list(range(n + 1))
+    assert np.all(np.diff(first[1:]) > 0)

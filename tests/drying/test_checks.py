@@ -130,19 +130,6 @@ def test_narrow_sizes_leave_check15_without_power_at_any_sample():
     assert c15["shape_drift_large_sample_ks"] < c15["drift_large_sample_ks"]
 
 
-def test_weighted_ks_matches_scipy_and_repeats():
-    from scipy import stats
-
-    rng = np.random.default_rng(4)
-    a, b = rng.exponential(size=50), rng.exponential(1.3, size=70)
-    assert checks.weighted_ks(a, np.ones(50), b, np.ones(70)) == pytest.approx(
-        stats.ks_2samp(a, b).statistic)
-    # Weight 2 on every element = the sample repeated; ties are handled.
-    a2 = np.round(a, 1)
-    assert checks.weighted_ks(a2, np.full(50, 2.0), b, np.ones(70)) == pytest.approx(
-        stats.ks_2samp(np.repeat(a2, 2), b).statistic)
-
-
 def test_onset_verdicts_respect_what_the_sample_size_can_decide():
     times = np.arange(10.0, 101.0, 10.0)  # t* = 100
     early = np.tile((times >= 30.0) + 1, (5, 1))  # every sample broken at 0.3 t*

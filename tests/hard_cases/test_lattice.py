@@ -19,9 +19,9 @@ import scipy.linalg
 
 from craquelure.errors import SimulationDiverged
 from craquelure.lattice import beam
+from craquelure.lattice.api import run as lattice_run
 from craquelure.lattice.build import make_engine
 from craquelure.lattice.engine import stable_step_estimate
-from craquelure.lattice.run import run as lattice_run
 from craquelure.scene import load_scene
 
 # a 12 x 6 block, bottom row clamped, under gravity, no damping: a clean critical step

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from craquelure.io import open_dataset
-from craquelure.lattice.run import run as lattice_run
+from craquelure.lattice.api import run as lattice_run
 from craquelure.runner import checkpoint_path, fingerprint, read_checkpoint
 from craquelure.scene import load_scene
 

@@ -9,7 +9,14 @@ import pytest
 from craquelure import codegen
 from craquelure.lattice import fragments
 from craquelure.lattice.build import make_engine
-from craquelure.lattice.engine import KERNEL_TEMPLATE, Engine, System, kernel_flags
+from craquelure.lattice.engine import (
+    KERNEL_TEMPLATE,
+    Engine,
+    System,
+    kernel_flags,
+    lattice_system,
+)
+from craquelure.lattice.geometry import INTACT, REMOVED, triangular_block
 from craquelure.scene import load_scene
 
 
@@ -55,6 +62,28 @@ def test_friction_dissipates_sliding_energy():
     assert series[-1, 7] > 0  # dissipated by friction
     e = series[:, 10]
     assert np.abs(e - e[0]).max() < 2e-3 * max(series[:, 7].max(), abs(series[:, 6]).max())
+
+
+def test_contact_list_is_every_unbonded_pair_within_reach():
+    """The contact list (built in compiled code) holds exactly the pairs i < j closer than
+    d_max + skin that no intact bond joins (broken and removed bonds count as unbonded), in
+    ascending i; here against a brute-force search on a jittered block."""
+    rng = np.random.default_rng(3)
+    x, y, _ = triangular_block(9, 8)
+    s = lattice_system(x + 0.05 * rng.normal(size=x.size), y + 0.05 * rng.normal(size=x.size))
+    s.state[rng.choice(s.bi.size, 12, replace=False)] = 0
+    s.state[rng.choice(s.bi.size, 5, replace=False)] = REMOVED
+    eng = Engine(s, ("beams", "contact"), dict(dt=0.01, skin=0.3))
+    reach = 1.0 + 0.3
+    d = np.hypot(s.x[:, None] - s.x[None, :], s.y[:, None] - s.y[None, :])
+    near = {(i, j) for i, j in zip(*np.nonzero(d < reach), strict=True) if i < j}
+    intact = set(zip(s.bi[s.state == INTACT].tolist(), s.bj[s.state == INTACT].tolist(),
+                     strict=True))
+    listed = list(zip(eng.cpi.tolist(), eng.cpj.tolist(), strict=True))
+    assert len(listed) == len(set(listed))
+    assert set(listed) == near - intact
+    assert np.all(np.diff(eng.cpi) >= 0)
+    assert len(near - intact) > 17  # the broken and removed bonds and the second neighbours
 
 
 FLUID = ("gravity", "buoyancy", "drag", "bed")  # one compiled kernel for the three tests

@@ -8,7 +8,7 @@ FIXED the comma-separated t/t* of the fragment densities.
 import sys
 from collections import defaultdict
 
-from craquelure.drying.fragments import run_scene
+from craquelure.drying.analysis import run_scene
 from craquelure.drying.speed import speed_study
 from craquelure.io import open_dataset, write_dataset
 from craquelure.provenance import WallClock, provenance_attrs

@@ -7,7 +7,7 @@ Outside Snakemake: ``python workflow/scripts/drying_thickness.py OUT.nc H=FRAG.n
 import sys
 from collections import defaultdict
 
-from craquelure.drying.fragments import run_scene
+from craquelure.drying.analysis import run_scene
 from craquelure.drying.thickness import thickness_sweep
 from craquelure.io import open_dataset, write_dataset
 from craquelure.provenance import WallClock, provenance_attrs

@@ -7,7 +7,7 @@ import sys
 import numba
 
 from craquelure.lattice.analysis import glen_point_scene
-from craquelure.lattice.run import run
+from craquelure.lattice.api import run
 
 if "snakemake" in globals():
     smk = snakemake  # noqa: F821

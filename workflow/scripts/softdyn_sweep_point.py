@@ -1,13 +1,12 @@
-"""One grid point of the T1 sweep (Snakemake script)."""
+"""One grid point of the T1 sweep (Snakemake script), run through the runner as a batch of
+one point (the layout of a batch file)."""
 
-from craquelure.io import write_dataset
-from craquelure.provenance import WallClock, provenance_attrs
+import numba
+
 from craquelure.scene import load_scene
-from craquelure.softdyn.studies import run_sweep_point
+from craquelure.softdyn.api import run
 
 sm = snakemake  # noqa: F821
-clock = WallClock()
-scene = load_scene(sm.input.scene, sm.params.overrides)
-ds = run_sweep_point(scene, int(sm.wildcards.i), int(sm.wildcards.j))
-ds.attrs.update(provenance_attrs(scene, None, clock))
-write_dataset(ds, sm.output[0])
+numba.set_num_threads(sm.threads)
+run(load_scene(sm.input.scene, sm.params.overrides), sm.output[0], seed=None,
+    batch=[(int(sm.wildcards.i), int(sm.wildcards.j))])

@@ -1,6 +1,6 @@
 """``craquelure campaign FRAG1.nc FRAG2.nc ... --out CAMPAIGN.nc [--bins 30] [--window MODE]``:
 aggregate the per-seed fragment datasets of one drying scene over seeds (drying spec section
-10); MODE is the statistics window (:func:`craquelure.drying.statistics.campaign_window`)."""
+10); MODE is the statistics window (:func:`craquelure.drying.analysis.campaign_window`)."""
 
 from craquelure.errors import CraquelureError
 
@@ -21,15 +21,13 @@ def add_arguments(parser) -> None:
 def main(args) -> int:
     from pathlib import Path
 
-    from craquelure.drying.campaign import campaign_from_files
+    from craquelure.drying.analysis import WINDOW_MODES, campaign_from_files
 
     missing = [p for p in args.fragments if not Path(p).is_file()]
     if missing:
         raise CraquelureError(f"fragment datasets not found: {', '.join(missing)}")
     if args.bins < 2:
         raise CraquelureError(f"--bins {args.bins} is not allowed; must be >= 2")
-    from craquelure.drying.statistics import WINDOW_MODES
-
     if args.window not in WINDOW_MODES:
         raise CraquelureError(f"--window {args.window} is not allowed; allowed values: "
                               f"{', '.join(WINDOW_MODES)}")

@@ -26,7 +26,7 @@ def main(args) -> int:
         import numba
 
         numba.set_num_threads(args.threads)
-    from craquelure.drying.fragments import fragments_from_run_file
+    from craquelure.drying.analysis import fragments_from_run_file
 
     if not Path(args.run).is_file():
         raise CraquelureError(f"run dataset {args.run!r} not found")

@@ -263,20 +263,6 @@ def _ci(values: np.ndarray) -> list[float] | None:
 
 # --- check 15 -----------------------------------------------------------------------------
 
-def weighted_ks(a: np.ndarray, wa: np.ndarray, b: np.ndarray, wb: np.ndarray) -> float:
-    """Two-sample KS distance of weighted samples (ties handled: CDFs right-continuous)."""
-    ia, ib = np.argsort(a), np.argsort(b)
-    a, wa, b, wb = a[ia], wa[ia], b[ib], wb[ib]
-    ca = np.concatenate([[0.0], np.cumsum(wa)])
-    cb = np.concatenate([[0.0], np.cumsum(wb)])
-    if ca[-1] <= 0 or cb[-1] <= 0:
-        return float("nan")
-    x = np.concatenate([a, b])
-    fa = ca[np.searchsorted(a, x, side="right")] / ca[-1]
-    fb = cb[np.searchsorted(b, x, side="right")] / cb[-1]
-    return float(np.max(np.abs(fa - fb)))
-
-
 class CollapseSample:
     """Fragments of the window's snapshots: sizes, sample index, window-time index."""
 

@@ -41,6 +41,7 @@ from craquelure.errors import SimulationDiverged
 from craquelure.runner import Divergence, diverged, non_finite, runaway
 from craquelure.scene import Scene
 from craquelure.sph import drying_rate as template
+from craquelure.sph.effects.fracture import particles_to_remove
 from craquelure.sph.integrators import (
     REAL_AXIS_LIMIT,
     RKC_SPECTRAL_SAFETY,
@@ -406,7 +407,7 @@ class DryingEngine:
         self.dt_event = float(values["dt_event"])
 
     def remove_overstressed(self) -> int:
-        doomed = np.nonzero(self.alive & (self.mean_stress > self.yield_stress))[0]
+        doomed = particles_to_remove(self.mean_stress, self.alive, self.yield_stress)
         if doomed.size == 0:
             return 0
         self.alive[doomed] = False

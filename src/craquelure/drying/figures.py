@@ -14,7 +14,7 @@ r"""Figures of the drying-paste campaign (paper Figs. 2-6), from analysis datase
 
 Every figure carries a caption line with the profile, N, L, the number of seeds, the time unit
 (:math:`t^* = \sigma_Y/v_r`, and the profile's speed-up over the paper) and the fitted numbers
-from the summary (:func:`craquelure.drying.statistics.summarise`). Each is written as PNG and
+from the summary (:func:`craquelure.drying.analysis.summarise`). Each is written as PNG and
 PDF.
 """
 
@@ -30,7 +30,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-from craquelure.drying.statistics import (  # noqa: E402
+from craquelure.drying.analysis import (  # noqa: E402
     ccdf_bands,
     drying_number,
     paper_t_star,

@@ -28,8 +28,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure.drying import checks
-from craquelure.drying.campaign import build_campaign
-from craquelure.drying.statistics import drying_number
+from craquelure.drying.analysis import build_campaign, drying_number
 from craquelure.errors import CraquelureError
 
 ONSET_ITEMS = ("first_removal_earliest", "first_removal_median", "first_sample_broken",

@@ -147,16 +147,26 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
 
 
 def workload(scene: Scene) -> dict[str, float]:
-    """Steps (at the initial stable step), particles and listed neighbours (radius 2 h(0) plus
-    the skin, on the Δ grid) of a run, for the throughput model."""
+    """Steps (at the initial stable step), particles and listed neighbours of a run, for the
+    throughput model: the lattice sites of spacing Δ within the list radius (2 h(0) plus the
+    skin) but the particle itself, π r²/Δ² - 1 in 2D and (4/3) π r³/Δ³ - 1 for
+    ``domain.dim: 3``."""
     st = settings(scene)
     h0 = initial_smoothing_length(scene)
     av = (st.av_alpha * st.wave_speed * 1.2) if scene.has("artificial_viscosity") else 0.0
     dt = min(st.dt_max, st.cfl * h0 / (st.wave_speed + _speed(scene) + av))
-    radius = (2.0 + st.neighbour_skin) * h0
     return {"units": math.ceil(scene.get("outputs.t_end") / dt),
             "particles": build_specimen(scene, 0).n,
-            "neighbours": math.pi * radius**2 / st.spacing**2 - 1.0}
+            "neighbours": listed_neighbours((2.0 + st.neighbour_skin) * h0 / st.spacing,
+                                            int(scene.get("domain.dim", 2)))}
+
+
+def listed_neighbours(radius_cells: float, dim: int = 2) -> float:
+    """Neighbours of a particle on a grid of unit spacing within ``radius_cells``: the ball's
+    area (2D) or volume (3D) minus the particle itself."""
+    if dim == 3:
+        return 4.0 / 3.0 * math.pi * radius_cells**3 - 1.0
+    return math.pi * radius_cells**2 - 1.0
 
 
 def _speed(scene: Scene) -> float:

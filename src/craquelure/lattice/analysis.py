@@ -1,6 +1,6 @@
 """Analysis of lattice runs: from the run datasets to each study's ``summary.json`` (measured
-numbers and check verdicts), with its figure and table (:mod:`craquelure.lattice.figures`).
-The claims read only these summaries."""
+numbers and check verdicts) and table; the figures (:mod:`craquelure.lattice.figures`) draw
+these numbers, the claims read only the summaries."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from craquelure.io import open_dataset, write_text_atomic
-from craquelure.lattice import accuracy, figures, fragments, glen, settlement
+from craquelure.lattice import accuracy, fragments, glen, settlement
 from craquelure.lattice.geometry import ROW
 from craquelure.scene import load_scene, stored_scene
 
@@ -32,7 +32,14 @@ def glen_point_scene(scene_file: str, cfg: dict, kind: str, index: int):
     return load_scene(scene_file, items)
 
 
-def glen_summary(runs: dict[str, list[str]], out_png, out_json, out_tsv, title) -> dict:
+def _write_json(out, summary: dict) -> dict:
+    write_text_atomic(out, json.dumps(summary, indent=2, default=float) + "\n")
+    return summary
+
+
+def glen_summary(runs: dict[str, list[str]], out_json, out_tsv) -> tuple[dict, list, dict]:
+    """Check 8-9 numbers of the stress sweep; returns the summary, the table rows and the
+    power-law fits (kind -> (slope, prefactor)) for :func:`craquelure.lattice.figures.glen`."""
     rows = []
     for kind, paths in runs.items():
         for path in paths:
@@ -46,7 +53,6 @@ def glen_summary(runs: dict[str, list[str]], out_png, out_json, out_tsv, title) 
     for kind in runs:
         sel = [r for r in rows if r["kind"] == kind]
         fits[kind] = glen.fit_power_law([r["tau"] for r in sel], [r["mu"] for r in sel])
-    figures.glen(rows, fits["glen"], fits.get("frozen", (math.nan, math.nan)), out_png, title)
     summary = {
         "viscosity_slope": fits["glen"][0], "strain_rate_exponent": 1 - fits["glen"][0],
         "check8_glen_slope_pass": abs(fits["glen"][0] + 2) <= 0.2,
@@ -59,32 +65,41 @@ def glen_summary(runs: dict[str, list[str]], out_png, out_json, out_tsv, title) 
     lines = [f"{r['kind']}\t{r['tau']:.6g}\t{r['gamma_dot']:.6g}\t{r['mu']:.6g}\t"
              f"{r['gamma_dot_first']:.6g}\t{r['gamma_dot_second']:.6g}" for r in rows]
     write_text_atomic(out_tsv, header + "\n".join(lines) + "\n")
-    write_text_atomic(out_json, json.dumps(summary, indent=2, default=float) + "\n")
-    return summary
+    return _write_json(out_json, summary), rows, fits
 
 
-def gravity_summary(path, out_png, out_json, title) -> dict:
-    ds = open_dataset(path)
+def gravity_summary(ds, out_json) -> dict:
     scene = stored_scene(ds.attrs["scene"])
     ny = scene.get("domain.ny")
     want = settlement.predicted_settlement(float(ds.attrs["kn"]), float(ds.attrs["ks"]),
                                            float(ds.mass[0]), scene.get("material.g"), ny)
     got = settlement.measured_settlement(ds.y.values[0], ds.y.values[-1], ds.row.values,
                                          ds.x.values[0])
-    figures.gravity(ds, want, out_png, title)
-    summary = {"measured": got, "predicted": want, "relative_error": got / want - 1,
-               "check10_pass": abs(got / want - 1) <= 0.05,
-               "final_kinetic_over_elastic": float(ds.kinetic[-1] / ds.elastic[-1])}
-    write_text_atomic(out_json, json.dumps(summary, indent=2, default=float) + "\n")
-    return summary
+    return _write_json(out_json, {
+        "measured": got, "predicted": want, "relative_error": got / want - 1,
+        "check10_pass": abs(got / want - 1) <= 0.05,
+        "final_kinetic_over_elastic": float(ds.kinetic[-1] / ds.elastic[-1])})
 
 
-def calving_summary(path, out_png, out_json, title) -> dict:
-    ds = open_dataset(path)
-    summary = figures.calving(ds, out_png, title)
-    labels = figures.fragment_labels(ds)
+def fragment_labels(ds):
+    """Fragment label of every body particle at the last frame (intact beams only)."""
+    body = ds.body.values == 0
+    return fragments.label(ds.sizes["particle"], ds.bond_i.values, ds.bond_j.values,
+                           ds.bond_state.values == 1, include=body)
+
+
+def calving_summary(ds, out_json) -> dict:
+    """Check 11: the fragment-size distribution (maximum-likelihood exponent of
+    s^-tau exp(-s/s*) and the log-binned slope) and the energy budget."""
+    labels = fragment_labels(ds)
+    sz = fragments.sizes(labels)
+    slope, decades = fragments.fit_slope(*fragments.size_distribution(sz))
+    tau, cut = fragments.fit_cutoff_power_law(sz[1:])
+    summary = {"fragments": int(sz.size - 1), "slope": slope, "decades": decades,
+               "ml_exponent": tau, "ml_cutoff": cut, "broken": int(ds.broken.values[-1]),
+               "calved_particles": int(sz[1:].sum())}
     summary.update({
-        "labelled_particles": int(fragments.sizes(labels).sum()),
+        "labelled_particles": int(sz.sum()),
         "body_particles": int((ds.body.values == 0).sum()),
         # exponent in [1.2, 1.9] (the band used before for the binned slope) from the
         # maximum-likelihood fit of s^-tau exp(-s/s*) (the spec's form); the log-binned
@@ -96,8 +111,7 @@ def calving_summary(path, out_png, out_json, title) -> dict:
         "energy_budget_error": float(np.abs(ds.total - ds.total[0]).max()
                                      / max(float(ds.damping[-1]), 1e-300)),
     })
-    write_text_atomic(out_json, json.dumps(summary, indent=2, default=float) + "\n")
-    return summary
+    return _write_json(out_json, summary)
 
 
 def platelets_per_cycle(ds) -> list[dict]:
@@ -128,22 +142,14 @@ def platelets_per_cycle(ds) -> list[dict]:
     return out
 
 
-def fretting_summary(path, out_png, out_json, title) -> dict:
-    ds = open_dataset(path)
-    cycles = platelets_per_cycle(ds)
-    figures.fretting(ds, out_png, title, cycles)
-    summary = {"cycles": cycles, "broken": int((ds.bond_state.values == 0).sum())}
-    write_text_atomic(out_json, json.dumps(summary, indent=2, default=float) + "\n")
-    return summary
+def fretting_summary(ds, out_json) -> dict:
+    return _write_json(out_json, {"cycles": platelets_per_cycle(ds),
+                                  "broken": int((ds.bond_state.values == 0).sum())})
 
 
-def accuracy_summary(rows_list, dt_factors, out_png, out_tsv, out_json, title) -> dict:
-    """Column-mode accuracy study: error versus wall time for every (dt factor, N)."""
-    rows = []
-    for f in dt_factors:
-        for r in accuracy.study(rows_list, dt_factor=float(f)):
-            rows.append({"dt_factor": float(f), **r})
-    figures.accuracy(rows, out_png, title)
+def accuracy_summary(rows, dt_factors, out_tsv, out_json) -> dict:
+    """Column-mode accuracy study (rows of :func:`craquelure.lattice.accuracy.study` with their
+    ``dt_factor``): table, convergence order per time-step factor, deviation from the chain."""
     keys = ["dt_factor", "rows", "particles", "bonds", "steps", "dt", "period",
             "reference_period", "relative_error", "chain_prediction", "wall_s", "cpu_s"]
     lines = ["\t".join(keys)] + ["\t".join(f"{r[k]:.6g}" if isinstance(r[k], float)
@@ -157,8 +163,7 @@ def accuracy_summary(rows_list, dt_factors, out_png, out_tsv, out_json, title) -
                "max_deviation_from_chain_prediction": worst,
                "order_two_pass": all(abs(o + 2.0) <= 0.2 for o in orders.values()),
                "total_wall_s": sum(r["wall_s"] for r in rows)}
-    write_text_atomic(out_json, json.dumps(summary, indent=2, default=float) + "\n")
-    return summary
+    return _write_json(out_json, summary)
 
 
 def describe(ds_path) -> str:

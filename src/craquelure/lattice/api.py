@@ -1,22 +1,36 @@
-"""Model API of the beam lattice for the CLI: initial state, derived numbers, run."""
+"""Model API of the beam lattice for the CLI: initial state, derived numbers and the run,
+which writes the run dataset (energy series, frames, final bonds).
+
+Dataset layout: dimension ``sample`` (energy series every ``numerics.series_every`` steps:
+the columns of :data:`SERIES`), ``frame`` (snapshots x, y, theta at ``outputs.frames``
+equally spaced times, the first at t = 0), ``particle`` (mass, body, row, col) and ``bond``
+(end indices, final state 1 intact / 0 broken / 2 removed, break time, unbreakable).
+Attributes: derived constants (dt, k_n, k_s, E, nu, P-wave modulus, rho_2) and provenance.
+A diverged run raises :class:`~craquelure.errors.SimulationDiverged` and writes nothing.
+
+The loop, checkpoints and ``--resume`` are the runner's (:mod:`craquelure.runner`): every
+``numerics.checkpoint_every`` frames (or every few minutes of wall time) the full evolving state
+(:meth:`Engine.state`: configurations, bond list, rest states and damping history, contact
+list, accumulators, energy series) and the frames so far go to ``<out>.checkpoint.npz``;
+``--resume`` continues from it to a dataset bit-identical to the uninterrupted run.
+"""
 
 from __future__ import annotations
 
 import math
 from pathlib import Path
 
+import numpy as np
 import xarray as xr
 
+from craquelure import runner
 from craquelure.errors import CraquelureError
 from craquelure.lattice import beam
-from craquelure.lattice.build import beam_constants, build_system, engine_params
-from craquelure.lattice.engine import PARALLEL_MIN_BONDS
-from craquelure.lattice.run import run as _run
+from craquelure.lattice.build import beam_constants, build_system, engine_params, make_engine
+from craquelure.lattice.engine import PARALLEL_MIN_BONDS, Engine
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 from craquelure.throughput import prediction_lines
-
-__all__ = ["build_initial_state", "derived_numbers", "run"]
 
 
 def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
@@ -46,17 +60,125 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
 
 
 def workload(scene: Scene) -> dict[str, float]:
-    """Steps, particles and bonds per particle (2 x bonds / N) of a run; serial below
+    """Steps, particles, bonds per particle (2 x bonds / N) and effects of a run; serial below
     the engine's parallel threshold (the serial kernel runs whatever the thread count)."""
     s, _ = build_system(scene, 0)
     steps = math.ceil(scene.get("outputs.t_end") / engine_params(scene, s)["dt"])
     return {"units": steps, "particles": s.n, "neighbours": 2.0 * s.bi.size / s.n,
-            "serial": s.bi.size < PARALLEL_MIN_BONDS}
+            "effects": tuple(scene.effects), "serial": s.bi.size < PARALLEL_MIN_BONDS}
+
+
+def frame_marks(scene: Scene, dt: float) -> np.ndarray:
+    n_steps = int(np.ceil(scene.get("outputs.t_end") / dt))
+    return np.unique(np.linspace(0, n_steps, scene.get("outputs.frames") + 1).round().astype(int))
+
+
+class LatticeRun(runner.EngineRun):
+    """The lattice engine as the runner sees it (:mod:`craquelure.runner`): one advance runs
+    to the next frame mark and records the frame. The contact list is rebuilt every
+    ``numerics.checkpoint_every`` frames (decision [D]: a fixed schedule of the trajectory;
+    the checkpoints themselves hold the contact list and change nothing)."""
+
+    TIME, STEPS = "time", "step"
+
+    def __init__(self, scene: Scene, engine: Engine) -> None:
+        self.engine = engine
+        self.t_end = float(scene.get("outputs.t_end"))
+        self.marks = frame_marks(scene, engine.dt)
+        self.rebuild_every = int(scene.get("numerics.checkpoint_every"))
+        self.frames: dict[str, list] = {"time": [], "x": [], "y": [], "theta": []}
+        self.n_particles = engine.system.n
+        self._bad = None
+
+    def start(self) -> None:
+        self._record()  # the frame at t = 0 (mark 0)
+
+    def done(self) -> bool:
+        return len(self.frames["time"]) >= len(self.marks)
+
+    def advance(self) -> None:
+        mark = self.marks[len(self.frames["time"])]
+        if mark > self.engine.step:
+            self._bad = self.engine.advance(mark - self.engine.step)
+
+    def check(self):
+        return self._bad
+
+    def sample(self) -> None:
+        self._record()
+        k = len(self.frames["time"]) - 1
+        if (self.rebuild_every and 0 < k < len(self.marks) - 1 and k % self.rebuild_every == 0
+                and self.engine.flags["HAS_CONTACT"]):
+            self.engine.rebuild_contacts()
+
+    def _record(self) -> None:
+        self.frames["time"].append(self.engine.time)
+        for a, name in enumerate(("x", "y", "theta")):
+            self.frames[name].append(self.engine.q[a].copy())
+
+    def state(self) -> dict[str, np.ndarray]:
+        out = {f"engine_{k}": v for k, v in self.engine.state().items()}
+        out.update({f"frame_{k}": np.array(v) for k, v in self.frames.items()})
+        return out
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        self.engine.restore({k[7:]: v for k, v in state.items() if k.startswith("engine_")})
+        self.frames = {k[6:]: list(v) for k, v in state.items() if k.startswith("frame_")}
+        self.frames["time"] = [float(t) for t in self.frames["time"]]
+
+    def result(self) -> dict[str, np.ndarray]:
+        return {k: np.array(v) for k, v in self.frames.items()}
+
+
+def to_dataset(scene: Scene, engine: Engine, labels: dict, frames: dict) -> xr.Dataset:
+    """The run dataset's variables and the lattice's derived constants (the runner adds the
+    provenance)."""
+    s = engine.system
+    series = engine.series_array()
+    names = engine.kernel.SERIES
+    data = {name: ("sample", series[:, k]) for k, name in enumerate(names) if name != "time"}
+    data.update(
+        x=(("frame", "particle"), frames["x"]), y=(("frame", "particle"), frames["y"]),
+        theta=(("frame", "particle"), frames["theta"]),
+        mass=("particle", s.mass), body=("particle", labels["body"]),
+        row=("particle", labels["row"]), col=("particle", labels["col"]),
+        bond_i=("bond", s.bi), bond_j=("bond", s.bj), bond_state=("bond", s.state),
+        bond_break_time=("bond", engine.tbreak), bond_unbreakable=("bond", s.unbreakable))
+    ds = xr.Dataset(data, coords={"time": ("sample", series[:, 0]),
+                                  "frame_time": ("frame", frames["time"])})
+    c = beam_constants(scene)
+    moduli = beam.lattice_moduli(c.kn, c.ks)
+    ds.attrs.update({
+        "dt": engine.dt, "steps": engine.step, "kn": c.kn, "ks": c.ks, "E_b": c.E_b,
+        "beam_width": c.width, "E": moduli["E"], "nu": moduli["nu"], "P_modulus": moduli["M"],
+        "rho2": float(s.mass[0] / beam.cell_area(s.L)), "L": s.L, "period_x": s.period_x,
+        "n_particles": s.n, "n_bonds_final": int(s.bi.size),
+        "water_level": float(scene.get("domain.water_level", np.nan)),
+        "bed_level": float(scene.get("domain.bed_level", np.nan))})
+    return ds
 
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
-        resume: bool = False, **checkpoints) -> Path:
+        resume: bool = False, checkpoint_every: int | None = None,
+        checkpoint_minutes: float | None = None,
+        stop_after_checkpoints: int | None = None) -> Path:
+    """``craquelure run lattice/<scene> --out RUN.nc [--resume]`` (through the runner;
+    checkpoints every ``numerics.checkpoint_every`` frames). The initial state is built from
+    the scene and seed (``--init`` is refused). Returns the checkpoint path instead when
+    stopped early by ``stop_after_checkpoints``."""
     if init is not None:
         raise CraquelureError("lattice runs build their initial state from the scene and seed: "
                               "run without --init")
-    return _run(scene, out, seed=seed, resume=resume, **checkpoints)
+    clock = WallClock()
+    out = Path(out)
+    engine, labels = make_engine(scene, seed)
+    model = LatticeRun(scene, engine)
+    try:
+        summary = runner.run(model, scene, seed, t_end=model.t_end, desc=f"lattice {scene.name}",
+                             out=out, resume=resume, every=checkpoint_every or model.rebuild_every,
+                             minutes=runner.minutes_or_default(checkpoint_minutes), clock=clock,
+                             stop_after_checkpoints=stop_after_checkpoints)
+    except runner.Stopped:
+        return runner.checkpoint_path(out)
+    return runner.write_run(to_dataset(scene, engine, labels, model.result()), out, scene, seed,
+                            summary, clock)

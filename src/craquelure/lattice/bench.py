@@ -20,7 +20,10 @@ from craquelure.lattice.engine import Engine, lattice_system, stable_step_estima
 from craquelure.lattice.geometry import triangular_block
 
 
-def block_engine(n_particles: int, effects=("beams",), seed: int = 0) -> Engine:
+def block_engine(n_particles: int, effects=("beams",), seed: int = 0,
+                 parallel: bool | None = None) -> Engine:
+    """The block with the engine's kernel choice (``parallel=None``: parallel from
+    ``PARALLEL_MIN_BONDS`` bonds on when more than one thread is set) or a forced one."""
     nx = max(2, int(round(math.sqrt(n_particles * 2 / math.sqrt(3)))))
     ny = max(2, int(round(n_particles / nx)))
     x, y, _ = triangular_block(nx, ny)
@@ -28,7 +31,7 @@ def block_engine(n_particles: int, effects=("beams",), seed: int = 0) -> Engine:
     s = lattice_system(x, y, kn=c.kn, ka=c.a, kb=c.b)
     params = dict(dt=0.2 * stable_step_estimate(s), area=c.area, inertia=c.inertia,
                   width=c.width, sigma0=1.0, tau0=1.0, contact_stiffness=1.0)
-    eng = Engine(s, tuple(effects), params, series_every=100, seed=seed)
+    eng = Engine(s, tuple(effects), params, series_every=100, seed=seed, parallel=parallel)
     rng = np.random.default_rng(seed)
     eng.set_velocity(*(1e-4 * rng.normal(size=(3, s.n))))
     return eng

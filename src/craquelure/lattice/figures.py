@@ -1,5 +1,6 @@
-"""Figures of the lattice model (matplotlib, Agg). Each takes datasets or tables and a title
-that states the profile, scene and sizes."""
+"""Figures of the lattice model (matplotlib, Agg). Each draws a run dataset and the numbers of
+:mod:`craquelure.lattice.analysis` (fragment labels, fits, summaries), with a title that
+states the profile, scene and sizes; nothing here fits or judges."""
 
 from __future__ import annotations
 
@@ -19,14 +20,10 @@ def _broken_midpoints(ds, frame=0):
     return 0.5 * (x[i] + x[j]), 0.5 * (y[i] + y[j]), ds.bond_break_time.values[broken]
 
 
-def fragment_labels(ds):
-    body = ds.body.values == 0
-    return fragments.label(ds.sizes["particle"], ds.bond_i.values, ds.bond_j.values,
-                           ds.bond_state.values == 1, include=body)
-
-
-def calving(ds, out, title):
-    labels = fragment_labels(ds)
+def calving(ds, labels, summary, out, title):
+    """Fragments at the last frame (``labels``), broken beams in time and the size
+    distribution with the fits of ``summary`` (:func:`craquelure.lattice.analysis.
+    calving_summary`)."""
     sz = fragments.sizes(labels)
     fig, ax = plt.subplots(2, 2, figsize=(11, 7), gridspec_kw={"height_ratios": [1.2, 1]})
     ax = ax.ravel()
@@ -48,8 +45,8 @@ def calving(ds, out, title):
     ax[2].set_xlabel("t")
     ax[2].set_ylabel("broken beams")
     c, d, n = fragments.size_distribution(sz)
-    slope, decades = fragments.fit_slope(c, d, n)
-    tau, cut = fragments.fit_cutoff_power_law(sz[1:])
+    slope, decades = summary["slope"], summary["decades"]
+    tau, cut = summary["ml_exponent"], summary["ml_cutoff"]
     sel = n > 0
     ax[3].loglog(c[sel], d[sel], "o", color="k", label="n(s)")
     if np.isfinite(slope):
@@ -73,13 +70,9 @@ def calving(ds, out, title):
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     plt.close(fig)
-    return {"fragments": int(sz.size - 1), "slope": slope, "decades": decades,
-            "ml_exponent": tau, "ml_cutoff": cut,
-            "broken": int(ds.broken.values[-1]),
-            "calved_particles": int(sz[1:].sum())}
 
 
-def fretting(ds, out, title, per_cycle):
+def fretting(ds, labels, per_cycle, out, title):
     fig, ax = plt.subplots(3, 1, figsize=(10, 9), gridspec_kw={"height_ratios": [1, 1, 0.8]})
     body = ds.body.values == 0
     x0, y0 = ds.x.values[0], ds.y.values[0]
@@ -89,7 +82,6 @@ def fretting(ds, out, title, per_cycle):
     fig.colorbar(sc, ax=ax[0], label="break time")
     ax[0].set_aspect("equal")
     ax[0].set_title("broken beams in the reference configuration")
-    labels = fragment_labels(ds)
     counts = np.bincount(labels[labels >= 0])
     main = np.argmax(counts)
     x, y = ds.x.values[-1], ds.y.values[-1]

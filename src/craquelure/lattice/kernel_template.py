@@ -330,6 +330,9 @@ def _particle_chunk(lo, hi, qm, q, qref, qbuild, mass, inertia, diam, fix, drive
         if HAS_CONTACT:
             fx += fc[0, i]
             fy += fc[1, i]
+            # cleared here, in the parallel phase, for the next step's contact sums
+            fc[0, i] = 0.0
+            fc[1, i] = 0.0
         yi = q[1, i]
         gx = gam
         gy = gam
@@ -429,8 +432,15 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
     rows = 0
     status = OK
     done = 0
-    bpart = np.zeros((NCHUNK, N_BPART))
-    ppart = np.zeros((NCHUNK, N_PPART))
+    # per-chunk partial sums, zeroed by plain loops: np.zeros in a parallel function is a
+    # parallel region of its own (two extra fork/joins per call for 48 + 120 numbers)
+    bpart = np.empty((NCHUNK, N_BPART))
+    ppart = np.empty((NCHUNK, N_PPART))
+    for c in range(NCHUNK):
+        for r in range(N_BPART):
+            bpart[c, r] = 0.0
+        for r in range(N_PPART):
+            ppart[c, r] = 0.0
     for k in range(n_steps):
         gstep = step0 + k
         t = gstep * dt
@@ -499,7 +509,8 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
         # 3. contacts
         u_contact = 0.0
         if HAS_CONTACT:
-            fc[:, :] = 0.0
+            # fc is zero here: the particle phase clears what it read (a whole-array
+            # assignment would be a parallel region of its own)
             for kk in range(ncp):
                 i, j = cpi[kk], cpj[kk]
                 dx, dy = _chord(q, i, j, lx)

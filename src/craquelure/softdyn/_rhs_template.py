@@ -9,7 +9,7 @@ State ``y = (x - x0 (N,d), s (P) [hertz], q (P,d) [hertz + lubrication_tangentia
 centres are stored as displacements from the initial positions x0, so the solver's relative
 tolerance acts on the motion (small on a blocked plateau), not on |x| ~ R; pairs ``(i, j)``
 from ``pi, pj``; ``F0`` the nominal external forces (N,d) ramped as ``F0 min(t/t_r, 1)``;
-``p = [R, eta, E, k_n, k_t, c_n, c_t, 1/tau_B, t_r]``.
+``p`` the parameter vector in the order of :data:`PARAMS`.
 
 Velocities (soft spheres): differentiating the particle balance :math:`F_i + \sum_j f_{ij} = 0`
 with :math:`\dot f_{ij} = A_{ij}(v_i - v_j) + b_{ij}` (closed forms in the spec, section 5, and
@@ -38,6 +38,14 @@ HAS_TANGENTIAL = True
 HAS_HERTZ = True
 LITERAL_DEFLECTION = False
 # END FLAGS
+
+# the parameter vector: names in order, declared once (the engine packs by name)
+PARAMS = ("R", "eta", "E", "k_n", "k_t", "c_n", "c_t", "inv_tau_B", "t_r")
+_index = PARAMS.index
+R_, ETA, E_, K_N, K_T, C_N, C_T, INV_TAU_B, T_R = (
+    _index("R"), _index("eta"), _index("E"), _index("k_n"), _index("k_t"), _index("c_n"),
+    _index("c_t"), _index("inv_tau_B"), _index("t_r"),
+)
 
 
 @njit(cache=True)
@@ -70,7 +78,7 @@ def load_factors(t, t_r):
 def pair_terms(x, s, q, pi, pj, p):
     """Per pair: unit normal n (P,d), distance r, gap h, a, zeta_n, zeta_t, elastic force f (P,d),
     and the affine velocity response A (P,d,d), b (P,d) of df/dt (rigid: A = Z, b = 0, f = 0)."""
-    R, eta, E, kn, kt, cn, ct = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
+    R, eta, E, kn, kt, cn, ct = p[R_], p[ETA], p[E_], p[K_N], p[K_T], p[C_N], p[C_T]
     n_pair, d = pi.shape[0], x.shape[1]
     nv = np.empty((n_pair, d))
     r = np.empty(n_pair)
@@ -150,7 +158,7 @@ def particle_terms(t, pi, pj, F0, p, f, b):
     """Right-hand side c (N,d) of the velocity system and the balance residual
     F_i + sum_j f_ij (N,d) (rigid spheres: c = F, residual from the solved velocities)."""
     n_part, d = F0.shape
-    ramp, dramp = load_factors(t, p[8])
+    ramp, dramp = load_factors(t, p[T_R])
     c = np.zeros((n_part, d))
     resid = np.zeros((n_part, d))
     for i in range(n_part):
@@ -168,7 +176,7 @@ def particle_terms(t, pi, pj, F0, p, f, b):
             resid[j, e] -= f[k, e]
             c[i, e] -= b[k, e]
             c[j, e] += b[k, e]
-    inv_tb = p[7]
+    inv_tb = p[INV_TAU_B]
     for i in range(n_part):
         for e in range(d):
             c[i, e] -= dramp * F0[i, e] + inv_tb * resid[i, e]
@@ -217,7 +225,7 @@ def solve_dense(M, rhs):
 @njit(cache=True)
 def rates(v, pi, pj, nv, r, a, zn, zt, s, q, p, n_part, d):
     """dy/dt from the particle velocities v (N d): x' = v and the deflection rule."""
-    E, kn, kt = p[2], p[3], p[4]
+    E, kn, kt = p[E_], p[K_N], p[K_T]
     n_pair = pi.shape[0]
     size = n_part * d
     if HAS_HERTZ:

@@ -2,8 +2,7 @@
 right-hand side, with the diagnostics the runs and tests need.
 
 Units are the scene's (radius R, viscosity eta, Young modulus E); the force unit F and the Stokes
-time tau = eta R^2 / F are chosen by the scenario (:mod:`craquelure.softdyn.t1`,
-:mod:`craquelure.softdyn.pair`).
+time tau = eta R^2 / F are chosen by the scenario (:mod:`craquelure.softdyn.scenarios`).
 
 Velocity solve: ``linear_solver: dense`` runs the whole right-hand side in one numba function
 (N d <= 128 with ``auto``); ``sparse`` computes the per-pair blocks in numba and solves the
@@ -21,8 +20,9 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from craquelure.codegen import effect_flags, specialise
+from craquelure.codegen import effect_flags, pack_parameters, specialise
 from craquelure.errors import SceneError
+from craquelure.softdyn import _rhs_template as template
 
 # benchmarks/softdyn_cost.py: at N = 64 (128 unknowns) a RHS takes 0.17 ms dense, 0.59 ms sparse;
 # at N = 256, 11 ms dense, 2.3 ms sparse
@@ -50,7 +50,7 @@ class Flags:
 
 def kernels(flags: Flags):
     """The right-hand side module compiled for ``flags`` (:func:`craquelure.codegen.specialise`)."""
-    return specialise("craquelure.softdyn._rhs_template", flags.template_flags(), "softdyn")
+    return specialise(template.__name__, flags.template_flags(), "softdyn")
 
 
 def flags_for(scene) -> Flags:
@@ -99,8 +99,10 @@ class System:
         if net > 1e-12 * max(np.abs(self.F0).max(), 1e-300):
             raise SceneError(f"loads: the external forces must sum to zero (overdamped, no drag "
                              f"on the particles), net force {self.F0.sum(axis=0)}")
-        self.p = np.array([self.radius, self.viscosity, self.young, self.k_n, self.k_t,
-                           self.c_n, self.c_t, 1.0 / self.tau_baumgarte, self.ramp_time])
+        self.p = pack_parameters(template.PARAMS, {
+            "R": self.radius, "eta": self.viscosity, "E": self.young, "k_n": self.k_n,
+            "k_t": self.k_t, "c_n": self.c_n, "c_t": self.c_t,
+            "inv_tau_B": 1.0 / self.tau_baumgarte, "t_r": self.ramp_time})
         self.k = kernels(self.flags)
         solver = self.linear_solver
         if solver == "auto":

@@ -45,7 +45,6 @@ NVAR = 8
 # the parameter vector: names in order, declared once (the engine packs by name)
 PARAMS = ("lame_lambda", "lame_mu", "eta", "drying_rate", "thickness", "xsph_epsilon", "support",
           "box_length", "drying_stress_cap")
-NPARAM = len(PARAMS)
 _index = PARAMS.index
 P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = (
     _index("lame_lambda"), _index("lame_mu"), _index("eta"), _index("drying_rate"),

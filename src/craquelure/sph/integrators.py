@@ -81,9 +81,7 @@ Rate = Callable[[np.ndarray, float], np.ndarray]
 FIXED_STEP = ("abm4", "rk4", "rk2")
 ADAPTIVE = ("rkc2",)
 INTEGRATORS = FIXED_STEP + ADAPTIVE
-EVALUATIONS_PER_STEP = {"rk4": 4, "abm4": 2, "rk2": 2}
 REAL_AXIS_LIMIT = {"rk4": 2.785, "abm4": 1.285, "rk2": 2.0}
-ORDER = {"rk4": 4, "abm4": 4, "rk2": 2, "rkc2": 2}
 RKC_DAMPING = 2.0 / 13.0
 # Safety factor on the power-iteration estimate of the spectral radius (a lower bound).
 RKC_SPECTRAL_SAFETY = 1.2

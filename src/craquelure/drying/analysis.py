@@ -1,5 +1,32 @@
-r"""Statistics that test the drying paper's claims, computed from a campaign dataset
-(drying spec sections 10 and 13, checks 14-15).
+r"""Analysis of drying runs (drying spec sections 9, 10 and 13, checks 14-16): run datasets to
+the analysis datasets and ``results/drying/summary.json``, in three stages, each a dataset or
+file of its own (the claims read only the summary):
+
+1. :func:`fragments_from_run_file`: the fragments of every snapshot of one run (the image and
+   its labelling are :mod:`craquelure.drying.binarise`).
+2. :func:`campaign_from_files`: the campaign aggregate of the per-seed fragment datasets.
+3. :func:`write_summary`: the statistics that test the paper's claims, with checks 14-16 as
+   revised (:mod:`craquelure.drying.checks`).
+
+**Campaign.** Dims: ``seed`` (independent samples), ``time`` (snapshot times, the same in every
+sample), ``bin`` (histogram bins), and ``fragment`` (all fragments of all samples and times, with
+``fragment_seed`` / ``fragment_time``: ragged data stored flat).
+
+- Pooled mean [D, spec]: :math:`\langle S\rangle_t = \sum_s A_{s,t} / \sum_s n_{s,t}`, with
+  :math:`A_{s,t}` the total fragment area and :math:`n_{s,t}` the number of fragments of sample s
+  at time t.
+- Its standard error over seeds is the ratio-estimator (delta-method) one,
+  :math:`\mathrm{SE}^2 = \sum_s (A_{s,t} - \langle S\rangle_t n_{s,t})^2 /
+  (N_s (N_s - 1)\, \bar n_t^2)` [D]; :math:`\mathrm{SE}(1/\langle S\rangle) =
+  \mathrm{SE}/\langle S\rangle^2`.
+- :math:`P(S;t)`: density of the pooled sizes at time t on common linear bins
+  :math:`[0, S_{max}]`, normalised by the number of all fragments at t (so it integrates to
+  the fraction inside the bins). :math:`S_{max}` is the largest fragment in the statistics
+  window (:func:`campaign_window`) [D: the early one-fragment samples, S = L^2, would
+  otherwise squeeze every later histogram into the first bin].
+- Scaled distribution (30, 31): :math:`X = S/\langle S\rangle_t`,
+  :math:`\tilde P(X) = \langle S\rangle_t P(X \langle S\rangle_t; t)`, i.e. the density of X,
+  on common bins :math:`[0, X_{max}]` (largest X in the window).
 
 **Time in units of** :math:`t^* = \sigma_Y/v_r`. The paper's windows are stated in its own time
 (Table I: :math:`t^* = 5\cdot10^{-3}/2.2\cdot10^{-5} = 227.3`): initial stage
@@ -56,6 +83,7 @@ from __future__ import annotations
 import itertools
 import json
 import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -65,9 +93,19 @@ from scipy import stats
 
 import craquelure
 from craquelure.drying import checks
-from craquelure.errors import CraquelureError
-from craquelure.io import open_dataset, write_text_atomic
-from craquelure.provenance import git_commit
+from craquelure.drying.binarise import (
+    DEFAULT_PHI0,
+    DEFAULT_SPACING_H,
+    edge_depth,
+    fragment_areas,
+    snapshot_image,
+)
+from craquelure.errors import CraquelureError, SceneError
+from craquelure.io import DatasetError, open_dataset, read_dataset, write_dataset, write_text_atomic
+from craquelure.progress import Progress
+from craquelure.provenance import WallClock, git_commit, provenance_attrs
+from craquelure.scene import Scene, stored_scene
+from craquelure.sph.field import mesh_spacing
 
 # Paper (Table I, spec section 1) and its time windows (spec sections 10 and 13).
 PAPER_YIELD_STRESS = 5.0e-3
@@ -75,10 +113,7 @@ PAPER_DRYING_RATE = 2.2e-5
 PAPER_WINDOW = (180.0, 300.0)
 PAPER_INITIAL_STAGE_END = 150.0
 PAPER_COLLAPSE_TIMES = tuple(float(t) for t in range(180, 301, 20))
-PAPER_INTERCEPT_RANGE = (50.0, 230.0)
 KS_ALPHA = 0.01
-R2_MIN, QUADRATIC_MAX, CV_MAX, RAW_KS_MIN = 0.95, 0.20, 0.10, 0.3
-SOFT_SLOPE_RANGE = (0.2, 5.0)
 N_BOOTSTRAP = 2000
 BOOTSTRAP_SEED = 20120926
 
@@ -192,6 +227,321 @@ def window_of(campaign: xr.Dataset) -> dict[str, Any]:
                            str(campaign.attrs.get("window_mode", "paper")))
 
 
+# --- stage 1: fragments of each snapshot of a run ------------------------------------------
+
+RUN_VARIABLES = ("x", "y", "alive", "mass", "rho")
+
+
+def run_scene(run: xr.Dataset) -> Scene:
+    """The resolved scene stored in a run dataset's ``scene`` attribute."""
+    if "scene" not in run.attrs:
+        raise CraquelureError("run dataset has no `scene` attribute (not a craquelure run?)")
+    return stored_scene(str(run.attrs["scene"]), name=str(run.attrs.get("scene_name", "scene")))
+
+
+def first_removal_time(run: xr.Dataset) -> float:
+    """Earliest time-series sample with ``n_removed > 0`` (NaN if nothing was removed)."""
+    if "n_removed" not in run or "step_time" not in run["n_removed"].dims:
+        return float("nan")
+    removed = np.asarray(run["n_removed"].values) > 0
+    if not removed.any():
+        return float("nan")
+    return float(run["step_time"].values[np.argmax(removed)])
+
+
+def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | None = None,
+                progress: bool = True) -> xr.Dataset:
+    """Fragments of every snapshot of a drying run dataset.
+
+    ``phi0`` and ``spacing_h`` (mesh spacing in units of h) default to the scene's
+    ``outputs.binarisation_threshold`` and ``outputs.binarisation_spacing``.
+    Returns a dataset with ``fragment_area``, ``fragment_time``, ``fragment_time_index``
+    (dim ``fragment``: ragged fragments of all snapshots, in time order) and
+    ``n_fragments``, ``mean_area``, ``paste_fraction``, ``n_alive`` (dim ``time``).
+    """
+    missing = [name for name in RUN_VARIABLES if name not in run]
+    if missing or "time" not in run.dims or "particle" not in run.dims:
+        raise CraquelureError(f"not a drying run dataset: missing {', '.join(missing) or 'dims'}"
+                              " (expected dims time, particle and variables "
+                              f"{', '.join(RUN_VARIABLES)})")
+    if int(run.attrs.get("finished", 1)) == 0:
+        raise CraquelureError("run dataset is not finished (a checkpoint?): analyse finished "
+                              "runs only")
+    for key in ("h", "box_length"):
+        if key not in run.attrs:
+            raise CraquelureError(f"run dataset has no `{key}` attribute")
+    scene = run_scene(run)
+    phi0 = float(scene.get("outputs.binarisation_threshold", DEFAULT_PHI0)
+                 if phi0 is None else phi0)
+    spacing_h = float(scene.get("outputs.binarisation_spacing", DEFAULT_SPACING_H)
+                      if spacing_h is None else spacing_h)
+    if not 0.0 < phi0 < 1.0:
+        raise CraquelureError(f"phi0 = {phi0} is not allowed; must lie in (0, 1)")
+    if spacing_h <= 0:
+        raise CraquelureError(f"mesh spacing = {spacing_h} h is not allowed; must be > 0")
+    kernel = str(scene.get("numerics.kernel", "quintic"))
+    h, length = float(run.attrs["h"]), float(run.attrs["box_length"])
+    times = run["time"].values
+    bar = Progress(len(times), "fragments", unit="snapshot") if progress else None
+    areas, frag_time_index = [], []
+    n_frag = np.zeros(len(times), np.int64)
+    mean_area = np.full(len(times), np.nan)
+    paste = np.zeros(len(times))
+    spacing = mesh_spacing(length, spacing_h * h)
+    for k in range(len(times)):
+        image, spacing = snapshot_image(run, k, spacing_h, phi0, kernel)
+        a = fragment_areas(image, spacing)
+        areas.append(a)
+        frag_time_index.append(np.full(a.size, k, np.int64))
+        n_frag[k] = a.size
+        if a.size:
+            mean_area[k] = a.mean()
+        paste[k] = image.mean()
+        if bar is not None:
+            bar.update_to(k + 1, f"t={times[k]:g}: {a.size} fragments")
+    if bar is not None:
+        bar.close()
+    area = np.concatenate(areas) if areas else np.zeros(0)
+    index = np.concatenate(frag_time_index) if frag_time_index else np.zeros(0, np.int64)
+    alive = run["alive"].values.astype(bool)
+    ds = xr.Dataset(
+        {
+            "fragment_area": ("fragment", area, {"long_name": "fragment area S",
+                                                 "units": "length^2"}),
+            "fragment_time": ("fragment", times[index], {"long_name": "snapshot time"}),
+            "fragment_time_index": ("fragment", index,
+                                    {"long_name": "index of the snapshot on dim time"}),
+            "n_fragments": ("time", n_frag, {"long_name": "number of fragments"}),
+            "mean_area": ("time", mean_area, {"long_name": "mean fragment area of this run",
+                                              "units": "length^2"}),
+            "paste_fraction": ("time", paste,
+                               {"long_name": "fraction of mesh points with phi >= phi0"}),
+            "n_alive": ("time", alive.sum(axis=1).astype(np.int64),
+                        {"long_name": "particles not removed"}),
+        },
+        coords={"time": ("time", times, dict(run["time"].attrs))},
+    )
+    ds.attrs.update({
+        "h": h,
+        "box_length": length,
+        "n_particles": int(run.sizes["particle"]),
+        "phi0": phi0,
+        "mesh_spacing_h": spacing_h,
+        "mesh_spacing": spacing,
+        "mesh_points_per_side": int(round(length / spacing)),
+        "edge_depth": edge_depth(phi0, kernel, h),
+        "first_removal_time": first_removal_time(run),
+        "connectivity": 4,
+    })
+    return ds
+
+
+def fragments_from_run_file(run_path: str | Path, out: str | Path, phi0: float | None = None,
+                            spacing_h: float | None = None, progress: bool = True) -> Path:
+    """Analyse a run file and write the fragment dataset with provenance: the run's own
+    provenance is kept under ``run_*`` names, the analysis adds its own."""
+    clock = WallClock()
+    run = read_dataset(run_path, "drying run dataset", model="drying",
+                       variables=(*RUN_VARIABLES, "time"))
+    try:
+        ds = analyse_run(run, phi0, spacing_h, progress)
+        scene = run_scene(run)
+    except SceneError as exc:
+        raise DatasetError(f"{run_path}: its stored scene is not valid: {exc}") from exc
+    except CraquelureError as exc:
+        raise DatasetError(f"{run_path}: {exc}") from exc
+    seed = run.attrs.get("seed")
+    for key in ("git_commit", "start_time", "wall_time_s", "host", "scene_overrides",
+                "version_craquelure"):
+        if key in run.attrs:
+            ds.attrs[f"run_{key}"] = run.attrs[key]
+    ds.attrs["source_run"] = str(run_path)
+    ds.attrs.update(provenance_attrs(scene, None if seed is None else int(seed), clock,
+                                     effects=str(run.attrs.get("effects", "")).split(",")))
+    ds.attrs["wall_time_s"] = float(clock.elapsed)
+    return write_dataset(ds, out)
+
+
+# --- stage 2: campaign aggregate over seeds ------------------------------------------------
+
+DEFAULT_BINS = 30
+FRAGMENT_VARS = ("fragment_area", "fragment_time_index", "n_fragments", "time")
+SCENE_NUMBERS = {  # campaign attribute -> scene path
+    "yield_stress": "material.yield_stress",
+    "drying_rate": "material.drying_rate",
+    "thickness": "material.thickness",
+    "lame_lambda": "material.lame_lambda",
+    "lame_mu": "material.lame_mu",
+    "viscosity": "material.eta",
+    "rho0": "material.rho0",
+    "n_particles": "particles.n",
+}
+
+
+def pooled_mean(total_area: np.ndarray, count: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Pooled mean area over the seed axis (axis 0) and its ratio-estimator standard error."""
+    total_area = np.asarray(total_area, float)
+    count = np.asarray(count, float)
+    n_s = total_area.shape[0]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = total_area.sum(axis=0) / count.sum(axis=0)
+        resid = total_area - mean * count
+        nbar = count.mean(axis=0)
+        se = (np.sqrt((resid**2).sum(axis=0) / (n_s * (n_s - 1))) / nbar if n_s > 1
+              else np.full_like(mean, np.nan))
+    return mean, se
+
+
+def _density(values: np.ndarray, edges: np.ndarray) -> np.ndarray:
+    if values.size == 0:
+        return np.full(edges.size - 1, np.nan)
+    counts, _ = np.histogram(values, bins=edges)
+    return counts / (values.size * np.diff(edges))
+
+
+def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
+                   window_mode: str = "paper") -> xr.Dataset:
+    """Aggregate per-seed fragment datasets (same scene and snapshot times) over seeds;
+    ``window_mode`` (:data:`WINDOW_MODES`) fixes the statistics window, recorded in the
+    attributes."""
+    if not fragments:
+        raise CraquelureError("campaign: no fragment datasets given")
+    first = fragments[0]
+    times = first["time"].values
+    seeds = []
+    for ds in fragments:
+        if "seed" not in ds.attrs:
+            raise CraquelureError("campaign: a fragment dataset has no `seed` attribute")
+        seeds.append(int(ds.attrs["seed"]))
+        if ds["time"].size != times.size or not np.allclose(ds["time"].values, times):
+            raise CraquelureError(f"campaign: seed {seeds[-1]} has other snapshot times than "
+                                  f"seed {seeds[0]}")
+        for key in ("scene", "phi0", "mesh_spacing"):
+            if ds.attrs.get(key) != first.attrs.get(key):
+                raise CraquelureError(f"campaign: seed {seeds[-1]} differs from seed "
+                                      f"{seeds[0]} in `{key}`; aggregate one scene at a time")
+    if len(set(seeds)) != len(seeds):
+        raise CraquelureError(f"campaign: repeated seeds {sorted(seeds)}")
+    order = np.argsort(seeds)
+    fragments = [fragments[i] for i in order]
+    seeds = [seeds[i] for i in order]
+    n_s, n_t = len(seeds), times.size
+
+    count = np.stack([ds["n_fragments"].values for ds in fragments]).astype(np.int64)
+    total = np.zeros((n_s, n_t))
+    area, f_time_index, f_seed = [], [], []
+    for s, ds in enumerate(fragments):
+        a = ds["fragment_area"].values
+        k = ds["fragment_time_index"].values.astype(np.int64)
+        total[s] = np.bincount(k, weights=a, minlength=n_t)
+        area.append(a)
+        f_time_index.append(k)
+        f_seed.append(np.full(a.size, seeds[s], np.int64))
+    area = np.concatenate(area)
+    f_time_index = np.concatenate(f_time_index)
+    f_seed = np.concatenate(f_seed)
+    mean, se = pooled_mean(total, count)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        sample_mean = np.where(count > 0, total / np.maximum(count, 1), np.nan)
+        x_all = area / mean[f_time_index]
+
+    scene = run_scene(first)
+    tstar = t_star(scene)
+    win = campaign_window(times, count, tstar, window_mode)
+    ref = win["mask"][f_time_index]
+    if not ref.any():
+        ref = np.ones(area.size, bool)
+    s_max = float(area[ref].max()) if area.size else 1.0
+    x_max = float(np.nanmax(x_all[ref])) if area.size else 1.0
+    s_edges = np.linspace(0.0, s_max, n_bins + 1)
+    x_edges = np.linspace(0.0, x_max, n_bins + 1)
+    size_density = np.full((n_t, n_bins), np.nan)
+    scaled_density = np.full((n_t, n_bins), np.nan)
+    in_range = np.full(n_t, np.nan)
+    for k in range(n_t):
+        sel = f_time_index == k
+        size_density[k] = _density(area[sel], s_edges)
+        scaled_density[k] = _density(x_all[sel], x_edges)
+        if sel.any():
+            in_range[k] = np.mean(area[sel] <= s_max)
+    first_removal = np.array([float(ds.attrs.get("first_removal_time", np.nan))
+                              for ds in fragments])
+
+    ds = xr.Dataset(
+        {
+            "n_fragments": (("seed", "time"), count, {"long_name": "fragments per sample"}),
+            "total_area": (("seed", "time"), total,
+                           {"long_name": "total fragment area of the sample"}),
+            "sample_mean_area": (("seed", "time"), sample_mean,
+                                 {"long_name": "mean fragment area of the sample"}),
+            "paste_fraction": (("seed", "time"),
+                               np.stack([d["paste_fraction"].values for d in fragments]),
+                               {"long_name": "fraction of paste mesh points"}),
+            "first_removal_time": ("seed", first_removal,
+                                   {"long_name": "time of the first particle removal"}),
+            "mean_area": ("time", mean, {"long_name": "pooled mean fragment area <S>_t"}),
+            "mean_area_se": ("time", se, {"long_name": "standard error of <S>_t over seeds"}),
+            "inverse_mean_area": ("time", 1.0 / mean, {"long_name": "1/<S>_t"}),
+            "inverse_mean_area_se": ("time", se / mean**2,
+                                     {"long_name": "standard error of 1/<S>_t"}),
+            "n_fragments_mean": ("time", count.mean(axis=0),
+                                 {"long_name": "mean number of fragments per sample"}),
+            "n_fragments_se": ("time", count.std(axis=0, ddof=1) / np.sqrt(n_s)
+                               if n_s > 1 else np.full(n_t, np.nan),
+                               {"long_name": "standard error of the number of fragments"}),
+            "unbroken_fraction": ("time", (count <= 1).mean(axis=0),
+                                  {"long_name": "fraction of samples still one fragment"}),
+            "size_density": (("time", "bin"), size_density,
+                             {"long_name": "P(S;t), pooled over seeds"}),
+            "size_in_range_fraction": ("time", in_range,
+                                       {"long_name": "fraction of fragments with S <= S_max"}),
+            "scaled_density": (("time", "bin"), scaled_density,
+                               {"long_name": "scaled distribution <S>_t P(X <S>_t; t)"}),
+            "fragment_area": ("fragment", area, {"long_name": "fragment area S"}),
+            "fragment_scaled_area": ("fragment", x_all, {"long_name": "X = S/<S>_t"}),
+            "fragment_time": ("fragment", times[f_time_index]),
+            "fragment_time_index": ("fragment", f_time_index),
+            "fragment_seed": ("fragment", f_seed),
+        },
+        coords={
+            "seed": ("seed", np.asarray(seeds, np.int64)),
+            "time": ("time", times),
+            "bin": ("bin", np.arange(n_bins)),
+            "area_lo": ("bin", s_edges[:-1]),
+            "area_hi": ("bin", s_edges[1:]),
+            "x_lo": ("bin", x_edges[:-1]),
+            "x_hi": ("bin", x_edges[1:]),
+        },
+    )
+    ds.attrs.update({key: first.attrs[key] for key in
+                     ("h", "box_length", "phi0", "mesh_spacing", "mesh_spacing_h", "edge_depth")
+                     if key in first.attrs})
+    for key, path in SCENE_NUMBERS.items():
+        value = scene.get(path, None)
+        if value is not None:
+            ds.attrs[key] = value
+    ds.attrs.update({"scene_name": str(first.attrs.get("scene_name", scene.name)),
+                     "n_seeds": n_s, "seeds": ",".join(map(str, seeds)), "t_star": tstar,
+                     "window_mode": window_mode, "window_start": win["start"],
+                     "window_end": win["end"]})
+    return ds
+
+
+def campaign_from_files(paths: Sequence[str | Path], out: str | Path,
+                        n_bins: int = DEFAULT_BINS, window_mode: str = "paper") -> Path:
+    clock = WallClock()
+    fragments = [read_dataset(p, "fragment dataset", model="drying", variables=FRAGMENT_VARS)
+                 for p in paths]
+    ds = build_campaign(fragments, n_bins, window_mode)
+    ds.attrs.update(provenance_attrs(run_scene(fragments[0]), None, clock,
+                                     effects=str(fragments[0].attrs.get("effects", ""))
+                                     .split(",")))
+    ds.attrs["sources"] = ",".join(str(p) for p in paths)
+    return write_dataset(ds, out)
+
+
+# --- stage 3: summary of the paper's claims ----------------------------------------------
+
 def ks_critical(n: int, m: int, alpha: float = KS_ALPHA) -> float:
     """Asymptotic two-sample KS critical value at level ``alpha``."""
     return math.sqrt(-0.5 * math.log(alpha / 2.0)) * math.sqrt((n + m) / (n * m))
@@ -243,11 +593,8 @@ def _fits(times: np.ndarray, total: np.ndarray, count: np.ndarray, window: np.nd
     departure = np.max(np.abs(np.polyval(quad, t) - (a + b * t)))
     rise = b * (t[-1] - t[0])
     # Bootstrap over seeds: weights = how often each seed is drawn.
-    rng = np.random.default_rng(BOOTSTRAP_SEED)
-    n_s = total.shape[0]
-    draws = rng.integers(0, n_s, size=(n_boot, n_s))
-    weights = np.zeros((n_boot, n_s))
-    np.add.at(weights, (np.repeat(np.arange(n_boot), n_s), draws.ravel()), 1.0)
+    weights = checks.bootstrap_weights(total.shape[0], n_boot,
+                                       np.random.default_rng(BOOTSTRAP_SEED))
     with np.errstate(invalid="ignore", divide="ignore"):
         boot_mean = (weights @ total[:, window]) / (weights @ count[:, window])
     ok = np.all(np.isfinite(boot_mean) & (boot_mean > 0), axis=1)
