@@ -91,8 +91,10 @@ def run_metrics(ds) -> dict:
     """Every per-run measurement (spec section 6 and check 12) of one run dataset: from its
     final fields (reference positions, crack indicator, plastic strain, masses), its series
     (contact force, centre-of-mass velocity, energy balance) and the stored scene's thresholds
-    and variant (κ, masses, pre-crack); a 3D run is measured on its reference (x0, y0)
-    projection. ``metric_*`` attributes of older runs are not read (:func:`run_fact` aside)."""
+    and variant (κ, masses, pre-crack). The measurements use the reference (x0, y0) positions:
+    a 3D dataset would be measured on that projection, which no test covers yet (the 3D engine
+    lands on another branch). ``metric_*`` attributes of older runs are not read
+    (:func:`run_fact` aside)."""
     scene = run_scene(ds)
     g = scene.get
     cracked = g("material.cracked_threshold", 0.9)
