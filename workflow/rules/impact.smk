@@ -38,7 +38,7 @@ rule impact_run:
         "results/impact/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.nc",
     params:
         cli=CRAQUELURE,
-        variant=impact_workflow.variant_overrides,
+        variant=impact_workflow.variant_overrides(IMPACT),
         overrides=scene_overrides("impact"),
         three_d=impact_workflow.three_d_overrides(IMPACT),
     log:
@@ -57,13 +57,14 @@ rule impact_run:
 
 rule impact_summary:
     input:
-        impact_workflow.campaign_runs(IMPACT),
+        impact_workflow.campaign_runs(IMPACT) + impact_workflow.campaign_runs_3d(IMPACT),
     output:
         "results/impact/summary.json",
     params:
         profile=config["profile"],
         scene=IMPACT_SCENE,
         distribution=IMPACT["distribution"],
+        fixed_across_kappa=IMPACT.get("fixed_across_kappa", {}),
     log:
         "logs/impact_summary.log",
     threads: 1
