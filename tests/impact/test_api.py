@@ -123,6 +123,19 @@ def test_fixed_across_kappa_sets_eps_as_and_l_c_on_every_run():
     assert st.as_epsilon == 0.15 and st.material.band == 0.008
 
 
+def states_by_threads(scene, seed, threads=(1, 2)) -> list:
+    """The final engine state of ``scene`` and ``seed`` run with each thread count."""
+    out = []
+    for n in threads:
+        old = numba.get_num_threads()
+        numba.set_num_threads(n)
+        try:
+            out.append(simulate(scene, seed, progress=False)[1].state)
+        finally:
+            numba.set_num_threads(old)
+    return out
+
+
 @pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 numba threads")
 def test_run_is_independent_of_the_thread_count():
     """Same scene and seed, 1 and 2 threads: bit-identical fields. Every pair sum is a gather
@@ -130,14 +143,7 @@ def test_run_is_independent_of_the_thread_count():
     step-start rho and h of its neighbours (it used to read them while other threads were
     overwriting them, so 2-thread runs differed from run to run)."""
     scene = load_scene("impact/ci", [*CI, "particles.masses.distribution=uniform"])
-    out = []
-    for threads in (1, 2):
-        old = numba.get_num_threads()
-        numba.set_num_threads(threads)
-        try:
-            out.append(simulate(scene, 3, progress=False)[1].state)
-        finally:
-            numba.set_num_threads(old)
+    out = states_by_threads(scene, 3)
     for key in ("x", "y", "vx", "vy", "rho", "h", "sig", "dmg"):
         assert np.array_equal(getattr(out[0], key), getattr(out[1], key)), key
 

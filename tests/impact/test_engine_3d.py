@@ -14,6 +14,7 @@ from craquelure.impact.material import standard_concrete
 from craquelure.impact.specimen import build_specimen
 from craquelure.scene import load_scene
 from craquelure.sph.kernels import CUBIC, kernel_dwdr_array
+from tests.impact.test_api import states_by_threads
 
 NO_CONTACT = ("[elasticity, plasticity, damage, artificial_viscosity, artificial_stress, "
               "variable_smoothing_length]")
@@ -223,13 +224,6 @@ def test_3d_run_is_independent_of_the_thread_count():
     pass is per particle)."""
     scene = load_scene("impact/ci3d", ["particles.masses.distribution=uniform",
                                        "outputs.t_end=5.0e-5", "outputs.snapshot_times=[]"])
-    out = []
-    for threads in (1, 2):
-        old = numba.get_num_threads()
-        numba.set_num_threads(threads)
-        try:
-            out.append(simulate(scene, 3, progress=False)[1].state)
-        finally:
-            numba.set_num_threads(old)
+    out = states_by_threads(scene, 3)
     for key in ("x", "y", "z", "vx", "vy", "vz", "rho", "h", "sig", "dmg"):
         assert np.array_equal(getattr(out[0], key), getattr(out[1], key)), key
