@@ -29,17 +29,6 @@ def test_a_sample_that_cannot_decide_gives_inconclusive_never_reproduced():
     assert verdict_of({}, {"no fragments": "a longer run"})[0] == "inconclusive"
 
 
-def test_fraction_decision_is_exact_binomial():
-    from craquelure.validation import fraction_decision
-
-    # 3 of 3 seeds: the 95 % interval [0.29, 1] straddles 0.6: undecided, and the note
-    # names the sample at the same fraction that would decide (8 of 8: lower bound 0.63).
-    decided, need = fraction_decision(3, 3, 0.6)
-    assert decided is None and "about 8 samples" in need
-    assert fraction_decision(20, 20, 0.6) == (True, "")
-    assert fraction_decision(0, 20, 0.6) == (False, "")
-
-
 def test_claim_rejects_an_unknown_verdict():
     with pytest.raises(ValueError, match="allowed values: reproduced, partly, not reproduced, "
                                          "inconclusive"):

@@ -16,9 +16,6 @@ Verdicts are computed from the criterion's conditions, never typed in:
   the power to reject the named alternative, too few samples for an extreme-value statement);
   the row says what cannot be decided and the sample it would need. A small profile therefore
   never prints ``reproduced`` on a claim its sample cannot decide.
-
-Helpers for sample-size decisions shared by the models: :func:`fraction_decision` (a fraction of
-samples against a threshold, exact binomial interval).
 """
 
 from __future__ import annotations
@@ -36,7 +33,6 @@ from craquelure.provenance import git_commit, library_versions
 MODELS = ("drying", "impact", "lattice", "softdyn")
 VERDICTS = ("reproduced", "partly", "not reproduced", "inconclusive")
 POWER_NEEDED = 0.8  # power (or confirmation rate) a sample needs to decide a claim
-DECISION_LEVEL = 0.95  # confidence of the intervals that decide fractions of samples
 
 
 @dataclass(frozen=True)
@@ -78,39 +74,6 @@ def verdict_of(conditions: Mapping[str, bool], undecided: Mapping[str, str] | No
     if undecided:
         return "inconclusive", "sample cannot decide: " + open_.split(": ", 1)[1]
     return "reproduced", ""
-
-
-def fraction_decision(successes: int, n: int, threshold: float,
-                      level: float = DECISION_LEVEL) -> tuple[bool | None, str]:
-    """Does a fraction of ``n`` samples meet ``>= threshold``? (True/False when the exact
-    (Clopper-Pearson) two-sided ``level`` interval of the fraction lies on one side of the
-    threshold, None when it straddles it) and, when undecided, the sample that would decide at
-    the observed fraction (smallest n' whose interval at the same fraction excludes the
-    threshold)."""
-    from scipy import stats
-
-    if n <= 0:
-        return None, "at least one sample"
-    tail = (1.0 - level) / 2.0
-
-    def interval(k: float, m: int) -> tuple[float, float]:
-        lo = stats.beta.ppf(tail, k, m - k + 1) if k > 0 else 0.0
-        hi = stats.beta.ppf(1 - tail, k + 1, m - k) if k < m else 1.0
-        return float(lo), float(hi)
-
-    lo, hi = interval(successes, n)
-    if lo >= threshold:
-        return True, ""
-    if hi < threshold:
-        return False, ""
-    fraction = successes / n
-    if fraction == threshold:
-        return None, "more samples than any finite count (fraction on the threshold)"
-    for m in range(n + 1, 100 * n + 1000):
-        lo, hi = interval(round(fraction * m), m)
-        if lo >= threshold or hi < threshold:
-            return None, f"about {m} samples at the observed fraction {fraction:.2f}"
-    return None, f"more than {100 * n + 1000} samples"
 
 
 def collect(sources: Mapping[str, Sequence[str | Path]]) -> list[Claim]:
