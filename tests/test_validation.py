@@ -29,6 +29,17 @@ def test_a_sample_that_cannot_decide_gives_inconclusive_never_reproduced():
     assert verdict_of({}, {"no fragments": "a longer run"})[0] == "inconclusive"
 
 
+def test_fraction_decision_is_exact_binomial():
+    from craquelure.validation import fraction_decision
+
+    # 3 of 3 seeds: the 95 % interval [0.29, 1] straddles 0.6: undecided, and the note
+    # names the sample at the same fraction that would decide (8 of 8: lower bound 0.63).
+    decided, need = fraction_decision(3, 3, 0.6)
+    assert decided is None and "about 8 samples" in need
+    assert fraction_decision(20, 20, 0.6) == (True, "")
+    assert fraction_decision(0, 20, 0.6) == (False, "")
+
+
 def test_claim_rejects_an_unknown_verdict():
     with pytest.raises(ValueError, match="allowed values: reproduced, partly, not reproduced, "
                                          "inconclusive"):
@@ -56,3 +67,16 @@ def test_outputs_count_and_escape(tmp_path):
     assert "impact: 1 reproduced, 1 partly, 0 not reproduced, 0 inconclusive" in html
     assert html.count('class="inconclusive"') == 1
     assert html.count('class="not-reproduced"') == 1
+
+
+def test_fraction_power_by_simulation_matches_the_binomial():
+    """Power of the exact-interval test of 'fraction >= 1/2' at n samples against a true
+    fraction 0.9: it decides when the interval's lower bound clears 1/2 (k = n at n = 8,
+    k >= 9 at n = 10), so the power is P(k = 8) = 0.430 and P(k >= 9) = 0.736 within the
+    simulation's noise (4000 draws: sd 0.008); 3 samples never decide."""
+    from craquelure.validation import fraction_power, samples_for_power
+
+    assert abs(fraction_power(8, 0.9, 0.5) - 0.9**8) < 0.03
+    assert abs(fraction_power(10, 0.9, 0.5) - (0.9**10 + 10 * 0.9**9 * 0.1)) < 0.03
+    assert fraction_power(3, 0.9, 0.5) == 0.0
+    assert samples_for_power(3, 0.9, 0.5) == 12

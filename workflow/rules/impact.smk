@@ -37,7 +37,7 @@ rule impact_run:
         "results/impact/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.nc",
     params:
         cli=CRAQUELURE,
-        variant=impact_workflow.variant_overrides,
+        variant=impact_workflow.variant_overrides(IMPACT),
         overrides=scene_overrides("impact"),
     log:
         "logs/impact_run/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.log",
@@ -61,6 +61,7 @@ rule impact_summary:
         profile=config["profile"],
         scene=IMPACT_SCENE,
         distribution=IMPACT["distribution"],
+        fixed_across_kappa=IMPACT.get("fixed_across_kappa", {}),
     log:
         "logs/impact_summary.log",
     threads: 1

@@ -1,8 +1,10 @@
 """Model API of the concrete impact for the CLI: initial state, derived numbers, run.
 
 ``run`` writes one dataset per run: particle fields (reference grid, masses, final state),
-field snapshots, time series (contact force, energies, balance error, momentum) and the run's
-measurements as attributes (see :mod:`craquelure.impact.measure`). A diverging run raises
+field snapshots, time series (contact force, energies, balance error, momentum), the resolved
+numbers the run used (``as_epsilon``, ``contact_a``, ``crack_band_width``, geometry) and what only
+the running engine saw (``run_dt_min``, ``run_max_penetration``, ...) as attributes. It computes
+no analysis: the measurements are :mod:`craquelure.impact.analysis`'s. A diverging run raises
 :class:`~craquelure.errors.SimulationDiverged` before anything is written. The loop, checkpoints
 (every few minutes of wall time) and ``--resume`` are the runner's (:class:`ImpactRun`); ``init``
 is not used: a run starts from the scene and seed.
@@ -24,7 +26,6 @@ from craquelure.impact.effects.contact_mass import DEFAULT_SCALE
 from craquelure.impact.effects.damage import crack_band_width
 from craquelure.impact.engine import Engine, Settings, State
 from craquelure.impact.material import Concrete
-from craquelure.impact.measure import contact_metrics, run_metrics
 from craquelure.impact.specimen import Specimen, build_specimen, initial_smoothing_length
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
@@ -364,28 +365,14 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
                                   "snapshot_time": [t for t, _ in snapshots]})
     ds["series_contact_force"].attrs.update(units="N/m", long_name="base contact force per "
                                             "metre (interval average of the impulse)")
-    g = scene.get
-    crack = crack_indicator(scene, st.dmg, st.kap)
-    metrics = run_metrics(sp.x, sp.y, crack, st.epsp, sp.precrack, sp.spacing, sp.radius,
-                          g("material.cracked_threshold"), g("material.crushed_strain"),
-                          sp.centre_y)
-    metrics["cracked_fraction_damage"] = float(np.mean(st.dmg >= g("material.cracked_threshold")))
-    metrics["cracked_measure"] = g("material.cracked_measure")
-    metrics.update(contact_metrics(series["time"], series["contact_force"], series["vcm_y"]))
-    metrics.update({
-        "contact_force_peak_step": eng.force_peak,
-        "energy_balance_error_max": float(np.abs(series["balance_error"]).max()),
-        "energy_initial": eng.e0, "steps": eng.step_count, "dt_min": eng.dt_min_seen,
-        "max_penetration": eng.max_penetration, "kinematic_impulse": eng.impulse_kin,
-        "min_y_final": float(st.y.min()), "spacing": sp.spacing, "radius": sp.radius,
-        "kappa": g("numerics.kappa"), "as_epsilon": eng.s.as_epsilon,
-        "crack_band_width": eng.s.material.band, "material_model": material_model(scene),
-        "effects": ",".join(scene.effects), "f_t": g("material.f_t"),
-        "impact_velocity": g("particles.impact_velocity"),
-        "contact_a": eng.s.contact_a, "plane": g("domain.plane"),
-        "distribution": g("particles.masses.distribution"),
-        "precrack_layout": g("particles.precrack"), "n_particles": sp.n,
-        "n_zero_mass": int(np.sum(sp.mass == 0)),
+    # What the run used and what only the running engine saw; every measurement is the
+    # analysis's (craquelure.impact.analysis), from these fields, series and the stored scene.
+    ds.attrs.update({
+        "spacing": sp.spacing, "radius": sp.radius, "centre_y": sp.centre_y, "n_particles": sp.n,
+        "as_epsilon": eng.s.as_epsilon, "crack_band_width": eng.s.material.band,
+        "contact_a": eng.s.contact_a, "material_model": material_model(scene),
+        "run_dt_min": eng.dt_min_seen, "run_energy_initial": eng.e0,
+        "run_max_penetration": eng.max_penetration, "run_kinematic_impulse": eng.impulse_kin,
+        "run_contact_force_peak_step": eng.force_peak,  # steps: the runner's run_steps
     })
-    ds.attrs.update({f"metric_{k}": v for k, v in metrics.items()})
     return ds

@@ -47,11 +47,21 @@ def figure_runs(section: dict) -> dict:
     }
 
 
-def variant_overrides(wildcards) -> str:
-    """`--set` arguments of one variant (masses, pre-crack, kappa)."""
-    return (f"--set particles.masses.distribution={wildcards.masses} "
-            f"--set particles.precrack={wildcards.precrack} "
-            f"--set numerics.kappa={wildcards.kappa}")
+FIXED_KEYS = {"as_epsilon": "numerics.as_epsilon",
+              "crack_band_width": "material.crack_band_width"}
+
+
+def variant_overrides(section: dict):
+    """`--set` arguments of one variant (masses, pre-crack, kappa) from its wildcards, and the
+    values ``fixed_across_kappa`` holds fixed across kappa (eps_AS, l_c), if any."""
+    fixed = " ".join(f"--set {FIXED_KEYS[k]}={v!r}" for k, v in
+                     sorted((section.get("fixed_across_kappa") or {}).items()))
+
+    def overrides(wildcards) -> str:
+        return (f"--set particles.masses.distribution={wildcards.masses} "
+                f"--set particles.precrack={wildcards.precrack} "
+                f"--set numerics.kappa={wildcards.kappa}" + (f" {fixed}" if fixed else ""))
+    return overrides
 
 
 def regime_runs(section: dict) -> list[str]:

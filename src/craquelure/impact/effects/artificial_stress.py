@@ -37,7 +37,7 @@ At h(0) = 1.8Δ the nearest neighbour sits inside the cubic spline's inflection 
 ε_AS = 0.2 / 0.15 / 0 at h(0)/Δ = 0.84 / 1.2 / 1.8, linearly interpolated in h(0)/Δ between
 them and held constant outside; with it check 8 passes at every κ, while the spec's 0.3 at κ = 1
 lets the velocity noise grow ×2.2 in 2000 steps (the growing mode is kΔ = (π/2, π)). The
-value used is recorded in each run's attributes (``metric_as_epsilon``).
+value used is recorded in each run's attributes (``as_epsilon``).
 """
 
 import numpy as np
