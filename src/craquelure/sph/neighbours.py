@@ -122,15 +122,16 @@ def _difference(d, length, periodic):
 
 
 @njit(parallel=True, cache=True)
-def _count(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max):
+def _scan(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max, offsets, index, fill):
+    """Pairs closer than sqrt(r2max): counted into offsets[i + 1] (``fill`` false), or
+    written into index from offsets[i] on (``fill`` true, offsets the prefix sums)."""
     n = x.size
-    counts = np.zeros(n, np.int64)
     for i in prange(n):
         if cell[i] < 0:
             continue
         cells = np.empty(9, np.int64)
         nc = _neighbour_cells(cell[i], nx, ny, periodic, cells)
-        k = 0
+        k = offsets[i] if fill else 0
         for a in range(nc):
             c = cells[a]
             for p in range(start[c], start[c + 1]):
@@ -140,31 +141,11 @@ def _count(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max):
                 dx = _difference(x[i] - x[j], lx, periodic)
                 dy = _difference(y[i] - y[j], ly, periodic)
                 if dx * dx + dy * dy < r2max:
+                    if fill:
+                        index[k] = j
                     k += 1
-        counts[i] = k
-    return counts
-
-
-@njit(parallel=True, cache=True)
-def _fill(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max, offsets, index):
-    n = x.size
-    for i in prange(n):
-        if cell[i] < 0:
-            continue
-        cells = np.empty(9, np.int64)
-        nc = _neighbour_cells(cell[i], nx, ny, periodic, cells)
-        k = offsets[i]
-        for a in range(nc):
-            c = cells[a]
-            for p in range(start[c], start[c + 1]):
-                j = order[p]
-                if j == i:
-                    continue
-                dx = _difference(x[i] - x[j], lx, periodic)
-                dy = _difference(y[i] - y[j], ly, periodic)
-                if dx * dx + dy * dy < r2max:
-                    index[k] = j
-                    k += 1
+        if not fill:
+            offsets[i + 1] = k
 
 
 def neighbour_list(x: np.ndarray, y: np.ndarray, radius: float, box: Box,
@@ -177,13 +158,13 @@ def neighbour_list(x: np.ndarray, y: np.ndarray, radius: float, box: Box,
     nx, ny = cells_per_side(box, radius)
     cell, start, order = bin_particles(x, y, active, box.lo_x, box.lo_y, box.length_x,
                                        box.length_y, nx, ny, box.periodic)
-    counts = _count(x, y, cell, start, order, nx, ny, box.length_x, box.length_y,
-                    box.periodic, radius * radius)
     offsets = np.zeros(x.size + 1, np.int64)
-    np.cumsum(counts, out=offsets[1:])
+    args = (x, y, cell, start, order, nx, ny, box.length_x, box.length_y, box.periodic,
+            radius * radius, offsets)
+    _scan(*args, np.empty(0, np.int64), False)
+    np.cumsum(offsets, out=offsets)
     index = np.empty(offsets[-1], np.int64)
-    _fill(x, y, cell, start, order, nx, ny, box.length_x, box.length_y, box.periodic,
-          radius * radius, offsets, index)
+    _scan(*args, index, True)
     return offsets, index
 
 
