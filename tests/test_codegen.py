@@ -72,7 +72,8 @@ def test_flags_must_match_the_template(tmp_path, monkeypatch):
 
 TEMPLATES = {
     "drying": ("craquelure.sph.drying_rate", {"KERNEL": 0}),
-    "impact": ("craquelure.impact.kernels_template", {"PERIODIC": False, "PLANE_STRESS": False}),
+    "impact": ("craquelure.impact.kernels_template", {"PERIODIC": False, "PLANE_STRESS": False,
+                                                      "DIM": 2}),
     "lattice": ("craquelure.lattice.kernel_template", {
         "PERIODIC_X": False, "NODE_AVERAGED": False, "BENDING": False, "PARALLEL": False}),
     "softdyn": ("craquelure.softdyn._rhs_template", {"LITERAL_DEFLECTION": False}),

@@ -67,3 +67,16 @@ def test_outputs_count_and_escape(tmp_path):
     assert "impact: 1 reproduced, 1 partly, 0 not reproduced, 0 inconclusive" in html
     assert html.count('class="inconclusive"') == 1
     assert html.count('class="not-reproduced"') == 1
+
+
+def test_fraction_power_by_simulation_matches_the_binomial():
+    """Power of the exact-interval test of 'fraction >= 1/2' at n samples against a true
+    fraction 0.9: it decides when the interval's lower bound clears 1/2 (k = n at n = 8,
+    k >= 9 at n = 10), so the power is P(k = 8) = 0.430 and P(k >= 9) = 0.736 within the
+    simulation's noise (4000 draws: sd 0.008); 3 samples never decide."""
+    from craquelure.validation import fraction_power, samples_for_power
+
+    assert abs(fraction_power(8, 0.9, 0.5) - 0.9**8) < 0.03
+    assert abs(fraction_power(10, 0.9, 0.5) - (0.9**10 + 10 * 0.9**9 * 0.1)) < 0.03
+    assert fraction_power(3, 0.9, 0.5) == 0.0
+    assert samples_for_power(3, 0.9, 0.5) == 12

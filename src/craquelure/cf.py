@@ -10,7 +10,8 @@ reduced units (drying, lattice, softdyn) writes its quantities as multiples of t
 scales; those get ``units = "1"`` and the scale in ``reduced_units`` (e.g. ``"eta/lambda"`` for a
 drying time, ``"R/tau"`` for a Soft Dynamics velocity). Wall times (``"s"``), angles
 (``"degree"``) and true ratios (``"1"``) keep their units. Impact is in SI per unit thickness
-(2D): masses kg/m, energies J/m, forces N/m.
+(2D): masses kg/m, energies J/m, forces N/m; a 3D impact dataset (attribute ``dim`` = 3) takes
+the whole-body units instead (kg, J, N; :func:`per_body`).
 
 A model writer's own ``long_name``/``units`` attributes win over the table below, which fills
 in the variables a writer leaves bare. Strings (labels) get a long name but no units.
@@ -41,6 +42,24 @@ class ModelMetadata:
     references: str
     reduced_unit_system: str | None = None  # None: SI
     variables: dict[str, tuple[str, str | None]] = field(default_factory=dict)
+
+    def for_dataset(self, ds: xr.Dataset) -> dict[str, tuple[str, str | None]]:
+        """The variable table for ``ds``: 3D datasets of a per-thickness model get
+        :func:`per_body` names and units."""
+        return per_body(self.variables) if ds.attrs.get("dim") == 3 else self.variables
+
+
+# per unit thickness (2D) -> whole body (3D)
+_BODY_UNITS = {"kg m-1": "kg", "J m-1": "J", "N m-1": "N", "kg s-1": "kg m s-1",
+               "N s m-1": "N s"}
+
+
+def per_body(variables: dict[str, tuple[str, str | None]]) -> dict[str, tuple[str, str | None]]:
+    """A 2D per-thickness table as the 3D one: "per unit thickness" dropped from the long
+    names, units multiplied by a length (kg m-1 -> kg, J m-1 -> J, N m-1 -> N, ...)."""
+    return {name: (long_name.replace(" per unit thickness", ""),
+                   _BODY_UNITS.get(units, units))
+            for name, (long_name, units) in variables.items()}
 
 
 _TIME_DRYING = "eta/lambda"
@@ -123,6 +142,9 @@ IMPACT = ModelMetadata(
         "snapshot_time": ("simulated time of the snapshot", "s"),
         "x0": ("initial position x", "m"),
         "y0": ("initial position y", "m"),
+        "z0": ("initial position z along the disc axis (3D)", "m"),
+        "z": ("final position z (3D)", "m"),
+        "vz": ("final velocity z (3D)", "m s-1"),
         "mass": ("particle mass per unit thickness", "kg m-1"),
         "precrack": ("1 if the particle is on a pre-crack", "1"),
         "x": ("final position x", "m"),
@@ -325,8 +347,9 @@ def apply(ds: xr.Dataset, argv: list[str] | None = None) -> xr.Dataset:
     attrs["references"] = meta.references
     if meta.reduced_unit_system:
         attrs["reduced_unit_system"] = meta.reduced_unit_system
+    table = meta.for_dataset(ds)
     for name, var in ds.variables.items():
-        long_name, units = meta.variables.get(str(name), (None, None))
+        long_name, units = table.get(str(name), (None, None))
         if long_name and not var.attrs.get("long_name"):
             var.attrs["long_name"] = long_name
         if var.dtype.kind not in "fiub":

@@ -35,6 +35,10 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
+        if getattr(args, "threads", None):  # the commands that take --threads
+            import numba
+
+            numba.set_num_threads(args.threads)
         return int(args._main(args) or 0)
     except CraquelureError as exc:  # scene, dataset, guard (SimulationDiverged)
         return _fail(args.command, str(exc))

@@ -174,6 +174,13 @@ def _impact_rules(data: dict) -> list[str]:
     h_min, h_max = _get(data, "numerics.h_min"), _get(data, "numerics.h_max")
     if h_min >= h_max:
         out.append(f"numerics.h_min: {h_min!r} must be below numerics.h_max = {h_max!r}")
+    if _get(data, "domain.dim") == 3:
+        if _get(data, "domain.plane") == "stress":
+            out.append("domain.plane: 'stress' is not allowed with domain.dim = 3; allowed "
+                       "values: strain (the default; a 3D body has no plane assumption)")
+        if _get(data, "particles.shape") == "rings":
+            out.append("particles.shape: 'rings' is not allowed with domain.dim = 3; allowed "
+                       "values: disc, rectangle")
     precrack = _get(data, "particles.precrack")
     layouts = _get(data, "precracks") or {}
     if precrack != "none" and precrack not in layouts:
@@ -319,10 +326,13 @@ def _impact_memory(data: dict) -> tuple[float, str]:
     d = int(_get(data, "particles.diameter_cells"))
     n = d * int(_get(data, "particles.height_cells", 1)) \
         if _get(data, "particles.shape") == "rectangle" else math.pi / 4 * d * d
+    three_d = _get(data, "domain.dim") == 3
+    if three_d:
+        n *= int(_get(data, "particles.thickness_cells"))
     kappa, hf = float(_get(data, "numerics.kappa", 1.0)), float(_get(data, "numerics.h_factor"))
     h_max = float(_get(data, "numerics.h_max", 2.0))
     support = 2 * kappa * hf * max(1.0, h_max) * (1 + float(_get(data, "numerics.neighbour_skin")))
-    pairs = n * min(n, math.pi * support**2)
+    pairs = n * min(n, 4.0 / 3.0 * math.pi * support**3 if three_d else math.pi * support**2)
     t_end, series_dt = float(_get(data, "outputs.t_end")), float(_get(data, "outputs.series_dt"))
     samples = t_end / series_dt + 2
     snaps = len(_get(data, "outputs.snapshot_times") or []) + 1

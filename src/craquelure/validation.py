@@ -18,7 +18,9 @@ Verdicts are computed from the criterion's conditions, never typed in:
   never prints ``reproduced`` on a claim its sample cannot decide.
 
 Helpers for sample-size decisions shared by the models: :func:`fraction_decision` (a fraction of
-samples against a threshold, exact binomial interval).
+samples against a threshold, exact binomial interval), :func:`fraction_power` (its power against
+a named alternative fraction, by simulation at a given sample size) and
+:func:`samples_for_power` (the sample size that power needs).
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ import html
 import json
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass
+from functools import cache
 from importlib import import_module
 from pathlib import Path
 
@@ -80,37 +83,85 @@ def verdict_of(conditions: Mapping[str, bool], undecided: Mapping[str, str] | No
     return "reproduced", ""
 
 
-def fraction_decision(successes: int, n: int, threshold: float,
-                      level: float = DECISION_LEVEL) -> tuple[bool | None, str]:
-    """Does a fraction of ``n`` samples meet ``>= threshold``? (True/False when the exact
-    (Clopper-Pearson) two-sided ``level`` interval of the fraction lies on one side of the
-    threshold, None when it straddles it) and, when undecided, the sample that would decide at
-    the observed fraction (smallest n' whose interval at the same fraction excludes the
-    threshold)."""
+@cache
+def fraction_decided(successes: int, n: int, threshold: float,
+                     level: float = DECISION_LEVEL) -> bool | None:
+    """Does a fraction of ``n`` samples meet ``>= threshold``? True/False when the exact
+    (Clopper-Pearson) two-sided ``level`` interval of ``successes / n`` lies on one side of the
+    threshold (lower bound >= threshold / upper bound < threshold), None when it straddles it."""
+    if n <= 0:
+        return None
+    lo, hi = fraction_interval(successes, n, level)
+    if lo >= threshold:
+        return True
+    if hi < threshold:
+        return False
+    return None
+
+
+def fraction_interval(k: float, n: int, level: float = DECISION_LEVEL) -> tuple[float, float]:
+    """Exact (Clopper-Pearson) two-sided ``level`` interval of a fraction k/n."""
     from scipy import stats
 
+    tail = (1.0 - level) / 2.0
+    lo = stats.beta.ppf(tail, k, n - k + 1) if k > 0 else 0.0
+    hi = stats.beta.ppf(1 - tail, k + 1, n - k) if k < n else 1.0
+    return float(lo), float(hi)
+
+
+def fraction_decision(successes: int, n: int, threshold: float,
+                      level: float = DECISION_LEVEL) -> tuple[bool | None, str]:
+    """:func:`fraction_decided` and, when undecided, the sample that would decide at the
+    observed fraction (smallest n' whose interval at the same fraction excludes the
+    threshold)."""
     if n <= 0:
         return None, "at least one sample"
-    tail = (1.0 - level) / 2.0
-
-    def interval(k: float, m: int) -> tuple[float, float]:
-        lo = stats.beta.ppf(tail, k, m - k + 1) if k > 0 else 0.0
-        hi = stats.beta.ppf(1 - tail, k + 1, m - k) if k < m else 1.0
-        return float(lo), float(hi)
-
-    lo, hi = interval(successes, n)
-    if lo >= threshold:
-        return True, ""
-    if hi < threshold:
-        return False, ""
+    decided = fraction_decided(successes, n, threshold, level)
+    if decided is not None:
+        return decided, ""
     fraction = successes / n
     if fraction == threshold:
         return None, "more samples than any finite count (fraction on the threshold)"
     for m in range(n + 1, 100 * n + 1000):
-        lo, hi = interval(round(fraction * m), m)
+        lo, hi = fraction_interval(round(fraction * m), m, level)
         if lo >= threshold or hi < threshold:
             return None, f"about {m} samples at the observed fraction {fraction:.2f}"
     return None, f"more than {100 * n + 1000} samples"
+
+
+POWER_DRAWS = 4000  # simulated samples per power estimate
+POWER_SEED = 20261201
+
+
+@cache
+def fraction_power(n: int, alternative: float, threshold: float,
+                   level: float = DECISION_LEVEL, draws: int = POWER_DRAWS) -> float:
+    """Power of :func:`fraction_decided` at ``n`` samples against a true fraction
+    ``alternative``, by simulation: the share of ``draws`` binomial samples (fixed generator
+    seed) that the test decides in the alternative's direction (True when the alternative
+    meets the threshold, False when it does not)."""
+    import numpy as np
+
+    if n <= 0:
+        return 0.0
+    want = alternative >= threshold
+    rng = np.random.default_rng([POWER_SEED, n, round(alternative * 1e6)])
+    ks = rng.binomial(n, alternative, size=draws)
+    values, counts = np.unique(ks, return_counts=True)
+    hits = sum(int(c) for k, c in zip(values, counts, strict=True)
+               if fraction_decided(int(k), n, threshold, level) is want)
+    return hits / draws
+
+
+def samples_for_power(n: int, alternative: float, threshold: float,
+                      needed: float = POWER_NEEDED, largest: int = 200) -> int | None:
+    """Smallest sample size >= ``n`` whose :func:`fraction_power` against ``alternative``
+    reaches ``needed`` (None up to ``largest``). The exact interval is discrete, so power is not
+    monotone in n; this is the first size that reaches it."""
+    for m in range(max(n, 1), largest + 1):
+        if fraction_power(m, alternative, threshold) >= needed:
+            return m
+    return None
 
 
 def collect(sources: Mapping[str, Sequence[str | Path]]) -> list[Claim]:

@@ -37,9 +37,10 @@ def test_run_dataset_is_complete_and_deterministic(tmp_path):
     assert np.array_equal(a["x0"].values, sp.x) and np.array_equal(a["y0"].values, sp.y)
     assert not np.array_equal(a["y"].values, sp.y)
     assert a["mass"].sum() == pytest.approx(a.sizes["particle"] * 2400.0 * 0.01**2, rel=1e-12)
-    assert abs(a.attrs["metric_energy_balance_error_max"]) < 0.02
-    assert a.attrs["metric_as_epsilon"] == pytest.approx(0.15)  # as_epsilon: auto at kappa = 1
-    assert a.attrs["metric_contact_a"] == pytest.approx(6.27, abs=0.01)  # contact_a: auto
+    assert np.abs(a["series_balance_error"].values).max() < 0.02
+    assert a.attrs["as_epsilon"] == pytest.approx(0.15)  # as_epsilon: auto at kappa = 1
+    assert a.attrs["contact_a"] == pytest.approx(6.27, abs=0.01)  # contact_a: auto
+    assert not [k for k in a.attrs if k.startswith("metric_")]  # a run computes no analysis
     c = open_dataset(run(scene, tmp_path / "c.nc", seed=4))
     assert not np.array_equal(a["mass"].values, c["mass"].values)
 
@@ -105,6 +106,36 @@ def test_campaign_sizes(profile, expected):
     assert set(p for v in figs.values() for p in ([v] if isinstance(v, str) else v)) <= set(runs)
 
 
+def test_fixed_across_kappa_sets_eps_as_and_l_c_on_every_run():
+    """``impact.fixed_across_kappa`` adds the same --set of eps_AS and l_c to every variant;
+    absent, the variant's arguments are the masses, pre-crack and kappa only."""
+    wc = type("W", (), {"masses": "uniform", "precrack": "none", "kappa": "0.7"})()
+    plain = workflow.variant_overrides({})(wc)
+    assert plain == ("--set particles.masses.distribution=uniform --set particles.precrack=none "
+                     "--set numerics.kappa=0.7")
+    held = workflow.variant_overrides(
+        {"fixed_across_kappa": {"as_epsilon": 0.15, "crack_band_width": 0.008}})(wc)
+    assert held == (plain + " --set numerics.as_epsilon=0.15"
+                    " --set material.crack_band_width=0.008")
+    scene = load_scene("impact/ci", ["numerics.kappa=0.7", "numerics.as_epsilon=0.15",
+                                     "material.crack_band_width=0.008"])
+    st = settings(scene)
+    assert st.as_epsilon == 0.15 and st.material.band == 0.008
+
+
+def states_by_threads(scene, seed, threads=(1, 2)) -> list:
+    """The final engine state of ``scene`` and ``seed`` run with each thread count."""
+    out = []
+    for n in threads:
+        old = numba.get_num_threads()
+        numba.set_num_threads(n)
+        try:
+            out.append(simulate(scene, seed, progress=False)[1].state)
+        finally:
+            numba.set_num_threads(old)
+    return out
+
+
 @pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 numba threads")
 def test_run_is_independent_of_the_thread_count():
     """Same scene and seed, 1 and 2 threads: bit-identical fields. Every pair sum is a gather
@@ -112,14 +143,7 @@ def test_run_is_independent_of_the_thread_count():
     step-start rho and h of its neighbours (it used to read them while other threads were
     overwriting them, so 2-thread runs differed from run to run)."""
     scene = load_scene("impact/ci", [*CI, "particles.masses.distribution=uniform"])
-    out = []
-    for threads in (1, 2):
-        old = numba.get_num_threads()
-        numba.set_num_threads(threads)
-        try:
-            out.append(simulate(scene, 3, progress=False)[1].state)
-        finally:
-            numba.set_num_threads(old)
+    out = states_by_threads(scene, 3)
     for key in ("x", "y", "vx", "vy", "rho", "h", "sig", "dmg"):
         assert np.array_equal(getattr(out[0], key), getattr(out[1], key)), key
 
@@ -137,7 +161,7 @@ def test_derived_numbers_show_the_resolved_penalty():
 
 
 def test_dt_min_is_the_stability_step():
-    """``metric_dt_min`` is the smallest CFL step, not the last step shortened to end at t_end
+    """``run_dt_min`` is the smallest CFL step, not the last step shortened to end at t_end
     (which gave 1e-9 s): within the CFL range of this run (AV term included: ~0.18 us)."""
     scene = load_scene("impact/ci", ["outputs.t_end=1.0e-5", "outputs.snapshot_times=[]"])
     _, eng, _, _ = simulate(scene, 0, progress=False)

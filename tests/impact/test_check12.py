@@ -79,3 +79,72 @@ def test_median_interval_and_bootstrap_agreement():
     assert out["median"] == 1.5 and out["n"] == 8
     assert out["ci95"][0] <= 1.5 <= out["ci95"][1]
     assert 0.0 < out["agreement"] < 1.0  # a median on the edge is not a stable decision
+
+
+def test_fractional_condition_reports_statistic_intervals_and_power():
+    """N_main >= 2 in 10 of 10 specimens: decided (exact 95 % interval [0.69, 1] above 1/2),
+    with its bootstrap interval over seeds and the simulated power at 10 seeds against the
+    named alternatives (P in 9 of 10 specimens: the test decides when k >= 9, binomial
+    probability 0.74; P in 1 of 10: symmetric)."""
+    cases = {"homogeneous/none/kappa1": homogeneous(),
+             "uniform/none/kappa1": heterogeneous(10, 3, 0.3)}
+    f = by_name(check12.evaluate(cases, "uniform")[0], "heterogeneous kappa = 1")
+    t = f["fraction_tests"]["N_main >= 2 in at least half of the specimens"]
+    assert (t["k"], t["n"], t["decided"]) == (10, 10, True)
+    assert t["ci95_bootstrap"] == [1.0, 1.0]
+    assert abs(t["ci95_exact"][0] - 0.025 ** 0.1) < 1e-9 and t["ci95_exact"][1] == 1.0
+    assert abs(t["power"]["P in 9 of 10 specimens"] - 0.736) < 0.03  # exact: 0.7361
+    assert abs(t["power"]["P in 1 of 10 specimens"] - 0.736) < 0.03
+    assert t["seeds_for_power"]["P in 9 of 10 specimens"] == 12
+    assert f["status"] == "reproduced"
+
+
+def test_low_power_is_inconclusive_even_with_eight_seeds():
+    """6 of 8 specimens with two or more main cracks: the exact interval [0.35, 0.97] contains
+    1/2, the test has power 0.43 against 'P in 9 of 10 specimens' at 8 seeds: inconclusive,
+    naming the power and the seeds it would need, never reproduced."""
+    het = heterogeneous(8, 3, 0.3)
+    het["per_seed"]["n_main_cracks_revised"] = [3, 2, 1, 4, 1, 2, 3, 2]
+    cases = {"homogeneous/none/kappa1": homogeneous(), "uniform/none/kappa1": het}
+    f = by_name(check12.evaluate(cases, "uniform")[0], "heterogeneous kappa = 1")
+    assert f["status"] == "inconclusive" and f["failed"] == []
+    note = f["undecided"]["N_main >= 2 in at least half of the specimens"]
+    assert "6 of 8 seeds" in note and "power at 8 seeds 0.4" in note
+    assert "about 12 seeds for power 0.8" in note
+
+
+def test_clear_effect_at_eight_seeds_is_decided_both_ways():
+    """8 of 8 specimens: reproduced; 0 of 8 (one main crack everywhere): decided false, the
+    finding fails that condition by name."""
+    cases = {"homogeneous/none/kappa1": homogeneous(),
+             "uniform/none/kappa1": heterogeneous(8, 3, 0.3)}
+    assert by_name(check12.evaluate(cases, "uniform")[0],
+                   "heterogeneous kappa = 1")["status"] == "reproduced"
+    cases["uniform/none/kappa1"] = heterogeneous(8, 1, 0.3)
+    f = by_name(check12.evaluate(cases, "uniform")[0], "heterogeneous kappa = 1")
+    assert f["status"] == "partly"
+    assert f["failed"] == ["N_main >= 2 in at least half of the specimens"]
+
+
+def test_kappa_comparison_pairs_specimens_by_seed_and_states_what_was_held_fixed():
+    """kappa = 0.7 against kappa = 1: the same seeds (the same masses) compared pairwise; the
+    verdict says whether eps_AS and l_c were held fixed by the config."""
+    low = heterogeneous(8, 1, 0.4, near=0.7, area=2e-3)
+    low["per_seed"]["crushed_area"] = [2e-3, 2e-3, 5e-4, 5e-4, 5e-4, 5e-4, 5e-4, 5e-4]
+    cases = {"uniform/none/kappa0.7": low, "uniform/none/kappa1": heterogeneous(8, 2, 0.3)}
+    f = by_name(check12.evaluate(cases, "uniform", "2D", {"as_epsilon": 0.15})[0],
+                "heterogeneous kappa = 0.7")
+    t = f["fraction_tests"]["crushed area above kappa = 1 in at least half of the specimens"]
+    assert (t["k"], t["n"], t["decided"]) == (2, 8, None)  # [0.03, 0.65]: undecided
+    assert f["status"] == "inconclusive"
+    assert f["values"]["eps_AS and l_c"].startswith("held fixed across kappa by the config "
+                                                    "(as_epsilon = 0.15)")
+    f = by_name(check12.evaluate(cases, "uniform")[0], "heterogeneous kappa = 0.7")
+    assert f["values"]["eps_AS and l_c"].startswith("each kappa's own")
+
+
+def test_findings_carry_their_dimension():
+    cases = {"homogeneous/none/kappa1": homogeneous(),
+             "uniform/none/kappa1": heterogeneous(8, 3, 0.3)}
+    findings, reported = check12.evaluate(cases, "uniform", "3D")
+    assert {f["dim"] for f in findings} == {"3D"} and reported["dim"] == "3D"

@@ -30,7 +30,7 @@ SUMMARY = {
 def test_findings_keep_their_computed_status(tmp_path):
     path = tmp_path / "summary.json"
     path.write_text(json.dumps(SUMMARY))
-    out = claims.claims([path])
+    out = [c for c in claims.claims([path]) if not c.claim.startswith("[3D]")]
     assert [c.verdict for c in out[:2]] == ["reproduced", "not reproduced"]
     assert out[0].measured == "fraction = 0.963; angles = [41, 29.6]"
     assert out[1].measured.startswith("coverage = median 0.2 [95 % 0.2, 0.2], n = 1")
@@ -53,3 +53,37 @@ def test_too_few_seeds_and_a_missing_case_are_inconclusive():
     missing = {"finding": "homogeneous: one main crack", "criterion": "N_main = 1",
                "values": {}, "reproduced": None}
     assert claims.finding_claim(missing, "caveat").verdict == "inconclusive"
+
+
+def test_3d_and_2d_verdicts_side_by_side(tmp_path):
+    """Each finding's 3D row right before its 2D row; a dimension without runs says so."""
+    three = [dict(f, dim="3D", status="reproduced", reproduced=True, n_seeds=8)
+             for f in SUMMARY["findings"][:2]]
+    path = tmp_path / "summary.json"
+    path.write_text(json.dumps(dict(SUMMARY, findings=three + SUMMARY["findings"],
+                                    dimensions=["3D", "2D"],
+                                    n_seeds_heterogeneous_by_dim={"3D": 8, "2D": 3})))
+    out = claims.claims([path])
+    rows = [(c.claim, c.verdict) for c in out][:6]
+    assert "8 heterogeneous specimens" in out[0].note and "3 heterogeneous" in out[1].note
+    assert rows[0] == ("[3D] pf2: failure follows the zero-mass line", "reproduced")
+    assert rows[1] == ("[2D] pf2: failure follows the zero-mass line", "reproduced")
+    assert rows[2] == ("[3D] pf1: failure follows the zero-mass line", "reproduced")
+    assert rows[3] == ("[2D] pf1: failure follows the zero-mass line", "not reproduced")
+    assert rows[4] == ("[3D] kappa = 1: several main cracks", "inconclusive")
+    missing = claims.claims([path])[4]
+    assert missing.note == "not run: profile default has no 3D runs of this case"
+    assert rows[5] == ("[2D] kappa = 1: several main cracks", "inconclusive")
+
+
+def test_fractional_condition_shows_statistic_intervals_and_power():
+    test = {"k": 6, "n": 8, "fraction": 0.75, "threshold": 0.5, "decided": None,
+            "ci95_bootstrap": [0.5, 1.0], "ci95_exact": [0.35, 0.97],
+            "power": {"P in 9 of 10 specimens": 0.43, "P in 1 of 10 specimens": 0.42},
+            "seeds_for_power": {"P in 9 of 10 specimens": 12, "P in 1 of 10 specimens": 12}}
+    finding = dict(SUMMARY["findings"][2], n_seeds=8, fraction_tests={"N_main >= 2": test},
+                   undecided={"N_main >= 2": "power 0.43"})
+    c = claims.finding_claim(finding, "caveat")
+    assert ("N_main >= 2: 6 of 8 seeds (fraction 0.75, bootstrap 95 % [0.50, 1.00], exact 95 % "
+            "[0.35, 0.97]; power 0.43 against P in 9 of 10 specimens") in c.measured
+    assert c.verdict == "inconclusive" and c.note.startswith("cannot decide: N_main >= 2")

@@ -60,14 +60,15 @@ def test_plane_stress_dzz_solves_the_plastic_return():
         w = rng.uniform(-1e3, 1e3)
         d = mod.plane_stress_dzz(s0[0], s0[1], s0[2], 0.0, 0.0, 0.0, dxx, dyy, dxy, w, dt,
                                  prm)
-        trial = mod.jaumann_trial(s0[0], s0[1], s0[2], 0.0, dxx, dyy, dxy, d, w, MAT.bulk,
+        trial = mod.jaumann_trial((s0[0], s0[1], s0[2], 0.0, 0.0, 0.0),
+                                  (dxx, dyy, dxy, d, 0.0, 0.0), (w, 0.0, 0.0), MAT.bulk,
                                   MAT.shear, dt)
-        out = np.array([mod.dp_return(*trial, *MAT.dp, MAT.shear)[:4]])
+        out = np.array([mod.dp_return(trial, *MAT.dp, MAT.shear)[0][:4]])
         assert abs(out[0, 3]) <= 1e-9 * (np.abs(s0).sum() + MAT.dp[1]) * 1.0001
         f, i1 = _cone(out)
         if i1[0] < 0:
             assert f[0] <= 1e-6 * MAT.dp[1]
-        returned += int(mod.dp_return(*trial, *MAT.dp, MAT.shear)[4] > 0)
+        returned += int(mod.dp_return(trial, *MAT.dp, MAT.shear)[1] > 0)
     assert returned > 50  # most samples really went through the plastic branch
 
 

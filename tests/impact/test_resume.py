@@ -10,3 +10,14 @@ def test_killed_cli_run_resumes_bit_identically(tmp_path):
     assert "resumed from" in err
     assert resumed.attrs["run_resumed_at_step"] > 0
     same_dataset(full, resumed)
+
+
+def test_killed_3d_run_resumes_bit_identically(tmp_path):
+    """The 3D state (z, v_z, six stress components, the k-d tree's neighbour list) goes
+    through the same checkpoint: the tiny 3D CI disc (336 particles)."""
+    full, resumed, err = kill_and_resume(tmp_path, [
+        "impact/ci3d", "--seed", "1", "--set", "particles.masses.distribution=uniform",
+        "--checkpoint-every", "40"])
+    assert "resumed from" in err
+    assert resumed.attrs["run_resumed_at_step"] > 0 and resumed.attrs["dim"] == 3
+    same_dataset(full, resumed)

@@ -6,7 +6,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from craquelure.impact import api
+from craquelure.impact import analysis, api
 from craquelure.impact.api import initial_state, settings
 from craquelure.impact.engine import Engine
 from craquelure.impact.specimen import build_specimen
@@ -60,11 +60,17 @@ def test_default_run_summary_equal_with_and_without_the_flush(monkeypatch):
         monkeypatch.setattr(api, "settings", patched)
         sp, eng, series, snaps = api.simulate(scene, 0, progress=False)
         runs[flush] = api.run_dataset(scene, 0, sp, eng, series, snaps)
+        # what write_run adds: the stored scene and the runner's step count
+        runs[flush].attrs.update(scene=scene.text, run_steps=eng.step_count)
     a, b = runs[1e-100], runs[0.0]
-    assert a.attrs["metric_steps"] == b.attrs["metric_steps"]
-    for key, value in b.attrs.items():
-        if key.startswith("metric_") and isinstance(value, float):
-            assert a.attrs[key] == pytest.approx(value, rel=1e-10, abs=1e-12), key
+    ma, mb = analysis.run_metrics(a), analysis.run_metrics(b)
+    assert ma["steps"] == mb["steps"]
+    assert a.attrs["run_dt_min"] == pytest.approx(b.attrs["run_dt_min"], rel=1e-10)
+    for key, value in mb.items():
+        if isinstance(value, float):
+            assert ma[key] == pytest.approx(value, rel=1e-10, abs=1e-12), key
+        else:
+            assert ma[key] == value, key
     for name in b.data_vars:
         if name.startswith("series_"):
             np.testing.assert_allclose(a[name].values, b[name].values, rtol=1e-10,

@@ -1,4 +1,5 @@
-# Concrete impact (SPH): one run per variant (masses x kappa x pre-crack x seed), a summary of
+# Concrete impact (SPH): one run per variant (masses x kappa x pre-crack x seed), in 2D and,
+# with 3 in impact.dims, in 3D (impact.three_d: the source's 10 112-particle disc), a summary of
 # the source's findings (results/impact/summary.json) and the report figures.
 
 from craquelure.impact import workflow as impact_workflow
@@ -37,30 +38,33 @@ rule impact_run:
         "results/impact/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.nc",
     params:
         cli=CRAQUELURE,
-        variant=impact_workflow.variant_overrides,
+        variant=impact_workflow.variant_overrides(IMPACT),
         overrides=scene_overrides("impact"),
+        three_d=impact_workflow.three_d_overrides(IMPACT),
     log:
         "logs/impact_run/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.log",
     benchmark:
         "benchmarks/results/impact_run/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.tsv"
-    threads: IMPACT["threads"]
+    threads: impact_workflow.run_resource(IMPACT, "threads")
     resources:
-        mem_mb=IMPACT["mem_mb"],
-        runtime=IMPACT["runtime_run"],
+        mem_mb=impact_workflow.run_resource(IMPACT, "mem_mb"),
+        runtime=impact_workflow.run_resource(IMPACT, "runtime_run"),
     shell:
         "{params.cli} run {input.scene} --seed {wildcards.seed} --out {output} "
-        "--threads {threads} {params.variant} {params.overrides} > {log} 2>&1"
+        "--threads {threads} {params.variant} {params.overrides} {params.three_d} "
+        "> {log} 2>&1"
 
 
 rule impact_summary:
     input:
-        impact_workflow.campaign_runs(IMPACT),
+        impact_workflow.campaign_runs(IMPACT) + impact_workflow.campaign_runs_3d(IMPACT),
     output:
         "results/impact/summary.json",
     params:
         profile=config["profile"],
         scene=IMPACT_SCENE,
         distribution=IMPACT["distribution"],
+        fixed_across_kappa=IMPACT.get("fixed_across_kappa", {}),
     log:
         "logs/impact_summary.log",
     threads: 1
@@ -206,10 +210,16 @@ rule impact_regime:
 
 
 CLAIM_SOURCES["impact"] = ["results/impact/summary.json"]
+# The 3D disc (config impact.three_d, scene with domain.dim 3): its runs are datasets of the
+# campaign with attrs dim = 3, under results/impact/<3D scene>/.
+IMPACT_RUNS_3D = impact_workflow.campaign_runs_3d(IMPACT)
 TARGETS["impact"] = [
     "results/impact/summary.json",
+    *IMPACT_RUNS_3D,
     *IMPACT_PNG.values(),
     "results/impact/figures/impact_accuracy.png",
     "results/impact/figures/impact_regime_map.png",
 ]
-DATASETS["impact"] = impact_workflow.campaign_runs(IMPACT) + impact_workflow.regime_runs(IMPACT)
+DATASETS["impact"] = (
+    impact_workflow.campaign_runs(IMPACT) + IMPACT_RUNS_3D + impact_workflow.regime_runs(IMPACT)
+)

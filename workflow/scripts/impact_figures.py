@@ -5,14 +5,15 @@ from collections import defaultdict
 from pathlib import Path
 
 from craquelure.impact import figures
+from craquelure.impact.analysis import run_fact, run_metrics
 from craquelure.io import open_dataset
 
 if "snakemake" in globals():
     smk = snakemake  # noqa: F821
     sys.stderr = sys.stdout = open(smk.log[0], "w")  # noqa: SIM115
     ds = open_dataset(smk.input.specimen)
-    size = (f"{int(ds.attrs['metric_n_particles'])} particles, "
-            f"Delta = {1e3 * float(ds.attrs['metric_spacing']):g} mm")
+    size = (f"{int(run_fact(ds, 'n_particles'))} particles, "
+            f"Delta = {1e3 * float(run_fact(ds, 'spacing')):g} mm")
     label = f"profile {smk.params.profile}, scene impact/{smk.params.scene}, {size}, 2D"
     out = {k: Path(v) for k, v in smk.output.items()}
     figures.figure_masses(Path(smk.input.specimen), out["masses"], label)
@@ -27,5 +28,5 @@ if "snakemake" in globals():
     figures.figure_precracks(smk.input.precracks, out["precracks"], label)
     by_kappa = defaultdict(list)
     for run in smk.input.contact:
-        by_kappa[float(open_dataset(run).attrs["metric_kappa"])].append(run)
+        by_kappa[float(run_metrics(open_dataset(run))["kappa"])].append(run)
     figures.figure_contact(by_kappa, out["contact_force"], f"contact force; {label}")

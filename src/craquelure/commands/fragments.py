@@ -22,10 +22,6 @@ def add_arguments(parser) -> None:
 def main(args) -> int:
     from pathlib import Path
 
-    if args.threads:
-        import numba
-
-        numba.set_num_threads(args.threads)
     from craquelure.drying.analysis import fragments_from_run_file
 
     if not Path(args.run).is_file():

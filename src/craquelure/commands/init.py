@@ -19,10 +19,6 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    if args.threads:
-        import numba
-
-        numba.set_num_threads(args.threads)
     clock = WallClock()
     scene = load_scene(args.scene, args.overrides)
     ds = stage(scene.model, "build_initial_state")(scene, args.seed)

@@ -27,10 +27,6 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    if args.threads:
-        import numba
-
-        numba.set_num_threads(args.threads)
     scene = load_scene(args.scene, args.overrides)
     out = stage(scene.model, "run")(scene, Path(args.out), seed=args.seed,
                                     init=Path(args.init) if args.init else None,

@@ -50,16 +50,11 @@ def stable_time_step(scene: Scene) -> float:
 def derived_numbers(scene: Scene) -> dict[str, object]:
     length, n, h = (scene.get("domain.box_length"), scene.get("particles.n"),
                     scene.get("numerics.h"))
-    neighbours = n * math.pi * h * h / length**2 - 1
-    from craquelure.scene_rules import drying_run_step
-
-    dt = drying_run_step(scene.data)  # the step the run takes (numerics.adapt_dt halves it)
-    steps = math.ceil(scene.get("outputs.t_end") / dt)
-    evals = evaluations_per_step(scene, dt)
+    dt, steps, evals = _run_steps(scene)
     return {
         "particle spacing L/sqrt(N)": length / math.sqrt(n),
         "h / spacing": h / (length / math.sqrt(n)),
-        "neighbours per particle": neighbours,
+        "neighbours per particle": n * math.pi * h * h / length**2 - 1,
         "viscous spectral radius": viscous_spectral_radius(scene),
         "stable time step": stable_time_step(scene),
         "time step (numerics.dt)": scene.get("numerics.dt"),
@@ -70,16 +65,22 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     }
 
 
+def _run_steps(scene: Scene) -> tuple[float, int, int]:
+    """The step the run takes (numerics.adapt_dt halves it), the step count and the rate
+    evaluations per step."""
+    from craquelure.scene_rules import drying_run_step
+
+    dt = drying_run_step(scene.data)
+    return dt, math.ceil(scene.get("outputs.t_end") / dt), evaluations_per_step(scene, dt)
+
+
 def workload(scene: Scene) -> dict[str, float]:
     """Rate evaluations, particles and listed neighbours (Verlet radius 1.1 h: 1.21x the
     pairs within h) of a run, for the throughput model."""
     length, n, h = (scene.get("domain.box_length"), scene.get("particles.n"),
                     scene.get("numerics.h"))
-    from craquelure.scene_rules import drying_run_step
-
-    dt = drying_run_step(scene.data)
-    steps = math.ceil(scene.get("outputs.t_end") / dt)
-    return {"units": steps * evaluations_per_step(scene, dt), "particles": n,
+    _, steps, evals = _run_steps(scene)
+    return {"units": steps * evals, "particles": n,
             "neighbours": 1.21 * (n * math.pi * h * h / length**2 - 1)}
 
 

@@ -1,9 +1,18 @@
-"""Campaign analysis of the impact model (spec sections 6-7, check 12): run datasets to
-``results/impact/summary.json``.
+"""Analysis of the impact model (spec sections 6-7, check 12): run datasets to per-run metrics
+to ``results/impact/summary.json``.
 
-:func:`summarise` reads the run datasets' ``metric_*`` attributes, groups them by case
-(masses, pre-crack, κ), gives per-seed values, medians and spread (min, max, interquartile
-range), and evaluates each of the source's qualitative findings as a criterion with the
+A run dataset holds state, time series and provenance only (:mod:`.api`); every measurement is
+made here, from its final fields and series, with the thresholds of the scene stored in the
+dataset, read back as it was written (:func:`craquelure.scene.stored_scene`, no re-validation):
+:func:`run_metrics`. Older datasets that still carry the ``metric_*`` attributes of the days when
+the run measured itself are analysed the same way: their metrics are recomputed from the state
+and the stale attributes are ignored; only the resolved numbers a run used and what only the
+running engine saw (ε_AS, ℓ_c, the penalty scale, the geometry, ``dt_min``, ...) are read from
+``metric_*`` when the newer attribute is absent.
+
+:func:`summarise` groups runs by dimension (attribute ``dim``, 2 when absent) and case (masses,
+pre-crack, κ), gives per-seed values, medians and spread (min, max, interquartile range), and
+evaluates each of the source's qualitative findings per dimension as a criterion with the
 measured numbers and a verdict, per seed (:mod:`.check12`, check 12 as revised). The figures
 are :mod:`.figures`.
 """
@@ -17,8 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-from craquelure.impact import check12
+from craquelure.impact import check12, measure
 from craquelure.io import open_dataset
+from craquelure.scene import stored_scene
 
 PER_RUN = ("n_main_cracks", "main_crack_angle_deg", "cracked_fraction",
            "cracked_fraction_damage", "crushed_area", "crushed_height", "contact_force_peak",
@@ -35,6 +45,16 @@ PER_RUN = ("n_main_cracks", "main_crack_angle_deg", "cracked_fraction",
            # what the comparisons hold fixed, per run
            "spacing", "as_epsilon", "crack_band_width", "contact_a", "material_model")
 
+# Resolved numbers a run used and what only the running engine saw: attributes of the run
+# dataset (names of today's runs; older runs wrote them as metric_<legacy name>).
+RUN_FACTS = {"spacing": "spacing", "radius": "radius", "n_particles": "n_particles",
+             "as_epsilon": "as_epsilon", "crack_band_width": "crack_band_width",
+             "contact_a": "contact_a", "material_model": "material_model",
+             "dt_min": "run_dt_min", "energy_initial": "run_energy_initial",
+             "max_penetration": "run_max_penetration",
+             "kinematic_impulse": "run_kinematic_impulse",
+             "contact_force_peak_step": "run_contact_force_peak_step", "steps": "run_steps"}
+
 
 def _num(v):
     if isinstance(v, np.generic):
@@ -44,34 +64,71 @@ def _num(v):
     return v
 
 
-def crack_metrics(ds) -> dict:
-    """The revised check-12 measurements recomputed from a run dataset's final fields (the
-    run's own ``metric_*`` were computed with the measurement code of its day), with the
-    thresholds of the run's resolved scene."""
-    import yaml
+def run_fact(ds, name: str, default=None):
+    """A resolved number or engine fact of a run (:data:`RUN_FACTS`), from today's attribute
+    or an older run's ``metric_<name>``."""
+    attrs = ds.attrs
+    key = RUN_FACTS.get(name, name)
+    if key in attrs:
+        return attrs[key]
+    return attrs.get(f"metric_{name}", default)
 
-    from craquelure.impact.measure import precrack_following, revised_cracks
 
-    material = yaml.safe_load(ds.attrs["scene"]).get("material", {})
-    cracked = material.get("cracked_threshold", 0.9)
-    crushed = material.get("crushed_strain", 0.0035)
-    field = "damage" if material.get("cracked_measure") == "damage" else "softening"
+def run_scene(ds):
+    """The scene a run dataset stores, read back as it was written (no re-validation)."""
+    return stored_scene(str(ds.attrs["scene"]), name=str(ds.attrs.get("scene_name", "scene")))
+
+
+def run_dim(ds, scene=None) -> int:
+    """2 or 3: the run's ``dim`` attribute, else its scene's ``domain.dim``, else 2."""
+    if "dim" in ds.attrs:
+        return int(ds.attrs["dim"])
+    scene = scene if scene is not None else run_scene(ds)
+    return int(scene.get("domain.dim", 2))
+
+
+def run_metrics(ds) -> dict:
+    """Every per-run measurement (spec section 6 and check 12) of one run dataset: from its
+    final fields (reference positions, crack indicator, plastic strain, masses), its series
+    (contact force, centre-of-mass velocity, energy balance) and the stored scene's thresholds
+    and variant (κ, masses, pre-crack). The measurements use the reference (x0, y0) positions;
+    a 3D dataset (with ``z0``) is measured on its mid-thickness layer, its cracked fraction over
+    the whole body (:func:`craquelure.impact.measure.run_metrics`). ``metric_*`` attributes of
+    older runs are not read (:func:`run_fact` aside)."""
+    scene = run_scene(ds)
+    g = scene.get
+    cracked = g("material.cracked_threshold", 0.9)
+    crushed = g("material.crushed_strain", 0.0035)
+    measure_name = g("material.cracked_measure", "softening")
     x0, y0 = ds["x0"].values, ds["y0"].values
-    crack, plastic = ds[field].values, ds["plastic_strain"].values
+    crack = ds["damage" if measure_name == "damage" else "softening"].values
+    plastic = ds["plastic_strain"].values
     precrack = ds["precrack"].values.astype(bool)
-    spacing = float(ds.attrs["metric_spacing"])
-    centre_y = 0.5 * (y0.min() + y0.max())
-    out = revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked, crushed)
-    if precrack.any():
-        out.update(precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y,
-                                      cracked, crushed))
-    return out
+    spacing = float(run_fact(ds, "spacing"))
+    centre_y = float(ds.attrs.get("centre_y", 0.5 * (y0.min() + y0.max())))
+    out = measure.run_metrics(x0, y0, crack, plastic, precrack, spacing,
+                              float(run_fact(ds, "radius")), cracked, crushed, centre_y,
+                              z0=ds["z0"].values if "z0" in ds else None)
+    out["cracked_fraction_damage"] = float(np.mean(ds["damage"].values >= cracked))
+    out["cracked_measure"] = measure_name
+    out.update(measure.contact_metrics(ds["time"].values, ds["series_contact_force"].values,
+                                       ds["series_vcm_y"].values))
+    out.update({
+        "energy_balance_error_max": float(np.abs(ds["series_balance_error"].values).max()),
+        "min_y_final": float(ds["y"].values.min()),
+        "n_zero_mass": int(np.sum(ds["mass"].values == 0)),
+        "kappa": g("numerics.kappa"), "effects": ",".join(scene.effects),
+        "f_t": g("material.f_t", None), "impact_velocity": g("particles.impact_velocity"),
+        "plane": g("domain.plane", None), "distribution": g("particles.masses.distribution"),
+        "precrack_layout": g("particles.precrack"), "dim": run_dim(ds, scene),
+    })
+    out.update({name: _num(run_fact(ds, name)) for name in RUN_FACTS})
+    return {k: _num(v) for k, v in out.items()}
 
 
 def read_metrics(path: Path) -> dict:
     ds = open_dataset(path)
-    out = {k[len("metric_"):]: _num(v) for k, v in ds.attrs.items() if k.startswith("metric_")}
-    out.update({k: _num(v) for k, v in crack_metrics(ds).items()})
+    out = run_metrics(ds)
     out["wall_time_s"] = _num(ds.attrs.get("wall_time_s"))
     out["seed"] = int(ds.attrs.get("seed", 0))
     out["path"] = str(path)
@@ -91,15 +148,18 @@ def _stats(values):
             "iqr": float(q3 - q1), "n": int(vals.size)}
 
 
-def summarise(paths, profile: str, scene: str, distribution: str) -> dict:
-    runs = [read_metrics(Path(p)) for p in paths]
+def dim_label(dim) -> str:
+    return f"{int(dim or 2)}D"
+
+
+def _cases(runs: list[dict]) -> dict:
     cases: dict[str, list] = defaultdict(list)
     for m in runs:
         cases[case_key(m)].append(m)
-    out_cases = {}
+    out = {}
     for key, ms in sorted(cases.items()):
         ms = sorted(ms, key=lambda m: m["seed"])
-        out_cases[key] = {
+        out[key] = {
             "seeds": [m["seed"] for m in ms],
             "as_epsilon": ms[0].get("as_epsilon"),
             "contact_a": ms[0].get("contact_a"),
@@ -108,19 +168,47 @@ def summarise(paths, profile: str, scene: str, distribution: str) -> dict:
                       if q not in ("precrack_angle_deg",)},
             "fraction_one_main_crack": float(np.mean([m["n_main_cracks"] == 1 for m in ms])),
         }
-    findings, reported = check12.evaluate(out_cases, distribution, "2D")
+    return out
+
+
+def _n_heterogeneous(cases: dict) -> int:
+    return max((len(c["seeds"]) for k, c in cases.items()
+                if not k.startswith("homogeneous/")), default=0)
+
+
+def summarise(paths, profile: str, scene: str, distribution: str,
+              fixed_across_kappa: dict | None = None) -> dict:
+    """summary.json of a campaign: cases and check-12 findings per dimension ("3D" then
+    "2D"). 2D cases keep their keys ``<masses>/<pre-crack>/kappa<k>``, 3D ones are prefixed
+    ``3D/``. ``fixed_across_kappa``: the config's ε_AS and ℓ_c held fixed across κ."""
+    runs = [read_metrics(Path(p)) for p in paths]
+    by_dim: dict[str, list] = defaultdict(list)
+    for m in runs:
+        by_dim[dim_label(m.get("dim"))].append(m)
+    dims = [d for d in ("3D", "2D") if d in by_dim]
+    out_cases, findings, reported, seeds_by_dim = {}, [], {}, {}
+    for dim in dims:
+        cases = _cases(by_dim[dim])
+        found, reported[dim] = check12.evaluate(cases, distribution, dim, fixed_across_kappa)
+        findings += found
+        seeds_by_dim[dim] = _n_heterogeneous(cases)
+        out_cases.update({("" if dim == "2D" else f"{dim}/") + k: {**c, "dim": dim}
+                          for k, c in cases.items()})
     total_wall = sum(m["wall_time_s"] or 0 for m in runs)
     return {
         "profile": profile, "scene": scene, "n_runs": len(runs),
-        "n_seeds_heterogeneous": max((len(c["seeds"]) for k, c in out_cases.items()
-                                      if not k.startswith("homogeneous/")), default=0),
+        "n_seeds_heterogeneous": max(seeds_by_dim.values(), default=0),
+        "n_seeds_heterogeneous_by_dim": seeds_by_dim,
         "all_runs_finished": True,
         "max_energy_balance_error": max(abs(m["energy_balance_error_max"]) for m in runs),
         "total_run_wall_time_s": total_wall,
+        "run_wall_time_s_by_dim": {d: sum(m["wall_time_s"] or 0 for m in by_dim[d])
+                                   for d in dims},
         "material_model": sorted({str(m.get("material_model")) for m in runs}),
+        "fixed_across_kappa": dict(fixed_across_kappa or {}),
         "cases": out_cases, "findings": findings,
-        # findings carry their dimension ("dim"); a 3D campaign's sit beside the 2D ones
-        "dimensions": ["2D"], "reported_without_verdict": {"2D": reported},
+        # findings carry their dimension ("dim"): the 3D campaign's beside the 2D one's
+        "dimensions": dims, "reported_without_verdict": reported,
         "notes": ("cracked = softening s >= 0.9 (residual tensile strength <= 0.1 f_t); "
                   "D_t >= 0.9 is reported as cracked_fraction_damage. Main cracks: clusters of "
                   "cracked, not crushed particles (reference distance <= 1.5 Delta) with extent "

@@ -1,8 +1,10 @@
 """Model API of the concrete impact for the CLI: initial state, derived numbers, run.
 
 ``run`` writes one dataset per run: particle fields (reference grid, masses, final state),
-field snapshots, time series (contact force, energies, balance error, momentum) and the run's
-measurements as attributes (see :mod:`craquelure.impact.measure`). A diverging run raises
+field snapshots, time series (contact force, energies, balance error, momentum), the resolved
+numbers the run used (``as_epsilon``, ``contact_a``, ``crack_band_width``, geometry) and what only
+the running engine saw (``run_dt_min``, ``run_max_penetration``, ...) as attributes. It computes
+no analysis: the measurements are :mod:`craquelure.impact.analysis`'s. A diverging run raises
 :class:`~craquelure.errors.SimulationDiverged` before anything is written. The loop, checkpoints
 (every few minutes of wall time) and ``--resume`` are the runner's (:class:`ImpactRun`); ``init``
 is not used: a run starts from the scene and seed.
@@ -24,7 +26,6 @@ from craquelure.impact.effects.contact_mass import DEFAULT_SCALE
 from craquelure.impact.effects.damage import crack_band_width
 from craquelure.impact.engine import Engine, Settings, State
 from craquelure.impact.material import Concrete
-from craquelure.impact.measure import contact_metrics, run_metrics
 from craquelure.impact.specimen import Specimen, build_specimen, initial_smoothing_length
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
@@ -91,7 +92,8 @@ def settings(scene: Scene) -> Settings:
         contact_radius=g("numerics.contact_radius"), contact_a=contact_scale(scene),
         kinematic_ratio=g("numerics.kinematic_ratio"),
         energy_runaway_factor=g("numerics.energy_runaway_factor"),
-        neighbour_skin=g("numerics.neighbour_skin"), plane_stress=g("domain.plane") == "stress")
+        neighbour_skin=g("numerics.neighbour_skin"), plane_stress=g("domain.plane") == "stress",
+        dim=g("domain.dim"))
 
 
 def initial_state(scene: Scene, specimen: Specimen) -> State:
@@ -99,7 +101,8 @@ def initial_state(scene: Scene, specimen: Specimen) -> State:
         return State.grid(specimen.x, specimen.y, specimen.vx, 0.0, specimen.mass,
                           scene.get("material.rho0"), initial_smoothing_length(scene))
     return State.grid(specimen.x, specimen.y, 0.0, -scene.get("particles.impact_velocity"),
-                      specimen.mass, scene.get("material.rho0"), initial_smoothing_length(scene))
+                      specimen.mass, scene.get("material.rho0"), initial_smoothing_length(scene),
+                      z=specimen.z)
 
 
 def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
@@ -123,13 +126,15 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     return {
         "particles": sp.n,
         "E [Pa], nu": (mat.young, mat.poisson),
-        "2D": f"plane {scene.get('domain.plane')}",
+        "dimension": (f"2D plane {scene.get('domain.plane')}" if st.dim == 2 else
+                      f"3D, {scene.get('particles.thickness_cells')} layers"),
         "c_p, c_s [m/s]": (st.wave_speed, math.sqrt(mat.shear / st.rho0)),
         "h(0) [m]": h0,
         "artificial stress eps_AS": st.as_epsilon if scene.has("artificial_stress") else None,
         "penalty scale a, k [N/m]": _penalty(scene, st),
-        "kinematic below m / m_bar": (4.0 * bulk_stiffness(st.contact_a, mat.bulk, st.spacing)
-                                      * dt**2 / (st.rho0 * st.spacing**2)
+        "kinematic below m / m_bar": (4.0 * bulk_stiffness(st.contact_a, mat.bulk, st.spacing,
+                                                           st.dim)
+                                      * dt**2 / (st.rho0 * st.spacing**st.dim)
                                       if scene.has("contact_bulk") else None),
         "Drucker-Prager alpha, k [Pa]": mat.dp if scene.has("plasticity") else None,
         "cap model alpha, lambda [Pa], beta [1/Pa], theta, e, X0 [Pa]": (
@@ -176,7 +181,7 @@ def _speed(scene: Scene) -> float:
 
 def _penalty(scene: Scene, st: Settings):
     if scene.has("contact_bulk"):
-        return st.contact_a, bulk_stiffness(st.contact_a, st.material.bulk, st.spacing)
+        return st.contact_a, bulk_stiffness(st.contact_a, st.material.bulk, st.spacing, st.dim)
     if scene.has("contact_mass"):
         return st.contact_a, "a m_i / dt^2"
     return None
@@ -354,6 +359,9 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         "h": ("particle", st.h),
         "rho": ("particle", st.rho),
     }
+    if sp.dim == 3:
+        data.update({"z0": ("particle", sp.z), "z": ("particle", st.z),
+                     "vz": ("particle", st.vz)})
     for key, arr in series.items():
         if key != "time":
             data[f"series_{key}"] = ("time", arr)
@@ -362,30 +370,19 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
                                np.stack([f[key] for _, f in snapshots]))
     ds = xr.Dataset(data, coords={"time": series["time"],
                                   "snapshot_time": [t for t, _ in snapshots]})
-    ds["series_contact_force"].attrs.update(units="N/m", long_name="base contact force per "
-                                            "metre (interval average of the impulse)")
-    g = scene.get
-    crack = crack_indicator(scene, st.dmg, st.kap)
-    metrics = run_metrics(sp.x, sp.y, crack, st.epsp, sp.precrack, sp.spacing, sp.radius,
-                          g("material.cracked_threshold"), g("material.crushed_strain"),
-                          sp.centre_y)
-    metrics["cracked_fraction_damage"] = float(np.mean(st.dmg >= g("material.cracked_threshold")))
-    metrics["cracked_measure"] = g("material.cracked_measure")
-    metrics.update(contact_metrics(series["time"], series["contact_force"], series["vcm_y"]))
-    metrics.update({
-        "contact_force_peak_step": eng.force_peak,
-        "energy_balance_error_max": float(np.abs(series["balance_error"]).max()),
-        "energy_initial": eng.e0, "steps": eng.step_count, "dt_min": eng.dt_min_seen,
-        "max_penetration": eng.max_penetration, "kinematic_impulse": eng.impulse_kin,
-        "min_y_final": float(st.y.min()), "spacing": sp.spacing, "radius": sp.radius,
-        "kappa": g("numerics.kappa"), "as_epsilon": eng.s.as_epsilon,
-        "crack_band_width": eng.s.material.band, "material_model": material_model(scene),
-        "effects": ",".join(scene.effects), "f_t": g("material.f_t"),
-        "impact_velocity": g("particles.impact_velocity"),
-        "contact_a": eng.s.contact_a, "plane": g("domain.plane"),
-        "distribution": g("particles.masses.distribution"),
-        "precrack_layout": g("particles.precrack"), "n_particles": sp.n,
-        "n_zero_mass": int(np.sum(sp.mass == 0)),
+    ds.attrs["dim"] = sp.dim
+    ds["series_contact_force"].attrs.update(
+        units="N/m" if sp.dim == 2 else "N",
+        long_name=("base contact force per metre" if sp.dim == 2 else "base contact force")
+        + " (interval average of the impulse)")
+    # What the run used and what only the running engine saw; every measurement is the
+    # analysis's (craquelure.impact.analysis), from these fields, series and the stored scene.
+    ds.attrs.update({
+        "spacing": sp.spacing, "radius": sp.radius, "centre_y": sp.centre_y, "n_particles": sp.n,
+        "as_epsilon": eng.s.as_epsilon, "crack_band_width": eng.s.material.band,
+        "contact_a": eng.s.contact_a, "material_model": material_model(scene),
+        "run_dt_min": eng.dt_min_seen, "run_energy_initial": eng.e0,
+        "run_max_penetration": eng.max_penetration, "run_kinematic_impulse": eng.impulse_kin,
+        "run_contact_force_peak_step": eng.force_peak,  # steps: the runner's run_steps
     })
-    ds.attrs.update({f"metric_{k}": v for k, v in metrics.items()})
     return ds

@@ -1,17 +1,33 @@
-"""Check 12 as revised (impact spec section 10, 2026-12): the source's findings, per seed.
+"""Check 12 as revised (impact spec section 10, 2026-12): the source's findings, per seed and per
+dimension.
 
 The source shows single images, so a criterion on a heterogeneous case applies to the median
-over its seeds, and needs at least :data:`MIN_SEEDS` of them in the profile that claims it:
-with fewer the finding is ``inconclusive`` (its numbers are still given). The homogeneous disc
-and the homogeneous pre-crack discs are deterministic: one run is the whole population.
-Every finding carries each seed's values. Medians come with a percentile bootstrap interval
-over seeds and the bootstrap agreement (the fraction of resampled seed sets whose median gives
-the same decision as the observed one).
+specimen over its seeds, and needs at least :data:`MIN_SEEDS` of them in the profile that claims
+it: with fewer the finding is ``inconclusive`` (its numbers are still given). The homogeneous
+disc and the homogeneous pre-crack discs are deterministic: one run is the whole population.
+Every finding carries each seed's values.
 
-Findings are evaluated per dimension (``dim``: "2D" now; a 3D campaign's findings sit beside
-them in the same list). Comparisons across κ (κ = 0.7 against κ = 1) hold the artificial-stress
-coefficient ε_AS and the crack-band width ℓ_c fixed: where the runs' recorded values differ the
-comparison fails that condition by name.
+Fractional conditions [D]. "The median specimen has property P" (N_main >= 2, N_main = 1, a
+shorter crack beside the main one, coverage of a pre-crack line, ...) is "P holds in at least
+half of the specimens": each such condition is a fraction of seeds against 1/2, decided by the
+exact binomial interval of :func:`craquelure.validation.fraction_decision` (95 %, two-sided):
+true when the interval lies above 1/2, false when below, undecided (and the finding
+inconclusive unless another condition fails) when it straddles 1/2. Each reports the statistic
+(k of n seeds), a percentile bootstrap interval over seeds, the exact interval, and the power
+of the test at the run's own seed count against two named alternatives, by simulation
+(:func:`craquelure.validation.fraction_power`): P holds in 9 of 10 specimens (power = chance of
+deciding true) and in 1 of 10 (chance of deciding false), with the seed count that power 0.8
+needs. A test that decides is evidence at its level whatever its power; an undecided one names
+its power and the seeds it would need. With the exact interval, 8 seeds decide only 8 of 8
+(or 0 of 8), and the power against 9 in 10 reaches 0.8 at 12 seeds. κ comparisons (κ = 0.7
+against κ = 1) pair the specimens by seed (the seed alone draws the masses, so seed s is the
+same specimen at both κ) and count the seeds where κ = 0.7's value is the larger. The medians
+with their bootstrap interval and agreement are given beside each fraction.
+
+Findings are evaluated per dimension (``dim``: "3D" or "2D"; :mod:`.analysis` groups the runs).
+Comparisons across κ report the artificial-stress coefficient ε_AS and the crack-band width ℓ_c
+of every run and say whether they were held fixed (``impact.fixed_across_kappa`` in the config)
+or differ; where they differ, the comparison fails that condition by name.
 
 Reported without a verdict (not findings of the source): the peak contact force per κ and
 φ_c(1.5) against φ_c(1).
@@ -23,12 +39,23 @@ import math
 
 import numpy as np
 
+from craquelure.validation import (
+    POWER_NEEDED,
+    fraction_decision,
+    fraction_interval,
+    fraction_power,
+    samples_for_power,
+)
+
 MIN_SEEDS = 8
 N_BOOT = 2000
 VERTICAL_DEG = 10.0
 CENTRE_CELLS = 2.0  # |x| <= 2 Delta at mid-height
 COVERAGE = 0.7
 TIP_CELLS = 2.0  # "continues from the tips": cracked beyond each tip by >= 2 Delta
+MEDIAN_SPECIMEN = 0.5  # "the median specimen has P": P in at least half of the specimens
+# The named alternatives of the fractional tests: P in 9 of 10 specimens, P in 1 of 10.
+ALTERNATIVES = {"P in 9 of 10 specimens": 0.9, "P in 1 of 10 specimens": 0.1}
 
 
 def _vals(case: dict | None, q: str) -> list:
@@ -52,9 +79,47 @@ def median_with_interval(values, decide, seed: int = 12) -> dict:
     return {"median": med, "ci95": [float(lo), float(hi)], "agreement": agree, "n": int(v.size)}
 
 
+def fraction_test(flags, deterministic: bool = False, seed: int = 12) -> dict:
+    """A fractional condition "P holds in at least half of the specimens" over one flag per
+    seed (None: not measurable for that seed, left out). ``deterministic``: the case is one
+    run that is its whole population (the flag itself decides, no statistics)."""
+    flags = [bool(f) for f in flags if f is not None]
+    n, k = len(flags), int(sum(flags))
+    out = {"k": k, "n": n, "fraction": k / n if n else None, "threshold": MEDIAN_SPECIMEN}
+    if deterministic or n == 0:
+        out.update(decided=(flags[0] if n == 1 else None) if deterministic else None,
+                   needs="" if n else "at least one run")
+        return out
+    decided, needs = fraction_decision(k, n, MEDIAN_SPECIMEN)
+    boot = np.asarray(flags, float)[np.random.default_rng(seed).integers(0, n, (N_BOOT, n))]
+    lo, hi = np.percentile(boot.mean(axis=1), [2.5, 97.5])
+    out.update({
+        "decided": decided, "needs": needs,
+        "ci95_bootstrap": [float(lo), float(hi)], "ci95_exact": list(fraction_interval(k, n)),
+        "power": {name: fraction_power(n, p, MEDIAN_SPECIMEN)
+                  for name, p in ALTERNATIVES.items()},
+        "seeds_for_power": {name: samples_for_power(n, p, MEDIAN_SPECIMEN)
+                            for name, p in ALTERNATIVES.items()},
+    })
+    return out
+
+
+def undecided_note(test: dict) -> str:
+    """What an undecided fractional condition would need: its power and seed counts."""
+    if not test["n"]:
+        return test["needs"]
+    power = ", ".join(f"{p:.2f} against {name}" for name, p in test["power"].items())
+    more = {m for m in test["seeds_for_power"].values()}
+    need = (f"about {max(more)} seeds for power {POWER_NEEDED:g}" if None not in more else
+            f"more than 200 seeds for power {POWER_NEEDED:g}")
+    return (f"{test['k']} of {test['n']} seeds, exact 95 % interval [{test['ci95_exact'][0]:.2f}"
+            f", {test['ci95_exact'][1]:.2f}] contains 1/2; power at {test['n']} seeds {power}; "
+            f"{need}" + (f" ({test['needs']})" if test["needs"] else ""))
+
+
 def verdict(conditions: dict[str, bool | None], enough: bool) -> str:
     """reproduced / partly / not reproduced / inconclusive. A heterogeneous case with too few
-    seeds is inconclusive whatever its medians say (the failing conditions are still named); a
+    seeds is inconclusive whatever its values say (the failing conditions are still named); a
     deterministic case fails on a failed condition even if another cannot be decided yet, and is
     inconclusive only when everything it can decide passes."""
     if not enough:
@@ -74,12 +139,19 @@ def _per_seed(case: dict | None, quantities) -> dict:
             for i, s in enumerate(case["seeds"])}
 
 
-def _finding(name, criterion, conditions, values, per_seed, n_seeds, enough, dim):
+def _finding(name, criterion, conditions, values, per_seed, n_seeds, enough, dim,
+             tests: dict | None = None):
+    """``conditions``: name -> bool/None, or name -> a :func:`fraction_test` result."""
+    tests = {k: v for k, v in conditions.items() if isinstance(v, dict)} | (tests or {})
+    conditions = {k: (v["decided"] if isinstance(v, dict) else v) for k, v in conditions.items()}
     status = verdict(conditions, enough)
     failed = [k for k, v in conditions.items() if v is False]
+    undecided = {k: undecided_note(tests[k]) for k, v in conditions.items()
+                 if v is None and k in tests}
     return {"finding": name, "criterion": criterion, "dim": dim, "values": values,
-            "conditions": conditions, "failed": failed, "per_seed": per_seed,
-            "n_seeds": n_seeds, "min_seeds": MIN_SEEDS, "status": status,
+            "conditions": conditions, "failed": failed, "undecided": undecided,
+            "fraction_tests": tests, "per_seed": per_seed, "n_seeds": n_seeds,
+            "min_seeds": MIN_SEEDS, "status": status,
             "reproduced": True if status == "reproduced" else (
                 None if status == "inconclusive" else False)}
 
@@ -92,8 +164,33 @@ def _same(cases, q) -> tuple[bool, dict]:
     return len(flat) <= 1, seen
 
 
-def evaluate(cases: dict, dist: str, dim: str = "2D") -> tuple[list[dict], dict]:
-    """(findings, reported-without-verdict) of one campaign's cases."""
+def _flags(case: dict | None, q: str, test) -> list:
+    """One flag per seed of ``case``: ``test(value)``, None where the value is missing."""
+    if not case:
+        return []
+    return [None if v is None or (isinstance(v, float) and math.isnan(v)) else bool(test(v))
+            for v in case["per_seed"].get(q, [])]
+
+
+def _paired(a: dict | None, b: dict | None, q: str) -> list:
+    """Per seed common to both cases: a's ``q`` above b's (None where either is missing)."""
+    if not a or not b:
+        return []
+    va = dict(zip(a["seeds"], a["per_seed"].get(q, []), strict=False))
+    vb = dict(zip(b["seeds"], b["per_seed"].get(q, []), strict=False))
+
+    def ok(v):
+        return v is not None and not (isinstance(v, float) and math.isnan(v))
+
+    return [va[s] > vb[s] if ok(va[s]) and ok(vb[s]) else None
+            for s in sorted(set(va) & set(vb))]
+
+
+def evaluate(cases: dict, dist: str, dim: str = "2D",
+             fixed_across_kappa: dict | None = None) -> tuple[list[dict], dict]:
+    """(findings, reported-without-verdict) of one dimension's cases (keys
+    ``<masses>/<pre-crack>/kappa<k>``). ``fixed_across_kappa``: the config's values of ε_AS and
+    ℓ_c held fixed across κ (empty: each κ's own), stated in the κ comparison."""
     out = []
     homo = cases.get("homogeneous/none/kappa1")
     het = {k: cases.get(f"{dist}/none/kappa{k:g}") for k in (0.7, 1.0, 1.5)}
@@ -142,10 +239,13 @@ def evaluate(cases: dict, dist: str, dim: str = "2D") -> tuple[list[dict], dict]
         out.append(_finding(
             "heterogeneous kappa = 1: multiple main cracks developing simultaneously, more "
             "damage than the homogeneous disc",
-            "median N_main >= 2 and median phi_c above the homogeneous disc's (>= 8 seeds)",
-            {"median N_main >= 2": nm["median"] is not None and nm["median"] >= 2,
-             "median phi_c above homogeneous": (ph["median"] is not None and phi_h is not None
-                                                and ph["median"] > phi_h)},
+            "in at least half of the specimens (>= 8 seeds, exact binomial interval above 1/2): "
+            "N_main >= 2, and phi_c above the homogeneous disc's",
+            {"N_main >= 2 in at least half of the specimens":
+                fraction_test(_flags(het[1.0], "n_main_cracks_revised", lambda m: m >= 2)),
+             "phi_c above homogeneous in at least half of the specimens":
+                fraction_test(_flags(het[1.0], "cracked_fraction", lambda m: m > phi_h)
+                              if phi_h is not None else [])},
             {"N_main": nm, "phi_c": ph, "phi_c_homogeneous": phi_h},
             _per_seed(het[1.0], keys), n, n >= MIN_SEEDS, dim))
     if het[1.5]:
@@ -155,10 +255,12 @@ def evaluate(cases: dict, dist: str, dim: str = "2D") -> tuple[list[dict], dict]
         out.append(_finding(
             "heterogeneous kappa = 1.5: heterogeneity smoothed, one main crack with shorter "
             "cracks beside it",
-            "median N_main = 1 and median number of shorter (non-main, > 2 Delta) cracks >= 1 "
-            "(>= 8 seeds)",
-            {"median N_main = 1": nm["median"] == 1,
-             "shorter cracks beside it": ns["median"] is not None and ns["median"] >= 1},
+            "in at least half of the specimens (>= 8 seeds, exact binomial interval above 1/2): "
+            "N_main = 1, and >= 1 shorter (non-main, > 2 Delta) crack",
+            {"N_main = 1 in at least half of the specimens":
+                fraction_test(_flags(het[1.5], "n_main_cracks_revised", lambda m: m == 1)),
+             "shorter cracks beside it in at least half of the specimens":
+                fraction_test(_flags(het[1.5], "n_secondary_cracks", lambda m: m >= 1))},
             {"N_main": nm, "n_secondary_cracks": ns}, _per_seed(het[1.5], keys), n,
             n >= MIN_SEEDS, dim))
     if het[0.7] and het[1.0]:
@@ -170,24 +272,29 @@ def evaluate(cases: dict, dist: str, dim: str = "2D") -> tuple[list[dict], dict]
                 for k in (0.7, 1.0)}
         same_eps, eps = _same({"0.7": het[0.7], "1.0": het[1.0]}, "as_epsilon")
         same_band, band = _same({"0.7": het[0.7], "1.0": het[1.0]}, "crack_band_width")
-
-        def larger(d):
-            a, b = d[0.7]["median"], d[1.0]["median"]
-            return a is not None and b is not None and a > b
-
+        fixed = dict(fixed_across_kappa or {})
+        held = ("held fixed across kappa by the config (" + ", ".join(
+            f"{k} = {v:g}" for k, v in sorted(fixed.items())) + ")") if fixed else (
+            "each kappa's own (not held fixed by the config)")
         out.append(_finding(
             "heterogeneous kappa = 0.7: one main crack, larger failure along it and at the "
             "contact than at kappa = 1",
-            "median N_main = 1; median cracked fraction within 3 Delta of the main crack and "
-            "median A_cr above kappa = 1's; eps_AS and l_c the same at both kappa (>= 8 seeds)",
-            {"median N_main = 1": nm["median"] == 1,
-             "cracked fraction near the main crack above kappa = 1": larger(near),
-             "crushed area above kappa = 1": larger(area),
+            "in at least half of the specimens (>= 8 seeds, exact binomial interval above 1/2):"
+            " N_main = 1, and, the same specimen (seed) compared at kappa = 0.7 and 1, a larger"
+            " cracked fraction within 3 Delta of the main crack and a larger A_cr; eps_AS and "
+            "l_c the same at both kappa",
+            {"N_main = 1 in at least half of the specimens":
+                fraction_test(_flags(het[0.7], "n_main_cracks_revised", lambda m: m == 1)),
+             "cracked fraction near the main crack above kappa = 1 in at least half of the "
+             "specimens": fraction_test(_paired(het[0.7], het[1.0],
+                                                "cracked_fraction_near_main")),
+             "crushed area above kappa = 1 in at least half of the specimens":
+                fraction_test(_paired(het[0.7], het[1.0], "crushed_area")),
              "eps_AS the same at kappa = 0.7 and 1": same_eps,
              "l_c the same at kappa = 0.7 and 1": same_band},
             {"N_main": nm, "cracked_fraction_near_main": {str(k): v for k, v in near.items()},
              "crushed_area": {str(k): v for k, v in area.items()}, "as_epsilon": eps,
-             "crack_band_width": band},
+             "crack_band_width": band, "eps_AS and l_c": held},
             {"0.7": _per_seed(het[0.7], keys), "1.0": _per_seed(het[1.0], keys)}, n,
             n >= MIN_SEEDS, dim))
     pkeys = ("precrack_coverage", "precrack_tip_extension_low", "precrack_tip_extension_high",
@@ -198,22 +305,27 @@ def evaluate(cases: dict, dist: str, dim: str = "2D") -> tuple[list[dict], dict]
         n = len(c["seeds"])
         deterministic = masses == "homogeneous"
         cov = median_with_interval(_vals(c, "precrack_coverage"), lambda m: m >= COVERAGE)
-        tips = median_with_interval(
-            [min(a, b) for a, b in zip(_vals(c, "precrack_tip_extension_low"),
-                                       _vals(c, "precrack_tip_extension_high"), strict=False)],
-            lambda m: spacing is not None and m >= TIP_CELLS * spacing)
+        tip_values = [None if a is None or b is None else min(a, b) for a, b in zip(
+            c["per_seed"].get("precrack_tip_extension_low", []),
+            c["per_seed"].get("precrack_tip_extension_high", []), strict=False)]
+        tips = median_with_interval([v for v in tip_values if v is not None],
+                                    lambda m: spacing is not None and m >= TIP_CELLS * spacing)
         other = median_with_interval(_vals(c, "main_cracks_elsewhere"), lambda m: m == 0)
+        half = "" if deterministic else " in at least half of the specimens"
         out.append(_finding(
             f"{layout} ({masses}): the main crack follows the zero-mass line, with few cracks "
             "elsewhere",
             "cracked particles within Delta of the line over >= 70 % of its length, the crack "
             "continues >= 2 Delta beyond both tips, no main crack crossing the centre row more "
-            "than 3 Delta from the line" + ("" if deterministic else " (medians, >= 8 seeds)"),
-            {"covers >= 70 % of the line": cov["median"] is not None
-             and cov["median"] >= COVERAGE,
-             "continues from both tips": tips["median"] is not None and spacing is not None
-             and tips["median"] >= TIP_CELLS * spacing,
-             "no main crack elsewhere": other["median"] == 0},
+            "than 3 Delta from the line" + ("" if deterministic else
+                                            " (in at least half of the specimens, >= 8 seeds)"),
+            {f"covers >= 70 % of the line{half}": fraction_test(
+                _flags(c, "precrack_coverage", lambda m: m >= COVERAGE), deterministic),
+             f"continues from both tips{half}": fraction_test(
+                [None if v is None or spacing is None else v >= TIP_CELLS * spacing
+                 for v in tip_values], deterministic),
+             f"no main crack elsewhere{half}": fraction_test(
+                _flags(c, "main_cracks_elsewhere", lambda m: m == 0), deterministic)},
             {"coverage": cov, "tip_extension_min_m": tips, "main_cracks_elsewhere": other},
             _per_seed(c, pkeys), n, deterministic or n >= MIN_SEEDS, dim))
     force = {f"{k:g}": (_vals(cases.get(f"homogeneous/none/kappa{k:g}"),

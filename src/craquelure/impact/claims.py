@@ -1,9 +1,10 @@
 """The impact paper's findings for the validation report (:mod:`craquelure.validation`).
 
 Source: ``results/impact/summary.json`` (:mod:`craquelure.impact.analysis`), whose ``findings``
-already carry the spec's check-12 criteria and ``reproduced`` flags computed from the runs;
-this module only words them as claims and adds the robustness demand (every variant to the end,
-closed energy balance).
+already carry the spec's check-12 criteria and ``reproduced`` flags computed from the runs, per
+dimension; this module only words them as claims, puts each finding's 3D and 2D rows side by
+side (a dimension the profile did not run says so), and adds the robustness demand (every
+variant to the end, closed energy balance).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from craquelure.validation import VERDICTS, Claim, verdict_of
 MODEL = "impact"
 # Spec check 9's energy-balance tolerance, applied to every run of the campaign.
 ENERGY_BALANCE_MAX = 0.02
+DIMENSIONS = ("3D", "2D")  # check 12's rows: the source's 3D runs beside the 2D baseline
 
 
 def _number(value) -> str:
@@ -69,19 +71,37 @@ def per_seed_text(per_seed: dict) -> str:
     return " | ".join(parts)
 
 
+def _fraction_text(name: str, test: dict) -> str:
+    """A fractional condition: k of n seeds, bootstrap and exact intervals, power."""
+    if "power" not in test:
+        return f"{name}: {test['k']} of {test['n']} run(s)"
+    lo, hi = test["ci95_bootstrap"]
+    power = ", ".join(f"{p:.2f} against {alt}" for alt, p in test["power"].items())
+    return (f"{name}: {test['k']} of {test['n']} seeds (fraction {test['fraction']:.2f}, "
+            f"bootstrap 95 % [{lo:.2f}, {hi:.2f}], exact 95 % [{test['ci95_exact'][0]:.2f}, "
+            f"{test['ci95_exact'][1]:.2f}]; power {power})")
+
+
 def finding_claim(finding: dict, caveat: str) -> Claim:
     """A check-12 finding of :mod:`.check12` (status computed there), with every seed's values
-    (all of them are in summary.json too)."""
+    (all of them are in summary.json too), and each fractional condition's statistic,
+    intervals and power."""
     measured = "; ".join(f"{k} = {_brief(v)}" for k, v in finding["values"].items())
+    tests = finding.get("fraction_tests", {})
+    if tests:
+        measured += "; " + "; ".join(_fraction_text(k, t) for k, t in tests.items())
     seeds = per_seed_text(finding.get("per_seed", {}))
     if seeds and finding.get("n_seeds", 1) > 1:
         measured += f"; per seed: {seeds}"
     status = finding.get("status")
     dim = finding.get("dim", "2D")
     notes = [f"{dim}; {caveat}"]
+    if finding.get("undecided"):
+        notes.insert(0, "cannot decide: " + "; ".join(
+            f"{k} ({v})" for k, v in finding["undecided"].items()))
     if finding.get("failed"):
         notes.insert(0, "fails: " + ", ".join(finding["failed"]))
-    if status == "inconclusive":
+    if status == "inconclusive" and finding.get("n_seeds", 0) < finding.get("min_seeds", 0):
         notes.insert(0, f"inconclusive: {finding['n_seeds']} seeds, the profile needs >= "
                         f"{finding['min_seeds']} per heterogeneous case to decide")
     elif status not in VERDICTS:  # a finding whose case did not run
@@ -89,6 +109,36 @@ def finding_claim(finding: dict, caveat: str) -> Claim:
         notes.insert(0, "not run")
     return Claim(MODEL, f"[{dim}] {finding['finding']}", "impact spec section 7; check 12 "
                  "(revised 2026-12)", finding["criterion"], measured, status, "; ".join(notes))
+
+
+def not_run_claim(finding: dict, dim: str, profile: str) -> Claim:
+    """The row of a dimension the profile did not run, beside the other dimension's."""
+    return Claim(MODEL, f"[{dim}] {finding['finding']}", "impact spec section 7; check 12 "
+                 "(revised 2026-12)", finding["criterion"], f"no {dim} runs", "inconclusive",
+                 f"not run: profile {profile} has no {dim} runs of this case")
+
+
+def caveat_of(summary: dict, dim: str) -> str:
+    seeds = summary.get("n_seeds_heterogeneous_by_dim", {}).get(
+        dim, summary["n_seeds_heterogeneous"])
+    return (f"profile {summary['profile']}, {seeds} heterogeneous specimens per kappa, "
+            f"concrete model {', '.join(summary.get('material_model', ['drucker_prager']))}")
+
+
+def check12_claims(summary: dict) -> list[Claim]:
+    """Check 12's findings with each finding's 3D and 2D rows side by side (3D first, the
+    source's runs); a dimension the profile did not run gets a 'not run' row."""
+    names: dict[str, dict] = {}
+    for f in summary["findings"]:
+        names.setdefault(f["finding"], {})[f.get("dim", "2D")] = f
+    out = []
+    for by_dim in names.values():
+        for dim in DIMENSIONS:
+            if dim in by_dim:
+                out.append(finding_claim(by_dim[dim], caveat_of(summary, dim)))
+            else:
+                out.append(not_run_claim(next(iter(by_dim.values())), dim, summary["profile"]))
+    return out
 
 
 def robustness_claim(summary: dict) -> Claim:
@@ -110,9 +160,6 @@ def claims(sources: list[Path]) -> list[Claim]:
         if path.name != "summary.json":
             raise ValueError(f"impact claims: unexpected source {path} (summary.json)")
         summary = json.loads(path.read_text())
-        caveat = (f"profile {summary['profile']}, {summary['n_seeds_heterogeneous']} "
-                  f"heterogeneous specimens per kappa, concrete model "
-                  f"{', '.join(summary.get('material_model', ['drucker_prager']))}")
-        out += [finding_claim(f, caveat) for f in summary["findings"]]
+        out += check12_claims(summary)
         out.append(robustness_claim(summary))
     return out

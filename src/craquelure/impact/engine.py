@@ -38,14 +38,18 @@ from craquelure.impact import kernels_template
 from craquelure.impact.effects.contact_bulk import bulk_stiffness
 from craquelure.impact.material import Concrete
 from craquelure.runner import Divergence, diverged, non_finite, runaway
-from craquelure.sph.neighbours import Box, neighbour_list
+from craquelure.sph.neighbours import Box, neighbour_list, neighbour_list_points
 
 
-def kernels_for(effects, periodic: bool = False, plane_stress: bool = False):
-    """The kernel module compiled for this effect set (:func:`craquelure.codegen.specialise`)."""
+def kernels_for(effects, periodic: bool = False, plane_stress: bool = False, dim: int = 2):
+    """The kernel module compiled for this effect set and dimension
+    (:func:`craquelure.codegen.specialise`)."""
+    if dim not in (2, 3):
+        raise ValueError(f"dim: {dim!r} is not allowed; allowed values: 2, 3")
     flags = effect_flags("impact", effects)
     flags["PERIODIC"] = bool(periodic)
     flags["PLANE_STRESS"] = bool(plane_stress)
+    flags["DIM"] = int(dim)
     return specialise(kernels_template.__name__, flags, "impact")
 
 
@@ -80,13 +84,15 @@ class Settings:
     kinematic_ratio: float = 0.5
     energy_runaway_factor: float = 1.5
     neighbour_skin: float = 0.2  # units of max h
-    periodic_box: tuple[float, float] | None = None
+    periodic_box: tuple[float, ...] | None = None  # (lx, ly) in 2D, (lx, ly, lz) in 3D
     plane_stress: bool = False  # 2D plane stress (sigma_zz = 0) instead of plane strain
+    dim: int = 2  # 2: plane strain/stress slice (per metre of thickness); 3: full 3D
     flush_below: float = 1e-100  # accelerations, stresses, pair powers below this -> 0 (SI)
 
     @property
     def wave_speed(self) -> float:
-        """P-wave speed: plane strain sqrt((K + 4G/3)/rho), plane stress sqrt(E/((1-nu^2) rho))."""
+        """P-wave speed: plane strain and 3D sqrt((K + 4G/3)/rho), plane stress
+        sqrt(E/((1-nu^2) rho))."""
         m = self.material
         if self.plane_stress:
             return math.sqrt(m.young / ((1.0 - m.poisson**2) * self.rho0))
@@ -95,7 +101,8 @@ class Settings:
     def params(self, module) -> np.ndarray:
         m = self.material
         alpha, k = m.dp
-        lx, ly = self.periodic_box if self.periodic_box is not None else (0.0, 0.0)
+        lx, ly, lz = (tuple(self.periodic_box) + (0.0,))[:3] if self.periodic_box is not None \
+            else (0.0, 0.0, 0.0)
         cap = (m.cap_vector() if any(e in self.effects for e in ("cap_plasticity",
                                                                    "rate_effects"))
                else np.zeros(len(module.CAP_PARAMS)))
@@ -106,15 +113,16 @@ class Settings:
             as_n=self.as_n, spacing=self.spacing, h_min=self.h_min, h_max=self.h_max,
             base_y=self.base_y, contact_radius=self.contact_radius * self.spacing,
             contact_a=self.contact_a,
-            k_bulk=bulk_stiffness(self.contact_a, m.bulk, self.spacing),
-            kinematic_ratio=self.kinematic_ratio, lx=lx, ly=ly,
+            k_bulk=bulk_stiffness(self.contact_a, m.bulk, self.spacing, self.dim),
+            kinematic_ratio=self.kinematic_ratio, lx=lx, ly=ly, lz=lz,
             flush_below=self.flush_below,
             **dict(zip(module.CAP_PARAMS, cap, strict=True))))
 
 
 @dataclass
 class State:
-    """Struct of arrays of the particles (SI; 2D)."""
+    """Struct of arrays of the particles (SI). 2D: z and vz are zeros and the stresses have
+    the columns xx, yy, xy, zz; 3D (``dim = 3``): xx, yy, xy, zz, xz, yz."""
 
     x: np.ndarray
     y: np.ndarray
@@ -133,22 +141,32 @@ class State:
     epsv: np.ndarray = field(default=None)  # plastic compaction (cap model)
     eint: np.ndarray = field(default=None)  # internal energy per unit mass
     eel: np.ndarray = field(default=None)   # elastic energy per unit mass
+    z: np.ndarray = field(default=None)     # 3D: out-of-plane position (2D: zeros)
+    vz: np.ndarray = field(default=None)
+    dim: int = 2
 
     def __post_init__(self):
         n = self.x.size
-        for name in ("x", "y", "vx", "vy", "m", "rho", "h", "h0"):
+        if self.z is None:
+            self.z = np.zeros(n)
+        if self.vz is None:
+            self.vz = np.zeros(n)
+        for name in ("x", "y", "z", "vx", "vy", "vz", "m", "rho", "h", "h0"):
             # always a private copy: the engine updates these arrays in place
             setattr(self, name, np.array(getattr(self, name), dtype=np.float64, copy=True))
-        for name, shape in (("sig", (n, 4)), ("nom", (n, 4)), ("kap", n), ("dmg", n),
+        ncomp = 4 if self.dim == 2 else 6
+        for name, shape in (("sig", (n, ncomp)), ("nom", (n, ncomp)), ("kap", n), ("dmg", n),
                             ("epsp", n), ("wp", n), ("epsv", n), ("eint", n), ("eel", n)):
             if getattr(self, name) is None:
                 setattr(self, name, np.zeros(shape))
 
     @classmethod
-    def grid(cls, x, y, vx, vy, m, rho0, h0):
+    def grid(cls, x, y, vx, vy, m, rho0, h0, z=None, vz=0.0):
+        """Particles at rest density and h(0); 3D when ``z`` is given."""
         n = np.asarray(x).size
         return cls(x=x, y=y, vx=np.broadcast_to(vx, n).copy(), vy=np.broadcast_to(vy, n).copy(),
-                   m=m, rho=np.full(n, rho0), h=np.full(n, h0), h0=np.full(n, h0))
+                   m=m, rho=np.full(n, rho0), h=np.full(n, h0), h0=np.full(n, h0), z=z,
+                   vz=np.broadcast_to(vz, n).copy(), dim=2 if z is None else 3)
 
 
 class Engine:
@@ -157,16 +175,19 @@ class Engine:
     def __init__(self, settings: Settings, state: State):
         self.s = settings
         self.state = state
+        if state.dim != settings.dim:
+            raise ValueError(f"state of dimension {state.dim} given to a {settings.dim}D engine")
         self.k = kernels_for(settings.effects, settings.periodic_box is not None,
-                             settings.plane_stress)
+                             settings.plane_stress, settings.dim)
         self.prm = self.s.params(self.k)
         n = state.x.size
         self.ax = np.zeros(n)
         self.ay = np.zeros(n)
+        self.az = np.zeros(n)
         self.pav = np.zeros(n)
         self.pas = np.zeros(n)
         self.mumax = np.zeros(n)
-        self.rst = np.zeros((n, 3))
+        self.rst = np.zeros((n, 3 if settings.dim == 2 else 6))
         self.kinematic = np.zeros(n, np.bool_)
         self.t = 0.0
         self.step_count = 0
@@ -194,27 +215,34 @@ class Engine:
         st = self.state
         periodic = self.s.periodic_box is not None
         if not force and not periodic:
-            moved = np.max((st.x - self._x_built) ** 2 + (st.y - self._y_built) ** 2)
+            moved = (st.x - self._x_built) ** 2 + (st.y - self._y_built) ** 2
+            if self.s.dim == 3:
+                moved += (st.z - self._z_built) ** 2
+            moved = np.max(moved)
             if (math.sqrt(moved) < 0.5 * self._skin
                     and 2.0 * float(st.h.max()) + math.sqrt(moved) * 2.0 < self._radius):
                 return
         skin = 0.0 if periodic else self.s.neighbour_skin * float(st.h.max())
         radius = 2.0 * float(st.h.max()) * (1.0 + 1e-9) + skin
-        if periodic:
-            lx, ly = self.s.periodic_box
-            box = Box(lx, ly, True, 0.0, 0.0)
+        if self.s.dim == 3:
+            self.offsets, self.index = neighbour_list_points(
+                np.column_stack([st.x, st.y, st.z]), radius, self.s.periodic_box)
         else:
-            box = Box.around(st.x, st.y, radius)
-        self.offsets, self.index = neighbour_list(st.x, st.y, radius, box)
-        self._x_built, self._y_built = st.x.copy(), st.y.copy()
+            if periodic:
+                lx, ly = self.s.periodic_box
+                box = Box(lx, ly, True, 0.0, 0.0)
+            else:
+                box = Box.around(st.x, st.y, radius)
+            self.offsets, self.index = neighbour_list(st.x, st.y, radius, box)
+        self._x_built, self._y_built, self._z_built = st.x.copy(), st.y.copy(), st.z.copy()
         self._skin, self._radius = skin, radius
 
     def _forces(self, dt):
         st, k = self.state, self.k
         k.artificial_stress_pass(st.nom, st.rho, self.prm, self.rst)
-        k.force_pass(st.x, st.y, st.vx, st.vy, st.m, st.rho, st.h, st.nom, self.rst,
-                     self.offsets, self.index, self.prm, self.ax, self.ay, self.pav, self.pas,
-                     self.mumax)
+        k.force_pass(st.x, st.y, st.z, st.vx, st.vy, st.vz, st.m, st.rho, st.h, st.nom, self.rst,
+                     self.offsets, self.index, self.prm, self.ax, self.ay, self.az, self.pav,
+                     self.pas, self.mumax)
         self.force, self.e_pen = k.contact_pass(st.y, st.m, self.ay, dt, self.prm,
                                                 self.kinematic)
         gap = self.prm[k.P_BASE] + self.prm[k.P_RC] - st.y[st.m > 0]
@@ -222,14 +250,15 @@ class Engine:
             self.max_penetration = max(self.max_penetration, float(gap.max()))
 
     def _time_step(self):
-        return min(self.s.dt_max, self.k.time_step(self.state.h, self.state.vx, self.state.vy,
-                                                   self.mumax, self.prm, self.s.cfl))
+        st = self.state
+        return min(self.s.dt_max, self.k.time_step(st.h, st.vx, st.vy, st.vz, self.mumax,
+                                                   self.prm, self.s.cfl))
 
     def _wrap(self):
         if self.s.periodic_box is not None:
-            lx, ly = self.s.periodic_box
-            np.mod(self.state.x, lx, out=self.state.x)
-            np.mod(self.state.y, ly, out=self.state.y)
+            for axis, length in zip("xyz", self.s.periodic_box, strict=False):
+                coord = getattr(self.state, axis)
+                np.mod(coord, length, out=coord)
 
     def _kick(self, dt):
         """Half kick with the kinematic constraint on both sides of it; it acts on the
@@ -239,6 +268,8 @@ class Engine:
         mom, ke = k.kinematic_velocity(st.y, st.vy, st.m, self.kinematic, self.prm, True)
         st.vx += 0.5 * dt * self.ax
         st.vy += 0.5 * dt * self.ay
+        if self.s.dim == 3:
+            st.vz += 0.5 * dt * self.az
         mom_reaction, _ = k.kinematic_velocity(st.y, st.vy, st.m, self.kinematic, self.prm,
                                                False)
         return mom + mom_reaction, ke
@@ -261,11 +292,13 @@ class Engine:
         self.e_av += dt * mass_sum(st.m, self.pav)
         self.e_as += dt * mass_sum(st.m, self.pas)
         mom_half, ke_half = self._kick(dt)
-        k.material_pass(st.x, st.y, st.vx, st.vy, st.m, st.rho, st.h, st.h0, st.sig, st.nom,
-                        st.kap, st.dmg, st.epsp, st.wp, st.epsv, st.eint, st.eel, self.offsets,
-                        self.index, dt, self.prm)
+        k.material_pass(st.x, st.y, st.z, st.vx, st.vy, st.vz, st.m, st.rho, st.h, st.h0, st.sig,
+                        st.nom, st.kap, st.dmg, st.epsp, st.wp, st.epsv, st.eint, st.eel,
+                        self.offsets, self.index, dt, self.prm)
         st.x += dt * st.vx
         st.y += dt * st.vy
+        if self.s.dim == 3:
+            st.z += dt * st.vz
         self._wrap()
         k.kinematic_position(st.y, self.kinematic, self.prm)
         self._neighbours(force=False)
@@ -285,7 +318,10 @@ class Engine:
     # --- diagnostics --------------------------------------------------------------------
     def kinetic_energy(self) -> float:
         st = self.state
-        return 0.5 * float(np.dot(st.m, st.vx**2 + st.vy**2))
+        v2 = st.vx**2 + st.vy**2
+        if self.s.dim == 3:
+            v2 = v2 + st.vz**2
+        return 0.5 * float(np.dot(st.m, v2))
 
     def energies(self) -> dict[str, float]:
         st = self.state
@@ -305,22 +341,26 @@ class Engine:
     def balance_error(self) -> float:
         return (self.total_energy() - self.e0) / self.e0 if self.e0 > 0 else 0.0
 
-    def momentum(self) -> tuple[float, float]:
+    def momentum(self) -> tuple[float, ...]:
+        """(p_x, p_y), and p_z in 3D."""
         st = self.state
-        return float(np.dot(st.m, st.vx)), float(np.dot(st.m, st.vy))
+        p = (float(np.dot(st.m, st.vx)), float(np.dot(st.m, st.vy)))
+        return p + (float(np.dot(st.m, st.vz)),) if self.s.dim == 3 else p
 
     def health(self) -> Divergence | None:
         """NaN/inf in the particle fields, total energy above ``energy_runaway_factor`` x E(0),
         or a collapsed time step (the runner's guards)."""
         st = self.state
-        bad = non_finite({name: getattr(st, name) for name in ("x", "y", "vx", "vy", "rho", "h")}
+        bad = non_finite({name: getattr(st, name)
+                          for name in ("x", "y", "z", "vx", "vy", "vz", "rho", "h")}
                          | {"stress": st.sig.T})
         if bad is not None:
             return bad
         if self.e0 > 0:
-            ke = 0.5 * st.m * (st.vx**2 + st.vy**2)
+            ke = 0.5 * st.m * (st.vx**2 + st.vy**2 + st.vz**2)
             bad = runaway(self.total_energy(), self.s.energy_runaway_factor * self.e0,
-                          "total energy [J/m]", ke + st.m * st.eint)
+                          "total energy [J/m]" if self.s.dim == 2 else "total energy [J]",
+                          ke + st.m * st.eint)
             if bad is not None:
                 return bad
         if self.dt < 1e-6 * self.s.dt_max and self.dt < 1e-12:

@@ -1,6 +1,6 @@
 """Report figures of the impact model (spec sections 6-7): mass distribution, damage maps,
-pre-crack comparison, contact force and accuracy curves, from the run datasets (no
-simulation here)."""
+pre-crack comparison, contact force and accuracy curves, from the run datasets and their
+measurements (:func:`craquelure.impact.analysis.run_metrics`; no simulation here)."""
 
 from __future__ import annotations
 
@@ -8,13 +8,14 @@ from pathlib import Path
 
 import numpy as np
 
+from craquelure.impact.analysis import run_fact, run_metrics, run_scene
 from craquelure.io import open_dataset
 
 
 def _disc(ax, ds, values, snapshot=-1, cmap="gray_r", vmin=0.0, vmax=1.0, reference=False):
     x = ds["x0"].values if reference else ds["snap_x"].values[snapshot]
     y = ds["y0"].values if reference else ds["snap_y"].values[snapshot]
-    size = 9.0 * (0.004 / float(ds.attrs["metric_spacing"])) ** 2 * (1264 / x.size) ** 0.0
+    size = 9.0 * (0.004 / float(run_fact(ds, "spacing"))) ** 2
     sc = ax.scatter(x * 1e3, y * 1e3, c=values, s=size, cmap=cmap, vmin=vmin, vmax=vmax,
                     linewidths=0)
     ax.set_aspect("equal")
@@ -26,19 +27,18 @@ def _disc(ax, ds, values, snapshot=-1, cmap="gray_r", vmin=0.0, vmax=1.0, refere
 def _failed(ds, snapshot=-1):
     """0 intact, 0.5 crushed, 1 cracked (the source's grey/black maps)."""
     crack = ds["snap_softening"].values[snapshot]
-    if ds.attrs.get("metric_cracked_measure") == "damage":
+    if run_scene(ds).get("material.cracked_measure", "softening") == "damage":
         crack = ds["snap_damage"].values[snapshot]
     crushed = ds["snap_plastic_strain"].values[snapshot] >= 0.0035
     return np.where(crack >= 0.9, 1.0, np.where(crushed, 0.55, 0.12))
 
 
 def _title(ds):
-    return (f"kappa = {float(ds.attrs['metric_kappa']):g} (eps_AS "
-            f"{float(ds.attrs.get('metric_as_epsilon', float('nan'))):g}), "
-            f"{ds.attrs['metric_distribution']}, "
-            f"seed {int(ds.attrs.get('seed', 0))}:\nN_mc = {int(ds.attrs['metric_n_main_cracks'])}"
-            f", crossings {int(ds.attrs.get('metric_centre_crossings', -1))}"
-            f", phi_c = {float(ds.attrs['metric_cracked_fraction']):.2f}")
+    m = run_metrics(ds)
+    return (f"kappa = {float(m['kappa']):g} (eps_AS {float(m['as_epsilon']):g}), "
+            f"{m['distribution']}, seed {int(ds.attrs.get('seed', 0))}:\n"
+            f"N_mc = {int(m['n_main_cracks'])}, crossings {int(m['centre_crossings'])}"
+            f", phi_c = {float(m['cracked_fraction']):.2f}")
 
 
 def figure_masses(run: Path, out: Path, label: str) -> None:
@@ -86,9 +86,11 @@ def figure_precracks(runs, out: Path, label: str) -> None:
         ds = open_dataset(run)
         _disc(axes[0, c], ds, ds["mass"].values * 1e3, cmap="viridis", vmin=0,
               vmax=float(ds["mass"].max()) * 1e3, reference=True)
-        axes[0, c].set_title(f"{ds.attrs['metric_precrack_layout']}: masses", fontsize=8)
+        m = run_metrics(ds)
+        axes[0, c].set_title(f"{m['precrack_layout']}: masses", fontsize=8)
         _disc(axes[1, c], ds, _failed(ds))
-        fr = ds.attrs.get("metric_precrack_cracked_fraction", float("nan"))
+        fr = m.get("precrack_cracked_fraction")
+        fr = float("nan") if fr is None else fr
         axes[1, c].set_title(f"failure; {100 * float(fr):.0f} % cracked near the line",
                              fontsize=7)
     fig.suptitle(f"pre-cracks as zero-mass lines (Figs. 11-13)\n{label}", fontsize=9)
@@ -105,13 +107,14 @@ def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
     for kappa, runs in sorted(runs_by_kappa.items()):
         for i, run in enumerate(runs):
             ds = open_dataset(run)
-            scales.add(f"{float(ds.attrs.get('metric_contact_a', float('nan'))):.3g}")
+            scales.add(f"{float(run_fact(ds, 'contact_a', float('nan'))):.3g}")
+            distribution = run_metrics(ds)["distribution"]
             t = ds["time"].values * 1e6
             f = ds["series_contact_force"].values / 1e6
-            style = "-" if ds.attrs["metric_distribution"] == "homogeneous" else ":"
+            style = "-" if distribution == "homogeneous" else ":"
             ax.plot(t, f, style, lw=1.2 if style == "-" else 0.7,
                     color={0.7: "C0", 1.0: "C1", 1.5: "C2"}.get(kappa, "k"),
-                    label=f"kappa = {kappa:g} ({ds.attrs['metric_distribution']})"
+                    label=f"kappa = {kappa:g} ({distribution})"
                     if i < 2 else None)
     ax.set_xlabel("t [us]")
     ax.set_ylabel("contact force [MN/m]")

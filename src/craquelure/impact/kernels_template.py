@@ -6,6 +6,12 @@ the branches of absent effects fold away (globals are compile-time constants in 
 generated file's name hashes this template and every fragment it calls, so ``cache=True`` is
 never stale. Importing the template itself (all effects on) is only for linting and reading.
 
+Dimension: ``DIM`` (2 plane strain/stress, 3 for ``domain.dim: 3``) is a generated constant
+like the effect flags. Positions and velocities are separate arrays x, y, z and vx, vy, vz (z and
+vz are zeros in 2D and never read there); the stress arrays hold (xx, yy, xy, zz) in 2D and
+(xx, yy, xy, zz, xz, yz) in 3D (struct of arrays, ``NCOMP`` columns). The z terms sit under
+``if DIM == 3`` (folded away in 2D), so 2D compiles to the plane code it always was.
+
 Pair loops are gather-style over the CSR neighbour list (every pair in both rows, ``prange``
 safe). Pair smoothing length h_ij = (h_i + h_j)/2, support 2 h_ij (cubic B-spline, kernel kind
 ``CUBIC`` with s = 2 h_ij); massless neighbours are skipped (m_j = 0 contributes nothing).
@@ -44,14 +50,16 @@ CONTACT_BULK = True
 CONTACT_MASS = False
 PERIODIC = False
 PLANE_STRESS = False
-# END FLAGS
 DIM = 2
+# END FLAGS
 KIND = CUBIC
+NCOMP = 4 if DIM == 2 else 6  # stored stress components
 
 # the parameter vector: names in order, declared once (the engine packs by name)
 PARAMS = ("bulk", "shear", "young", "alpha_dp", "k_dp", "kappa0", "kappa_f", "wave_speed",
           "av_alpha", "av_beta", "as_epsilon", "as_n", "spacing", "h_min", "h_max", "base_y",
-          "contact_radius", "contact_a", "k_bulk", "kinematic_ratio", "lx", "ly", "flush_below",
+          "contact_radius", "contact_a", "k_bulk", "kinematic_ratio", "lx", "ly", "lz",
+          "flush_below",
           # cap model (Concrete.cap_vector order; contiguous from P_CAP)
           "cap_alpha", "cap_lambda", "cap_beta", "cap_theta", "cap_e", "cap_x0", "cap_w",
           "cap_d1", "cap_d2", "eps_fc", "eta0_t", "n_t", "eta0_c", "n_c", "overt", "overc",
@@ -70,7 +78,7 @@ P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = (
     _index("h_min"), _index("h_max"), _index("base_y"), _index("contact_radius"),
     _index("contact_a"), _index("k_bulk"), _index("kinematic_ratio"),
 )
-P_LX, P_LY = _index("lx"), _index("ly")
+P_LX, P_LY, P_LZ = _index("lx"), _index("ly"), _index("lz")
 P_CAP = _index("cap_alpha")
 CAP_PARAMS = PARAMS[P_CAP:P_CAP + 18]
 P_FLUSH = _index("flush_below")
@@ -90,13 +98,33 @@ def flushed(v, tiny):
 
 
 @njit(inline="always", cache=True)
-def pair_vector(x, y, i, j, prm):
+def pair_vector(x, y, z, i, j, prm):
     dx = x[i] - x[j]
     dy = y[i] - y[j]
+    dz = 0.0
+    if DIM == 3:
+        dz = z[i] - z[j]
     if PERIODIC:
         dx = minimum_image(dx, prm[P_LX])
         dy = minimum_image(dy, prm[P_LY])
-    return dx, dy
+        if DIM == 3:
+            dz = minimum_image(dz, prm[P_LZ])
+    return dx, dy, dz
+
+
+@njit(inline="always", cache=True)
+def stress_of(a, i):
+    """Row i of a stress array as (xx, yy, xy, zz, xz, yz) (xz = yz = 0 in 2D)."""
+    if DIM == 3:
+        return a[i, 0], a[i, 1], a[i, 2], a[i, 3], a[i, 4], a[i, 5]
+    return a[i, 0], a[i, 1], a[i, 2], a[i, 3], 0.0, 0.0
+
+
+@njit(inline="always", cache=True)
+def store_stress(a, i, s, tiny):
+    """Row i of a stress array from (xx, yy, xy, zz, xz, yz), flushed below ``tiny``."""
+    for c in range(NCOMP):
+        a[i, c] = flushed(s[c], tiny)
 
 
 @njit(inline="always", cache=True)
@@ -129,33 +157,35 @@ def plane_stress_dzz(sxx, syy, sxy, szz, epsv, epsp, dxx, dyy, dxy, w, dt, prm):
 @njit(inline="always", cache=True)
 def _returned_szz(dzz, sxx, syy, sxy, szz, epsv, epsp, dxx, dyy, dxy, w, dt, prm):
     """σ_zz after the Jaumann trial with out-of-plane rate ``dzz`` and the DP return."""
-    txx, tyy, txy, tzz = jaumann_trial(sxx, syy, sxy, szz, dxx, dyy, dxy, dzz, w, prm[P_BULK],
-                                       prm[P_SHEAR], dt)
+    d = (dxx, dyy, dxy, dzz, 0.0, 0.0)
+    trial = jaumann_trial((sxx, syy, sxy, szz, 0.0, 0.0), d, (w, 0.0, 0.0), prm[P_BULK],
+                          prm[P_SHEAR], dt)
     if CAP_PLASTICITY:
-        return plastic_return(txx, tyy, txy, tzz, epsv, epsp, dxx, dyy, dxy, dzz, prm)[3]
-    return dp_return(txx, tyy, txy, tzz, prm[P_ALPHA_DP], prm[P_K_DP], prm[P_SHEAR])[3]
+        return plastic_return(trial, epsv, epsp, d, prm)[0][3]
+    return dp_return(trial, prm[P_ALPHA_DP], prm[P_K_DP], prm[P_SHEAR])[0][3]
 
 
 @njit(inline="always", cache=True)
-def plastic_return(sxx, syy, sxy, szz, epsv, epsp, dxx, dyy, dxy, dzz, prm):
-    """Cap model return (CAP_PLASTICITY) with the compressive damage and the compressive rate
-    factor when those effects are on; returns (sxx, syy, sxy, szz, d_eps_v, d_eps_p, work)."""
+def plastic_return(s, epsv, epsp, d, prm):
+    """Cap model return (CAP_PLASTICITY) of the trial stress s for the strain rate d, with the
+    compressive damage and the compressive rate factor when those effects are on; returns
+    (stress, d_eps_v, d_eps_p, work)."""
     c = P_CAP
     strength = 1.0
     if COMPRESSIVE_DAMAGE:
         strength = 1.0 - ductile_damage(epsp, prm[c + 9])
     dif = 1.0
     if RATE_EFFECTS:
-        dif = increase_factor(-principal_rates(dxx, dyy, dxy, dzz)[1], prm[P_YOUNG],
+        dif = increase_factor(-principal_rates(d)[1], prm[P_YOUNG],
                               prm[c + 12], prm[c + 13], prm[c + 15], prm[c + 17])
-    return cap_return(sxx, syy, sxy, szz, epsv, prm[c], prm[c + 1], prm[c + 2], prm[c + 3],
+    return cap_return(s, epsv, prm[c], prm[c + 1], prm[c + 2], prm[c + 3],
                       prm[c + 4], prm[c + 5], prm[c + 6], prm[c + 7], prm[c + 8], prm[P_BULK],
                       prm[P_SHEAR], strength, dif)
 
 
 @njit(parallel=True, cache=True)
-def material_pass(x, y, vx, vy, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, epsv, eint, eel,
-                  offsets, index, dt, prm):
+def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, epsv, eint,
+                  eel, offsets, index, dt, prm):
     """Velocity gradient with the mid-step velocities, then per particle: ρ and h (exact
     exponential update), Jaumann trial → DP return → damage → nominal stress; stress power
     (trapezoidal in the nominal stress) accumulated into the specific internal energy.
@@ -170,16 +200,21 @@ def material_pass(x, y, vx, vy, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, eps
         lxy = 0.0
         lyx = 0.0
         lyy = 0.0
+        lxz = 0.0
+        lyz = 0.0
+        lzx = 0.0
+        lzy = 0.0
+        lzz = 0.0
         for p in range(offsets[i], offsets[i + 1]):
             j = index[p]
             if m[j] == 0.0:
                 continue
-            dx, dy = pair_vector(x, y, i, j, prm)
-            r = math.sqrt(dx * dx + dy * dy)
-            s = h_start[i] + h_start[j]  # support 2 h_ij
-            if r >= s or r == 0.0:
+            dx, dy, dz = pair_vector(x, y, z, i, j, prm)
+            r = math.sqrt(dx * dx + dy * dy + dz * dz)
+            sup = h_start[i] + h_start[j]  # support 2 h_ij
+            if r >= sup or r == 0.0:
                 continue
-            dw = kernel_dwdr(KIND, r, s, DIM) / r
+            dw = kernel_dwdr(KIND, r, sup, DIM) / r
             vol = m[j] / rho_start[j]
             dvx = vx[j] - vx[i]
             dvy = vy[j] - vy[i]
@@ -187,65 +222,72 @@ def material_pass(x, y, vx, vy, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, eps
             lxy += vol * dvx * dw * dy
             lyx += vol * dvy * dw * dx
             lyy += vol * dvy * dw * dy
+            if DIM == 3:
+                dvz = vz[j] - vz[i]
+                lxz += vol * dvx * dw * dz
+                lyz += vol * dvy * dw * dz
+                lzx += vol * dvz * dw * dx
+                lzy += vol * dvz * dw * dy
+                lzz += vol * dvz * dw * dz
         tr = lxx + lyy
+        if DIM == 3:
+            tr += lzz
         rho_old = rho[i]
         rho[i] = rho_old * math.exp(-tr * dt)
         if VARIABLE_SMOOTHING_LENGTH:
             h[i] = benz_update(h[i], h0[i], tr, dt, DIM, prm[P_H_MIN], prm[P_H_MAX])
         dxy = 0.5 * (lxy + lyx)
-        w = 0.5 * (lxy - lyx)
-        oxx, oyy, oxy = nom[i, 0], nom[i, 1], nom[i, 2]
-        sxx, syy, sxy, szz = sig[i, 0], sig[i, 1], sig[i, 2], sig[i, 3]
-        dzz = 0.0
+        w = (0.5 * (lxy - lyx), 0.5 * (lxz - lzx), 0.5 * (lyz - lzy))
+        old = stress_of(nom, i)
+        s = stress_of(sig, i)
+        dzz = lzz
+        if PLANE_STRESS:
+            dzz = plane_stress_dzz(s[0], s[1], s[2], s[3], epsv[i], epsp[i], lxx, lyy, dxy,
+                                   w[0], dt, prm)
+        d = (lxx, lyy, dxy, dzz, 0.5 * (lxz + lzx), 0.5 * (lyz + lzy))
         if ELASTICITY:
-            if PLANE_STRESS:
-                dzz = plane_stress_dzz(sxx, syy, sxy, szz, epsv[i], epsp[i], lxx, lyy, dxy, w,
-                                       dt, prm)
-            sxx, syy, sxy, szz = jaumann_trial(sxx, syy, sxy, szz, lxx, lyy, dxy, dzz, w,
-                                               prm[P_BULK], prm[P_SHEAR], dt)
+            s = jaumann_trial(s, d, w, prm[P_BULK], prm[P_SHEAR], dt)
         if PLASTICITY:
-            sxx, syy, sxy, szz, deps, work = dp_return(sxx, syy, sxy, szz, prm[P_ALPHA_DP],
-                                                       prm[P_K_DP], prm[P_SHEAR])
+            s, deps, work = dp_return(s, prm[P_ALPHA_DP], prm[P_K_DP], prm[P_SHEAR])
             epsp[i] += deps
             wp[i] += work / rho[i]
         if CAP_PLASTICITY:
-            sxx, syy, sxy, szz, dv, deps, work = plastic_return(sxx, syy, sxy, szz, epsv[i],
-                                                                epsp[i], lxx, lyy, dxy, dzz,
-                                                                prm)
+            s, dv, deps, work = plastic_return(s, epsv[i], epsp[i], d, prm)
             epsp[i] += deps
             epsv[i] += dv
             wp[i] += work / rho[i]
         if PLANE_STRESS:
-            szz = 0.0  # removes the solve's round-off residual
+            s = (s[0], s[1], s[2], 0.0, 0.0, 0.0)  # removes the solve's round-off residual
         tiny = prm[P_FLUSH]
-        sxx, syy = flushed(sxx, tiny), flushed(syy, tiny)
-        sxy, szz = flushed(sxy, tiny), flushed(szz, tiny)
-        sig[i, 0], sig[i, 1], sig[i, 2], sig[i, 3] = sxx, syy, sxy, szz
+        store_stress(sig, i, s, tiny)
+        s = stress_of(sig, i)
         if DAMAGE:
             young = prm[P_YOUNG]
             if RATE_EFFECTS:
-                young *= increase_factor(principal_rates(lxx, lyy, dxy, dzz)[0], young,
+                young *= increase_factor(principal_rates(d)[0], young,
                                          prm[P_CAP + 10], prm[P_CAP + 11], prm[P_CAP + 14],
                                          prm[P_CAP + 16])
-            k, d, nxx, nyy, nxy, nzz = damage_update(sxx, syy, sxy, szz, kap[i], young,
-                                                     prm[P_KAPPA0], prm[P_KAPPA_F])
+            k, dmg_i, nominal = damage_update(s, kap[i], young, prm[P_KAPPA0], prm[P_KAPPA_F])
             kap[i] = k
-            dmg[i] = d
-            nom[i, 0], nom[i, 1] = flushed(nxx, tiny), flushed(nyy, tiny)
-            nom[i, 2], nom[i, 3] = flushed(nxy, tiny), flushed(nzz, tiny)
+            dmg[i] = dmg_i
+            store_stress(nom, i, nominal, tiny)
         else:
-            nom[i, 0], nom[i, 1], nom[i, 2], nom[i, 3] = sxx, syy, sxy, szz
-        power = ((oxx + nom[i, 0]) * lxx + (oyy + nom[i, 1]) * lyy
-                 + 2.0 * (oxy + nom[i, 2]) * dxy)
+            store_stress(nom, i, s, 0.0)
+        new = stress_of(nom, i)
+        power = ((old[0] + new[0]) * lxx + (old[1] + new[1]) * lyy
+                 + 2.0 * (old[2] + new[2]) * dxy)
+        if DIM == 3:
+            power += ((old[3] + new[3]) * lzz + 2.0 * (old[4] + new[4]) * d[4]
+                      + 2.0 * (old[5] + new[5]) * d[5])
         eint[i] += 0.5 * dt * power * 2.0 / (rho_old + rho[i])
         if ELASTICITY:
-            eel[i] = (1.0 - dmg[i]) * elastic_energy_density(
-                sxx, syy, sxy, szz, prm[P_BULK], prm[P_SHEAR]) / rho[i]
+            eel[i] = (1.0 - dmg[i]) * elastic_energy_density(s, prm[P_BULK],
+                                                             prm[P_SHEAR]) / rho[i]
 
 
 @njit(parallel=True, cache=True)
-def force_pass(x, y, vx, vy, m, rho, h, nom, rst, offsets, index, prm, ax, ay, pav, pas,
-               mumax):
+def force_pass(x, y, z, vx, vy, vz, m, rho, h, nom, rst, offsets, index, prm, ax, ay, az, pav,
+               pas, mumax):
     """Accelerations from the pair bracket σ_i/ρ_i² + σ_j/ρ_j² − Π_ij 1 + f^n (R_i + R_j);
     per-particle AV and artificial-stress powers (per unit mass of i, symmetric halves) and
     max |μ_ij| for the time step."""
@@ -253,17 +295,21 @@ def force_pass(x, y, vx, vy, m, rho, h, nom, rst, offsets, index, prm, ax, ay, p
     for i in prange(n):
         axi = 0.0
         ayi = 0.0
+        azi = 0.0
         pa = 0.0
         ps = 0.0
         mu_max = 0.0
         ri2 = 1.0 / (rho[i] * rho[i])
         ixx, iyy, ixy = nom[i, 0] * ri2, nom[i, 1] * ri2, nom[i, 2] * ri2
+        izz = ixz = iyz = 0.0
+        if DIM == 3:
+            izz, ixz, iyz = nom[i, 3] * ri2, nom[i, 4] * ri2, nom[i, 5] * ri2
         for p in range(offsets[i], offsets[i + 1]):
             j = index[p]
             if m[j] == 0.0:
                 continue
-            dx, dy = pair_vector(x, y, i, j, prm)
-            r2 = dx * dx + dy * dy
+            dx, dy, dz = pair_vector(x, y, z, i, j, prm)
+            r2 = dx * dx + dy * dy + dz * dz
             r = math.sqrt(r2)
             s = h[i] + h[j]
             if r >= s or r == 0.0:
@@ -271,18 +317,31 @@ def force_pass(x, y, vx, vy, m, rho, h, nom, rst, offsets, index, prm, ax, ay, p
             dw = kernel_dwdr(KIND, r, s, DIM) / r
             gx = dw * dx
             gy = dw * dy
+            gz = dw * dz
             rj2 = 1.0 / (rho[j] * rho[j])
             bxx = ixx + nom[j, 0] * rj2
             byy = iyy + nom[j, 1] * rj2
             bxy = ixy + nom[j, 2] * rj2
+            bzz = bxz = byz = 0.0
+            if DIM == 3:
+                bzz = izz + nom[j, 3] * rj2
+                bxz = ixz + nom[j, 4] * rj2
+                byz = iyz + nom[j, 5] * rj2
             dvx = vx[i] - vx[j]
             dvy = vy[i] - vy[j]
+            dvz = 0.0
             vg = dvx * gx + dvy * gy
+            vdotr = dvx * dx + dvy * dy
+            if DIM == 3:
+                dvz = vz[i] - vz[j]
+                vg += dvz * gz
+                vdotr += dvz * dz
             if ARTIFICIAL_VISCOSITY:
-                pi, mu = monaghan_pi(dvx * dx + dvy * dy, r2, 0.5 * s, 0.5 * (rho[i] + rho[j]),
+                pi, mu = monaghan_pi(vdotr, r2, 0.5 * s, 0.5 * (rho[i] + rho[j]),
                                      prm[P_C], prm[P_AV_ALPHA], prm[P_AV_BETA])
                 bxx -= pi
                 byy -= pi
+                bzz -= pi
                 pa += 0.5 * m[j] * pi * vg
                 if -mu > mu_max:
                     mu_max = -mu
@@ -302,23 +361,42 @@ def force_pass(x, y, vx, vy, m, rho, h, nom, rst, offsets, index, prm, ax, ay, p
                 bxx += cxx
                 byy += cyy
                 bxy += cxy
-                ps -= 0.5 * m[j] * (dvx * (cxx * gx + cxy * gy) + dvy * (cxy * gx + cyy * gy))
-            axi += m[j] * (bxx * gx + bxy * gy)
-            ayi += m[j] * (bxy * gx + byy * gy)
+                work = dvx * (cxx * gx + cxy * gy) + dvy * (cxy * gx + cyy * gy)
+                if DIM == 3:
+                    czz = fn * (rst[i, 3] + rst[j, 3])
+                    cxz = fn * (rst[i, 4] + rst[j, 4])
+                    cyz = fn * (rst[i, 5] + rst[j, 5])
+                    bzz += czz
+                    bxz += cxz
+                    byz += cyz
+                    work += (dvx * cxz * gz + dvy * cyz * gz
+                             + dvz * (cxz * gx + cyz * gy + czz * gz))
+                ps -= 0.5 * m[j] * work
+            if DIM == 3:
+                axi += m[j] * (bxx * gx + bxy * gy + bxz * gz)
+                ayi += m[j] * (bxy * gx + byy * gy + byz * gz)
+                azi += m[j] * (bxz * gx + byz * gy + bzz * gz)
+            else:
+                axi += m[j] * (bxx * gx + bxy * gy)
+                ayi += m[j] * (bxy * gx + byy * gy)
         tiny = prm[P_FLUSH]
         ax[i] = flushed(axi, tiny)
         ay[i] = flushed(ayi, tiny)
+        az[i] = flushed(azi, tiny)
         pav[i] = flushed(pa, tiny)
         pas[i] = flushed(ps, tiny)
         mumax[i] = mu_max
 
 
-@njit(cache=True)
+@njit(parallel=True, cache=True)
 def artificial_stress_pass(nom, rho, prm, rst):
-    for i in range(rho.size):
+    """R_i of every particle: (xx, yy, xy) in 2D, (xx, yy, xy, zz, xz, yz) in 3D (per particle,
+    so threads do not change it)."""
+    for i in prange(rho.size):
         if ARTIFICIAL_STRESS:
-            rst[i, 0], rst[i, 1], rst[i, 2] = artificial_stress_tensor(
-                nom[i, 0], nom[i, 1], nom[i, 2], rho[i], prm[P_AS_EPS])
+            r = artificial_stress_tensor(stress_of(nom, i), rho[i], prm[P_AS_EPS])
+            for c in range(rst.shape[1]):
+                rst[i, c] = r[c]
 
 
 @njit(cache=True)
@@ -378,12 +456,15 @@ def kinematic_velocity(y, vy, m, kinematic, prm, arrival):
 
 
 @njit(cache=True)
-def time_step(h, vx, vy, mumax, prm, cfl):
+def time_step(h, vx, vy, vz, mumax, prm, cfl):
     """Δt = cfl min_i h_i / (c + |v_i| + 1.2 (α c + β max_j |μ_ij|))."""
     best = np.inf
     c = prm[P_C]
     for i in range(h.size):
-        speed = c + math.sqrt(vx[i] * vx[i] + vy[i] * vy[i])
+        v2 = vx[i] * vx[i] + vy[i] * vy[i]
+        if DIM == 3:
+            v2 += vz[i] * vz[i]
+        speed = c + math.sqrt(v2)
         if ARTIFICIAL_VISCOSITY:
             speed += 1.2 * (prm[P_AV_ALPHA] * c + prm[P_AV_BETA] * mumax[i])
         t = cfl * h[i] / speed

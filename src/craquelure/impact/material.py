@@ -110,14 +110,15 @@ def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young,
     ``state`` = [sxx, syy, sxy, szz (effective), kappa, D_t, eps_p, wp, eps_v^p]; ``plastic``:
     NO_PLASTICITY, DRUCKER_PRAGER or CAP (constants ``cap`` = Concrete.cap_vector());
     returns the nominal stress (xx, yy, xy, zz)."""
-    sxx, syy, sxy, szz = jaumann_trial(state[0], state[1], state[2], state[3], dxx, dyy, dxy,
-                                       dzz, w, bulk, shear, dt)
+    d = (dxx, dyy, dxy, dzz, 0.0, 0.0)
+    s = jaumann_trial((state[0], state[1], state[2], state[3], 0.0, 0.0), d, (w, 0.0, 0.0),
+                      bulk, shear, dt)
     dif_t = 1.0
     if rate:
-        r1, r3 = principal_rates(dxx, dyy, dxy, dzz)
+        r1, r3 = principal_rates(d)
         dif_t = increase_factor(r1, young, cap[10], cap[11], cap[14], cap[16])
     if plastic == DRUCKER_PRAGER:
-        sxx, syy, sxy, szz, deps, work = dp_return(sxx, syy, sxy, szz, alpha, k, shear)
+        s, deps, work = dp_return(s, alpha, k, shear)
         state[6] += deps
         state[7] += work
     elif plastic == CAP:
@@ -127,21 +128,20 @@ def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young,
         dif_c = 1.0
         if rate:
             dif_c = increase_factor(-r3, young, cap[12], cap[13], cap[15], cap[17])
-        sxx, syy, sxy, szz, dv, deps, work = cap_return(
-            sxx, syy, sxy, szz, state[8], cap[0], cap[1], cap[2], cap[3], cap[4], cap[5],
+        s, dv, deps, work = cap_return(
+            s, state[8], cap[0], cap[1], cap[2], cap[3], cap[4], cap[5],
             cap[6], cap[7], cap[8], bulk, shear, strength, dif_c)
         state[6] += deps
         state[7] += work
         state[8] += dv
-    state[0], state[1], state[2], state[3] = sxx, syy, sxy, szz
+    state[0], state[1], state[2], state[3] = s[0], s[1], s[2], s[3]
     nom = np.empty(4)
     if damage:
-        kap, d, nxx, nyy, nxy, nzz = damage_update(sxx, syy, sxy, szz, state[4], young * dif_t,
-                                                   kappa0, kappa_f)
-        state[4], state[5] = kap, d
-        nom[0], nom[1], nom[2], nom[3] = nxx, nyy, nxy, nzz
+        kap, dt_, n = damage_update(s, state[4], young * dif_t, kappa0, kappa_f)
+        state[4], state[5] = kap, dt_
+        nom[0], nom[1], nom[2], nom[3] = n[0], n[1], n[2], n[3]
     else:
-        nom[0], nom[1], nom[2], nom[3] = sxx, syy, sxy, szz
+        nom[0], nom[1], nom[2], nom[3] = s[0], s[1], s[2], s[3]
     return nom
 
 

@@ -21,6 +21,11 @@
   touch the base); area A_cr = count·Δ² (per metre), height h_cr = reference y-extent + Δ.
 - Contact: peak force, impulse ∫F dt, duration (first to last sample with F > 1 % of the peak),
   rebound = final centre-of-mass v_y.
+- 3D [D, 2026-12-01]: the crack and crushed-zone geometry (main cracks, centre-row crossings,
+  crushed area and height, pre-crack following) is measured on the mid-thickness slab, the
+  layer of particles nearest the disc's mid-plane z = 0 (the lower one when the mid-plane falls
+  between two layers, as for the centre row): the section the source's crack maps show. The
+  cracked fraction is over the whole body (volume fraction, equal V0).
 """
 
 from __future__ import annotations
@@ -125,8 +130,23 @@ def contact_metrics(t, force, vcm_y) -> dict[str, float]:
             "contact_duration": duration, "rebound_velocity": float(vcm_y[-1])}
 
 
+def mid_slab(z0: np.ndarray, spacing: float) -> np.ndarray:
+    """Mask of the layer nearest the mid-plane z = 0 (the lower one on a tie)."""
+    near = np.abs(z0) <= np.abs(z0).min() + 0.01 * spacing
+    if (near & (z0 < 0)).any():
+        near &= z0 < 0
+    return near
+
+
 def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
-                crushed=0.0035, centre_y=None) -> dict[str, float]:
+                crushed=0.0035, centre_y=None, z0=None) -> dict[str, float]:
+    """The run's measurements (module docstring); ``z0`` (3D reference positions along the
+    axis) restricts the geometry to the mid-thickness slab."""
+    fraction = float(np.mean(damage >= cracked))
+    if z0 is not None:
+        slab = mid_slab(np.asarray(z0), spacing)
+        x0, y0, damage, plastic, precrack = (np.asarray(a)[slab] for a in
+                                             (x0, y0, damage, plastic, precrack))
     mcs = main_cracks(x0, y0, damage, plastic, spacing, radius, cracked, crushed)
     if centre_y is None:
         centre_y = 0.5 * (y0.min() + y0.max())
@@ -134,7 +154,7 @@ def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
                                              cracked, crushed)
     area, height = crushed_zone(x0, y0, plastic, spacing, crushed)
     out = {
-        "cracked_fraction": float(np.mean(damage >= cracked)),
+        "cracked_fraction": fraction,
         "n_main_cracks": len(mcs),
         "main_crack_angle_deg": mcs[0]["angle_deg"] if mcs else float("nan"),
         "main_crack_length": mcs[0]["length"] if mcs else 0.0,

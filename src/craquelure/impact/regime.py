@@ -10,7 +10,6 @@ out`` (two or more) or ``no main crack``; the centre-row crossings of all cracks
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 from craquelure.io import open_dataset
@@ -23,23 +22,22 @@ def classify(n_main: int) -> str:
 
 
 def regime_row(path: Path) -> dict:
-    from craquelure.impact.analysis import crack_metrics
+    from craquelure.impact.analysis import run_metrics
 
     ds = open_dataset(path)
-    a = ds.attrs
-    cracks = crack_metrics(ds)  # the current measurement code, from the final fields
-    n_main = int(cracks["n_main_cracks_revised"])
-    x_mid = float(cracks["main_crack_x_mid"])
-    return {"f_t": float(a["metric_f_t"]), "contact_a": float(a["metric_contact_a"]),
-            "impact_velocity": float(a["metric_impact_velocity"]),
+    m = run_metrics(ds)  # the current measurement code, from the final fields
+    n_main = int(m["n_main_cracks_revised"])
+    x_mid = m["main_crack_x_mid"]
+    return {"f_t": float(m["f_t"]), "contact_a": float(m["contact_a"]),
+            "impact_velocity": float(m["impact_velocity"]),
             "t_end": float(ds["time"].values[-1]), "n_main_cracks": n_main,
-            "main_crossings_x_mm": cracks["main_crossings_x_mm"],
-            "main_crack_x_mid_mm": None if math.isnan(x_mid) else 1e3 * x_mid,
-            "centre_crossings": int(a["metric_centre_crossings"]),
-            "cracked_fraction": float(a["metric_cracked_fraction"]),
-            "crushed_area": float(a["metric_crushed_area"]),
-            "energy_balance_error_max": float(a["metric_energy_balance_error_max"]),
-            "material_model": str(a.get("metric_material_model", "")),
+            "main_crossings_x_mm": m["main_crossings_x_mm"],
+            "main_crack_x_mid_mm": None if x_mid is None else 1e3 * x_mid,
+            "centre_crossings": int(m["centre_crossings"]),
+            "cracked_fraction": float(m["cracked_fraction"]),
+            "crushed_area": float(m["crushed_area"]),
+            "energy_balance_error_max": float(m["energy_balance_error_max"]),
+            "material_model": str(m.get("material_model") or ""),
             "class": classify(n_main), "path": str(path)}
 
 

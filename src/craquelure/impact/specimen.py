@@ -2,13 +2,16 @@ r"""Specimen: regular grid geometry, random particle masses, pre-crack layouts (
 
 - Disc: a ``diameter_cells``² cell-centred square grid of spacing Δ keeping the centres within
   radius ``diameter_cells``·Δ/2 of the disc centre (40 cells → 1264 particles). Rectangle (tests):
-  ``diameter_cells`` × ``height_cells`` cells. The lowest centre sits at
+  ``diameter_cells`` × ``height_cells`` cells. 3D (``domain.dim: 3``, spec section 1): that
+  grid repeated in ``thickness_cells`` layers at z = (k − (n_z − 1)/2)Δ, the disc's axis along
+  z (horizontal), so its rim strikes the base: 40 cells × 8 layers = 8 × 1264 = 10 112
+  particles, the source's count. The lowest centre sits at
   :math:`y = y_{base} + r_c + \text{gap}\,\Delta`; every particle moves at
   :math:`(0, -v_{impact})`.
-- Masses: total :math:`M = N\rho_0\Delta^2` (per metre in 2D) is fixed; :math:`\omega_i` i.i.d.
+- Masses: total :math:`M = N\rho_0\Delta^d` (per metre in 2D) is fixed; :math:`\omega_i` i.i.d.
   with mean 1: ``uniform`` U(0, 2) [C]; ``normal`` N(1, sd²) with negatives redrawn [D];
   ``poisson`` :math:`\omega = k/\lambda_P`, :math:`k \sim` Poisson(λ_P) (exact zeros) [D];
-  :math:`m_i = \omega_i M/\sum_j\omega_j`. ``homogeneous``: :math:`m_i = \rho_0\Delta^2`.
+  :math:`m_i = \omega_i M/\sum_j\omega_j`. ``homogeneous``: :math:`m_i = \rho_0\Delta^d`.
   :math:`\rho_i(0) = \rho_0` and :math:`h_i(0) = \kappa\,h_{factor}\Delta` for every particle, so
   the geometry stays the homogeneous grid and only the "virtual volume" :math:`m_i/\rho_0` varies.
 - Pre-cracks: a layout is data in the scene (``precracks``: name → segments in units of R from
@@ -16,7 +19,8 @@ r"""Specimen: regular grid geometry, random particle masses, pre-crack layouts (
   "one particle column of zero mass"; revised 2026-12 from "within Δ/2 of the segment", which
   on the cell-centred grid took the two columns at x = ±Δ/2 for PF#1): for a segment steeper
   than 45° one particle per grid row, the one with −Δ/2 ≤ x − x_line(y) < Δ/2, over the rows
-  the segment spans (one per column, in y, for flatter segments). The others keep
+  the segment spans (one per column, in y, for flatter segments); in 3D the same (x, y) in every
+  layer, so the line is a zero-mass plane one column wide through the thickness. The others keep
   the homogeneous mass; the total mass is not renormalised [C maps]. A pre-crack is applied on top
   of the chosen mass distribution (the paper's cases use homogeneous masses).
 """
@@ -41,6 +45,11 @@ class Specimen:
     centre_y: float
     precrack: np.ndarray  # bool, particle on a pre-crack line
     vx: np.ndarray | None = None  # initial x velocity (rings); None: the disc's (0, -v_impact)
+    z: np.ndarray | None = None   # 3D: position along the disc axis (None in 2D)
+
+    @property
+    def dim(self) -> int:
+        return 2 if self.z is None else 3
 
     @property
     def n(self) -> int:
@@ -118,6 +127,13 @@ def build_specimen(scene: Scene, seed: int) -> Specimen:
         return _rings_specimen(scene, dx)
     cells = scene.get("particles.diameter_cells")
     x, y = grid(shape, cells, scene.get("particles.height_cells"), dx)
+    z = None
+    dim = scene.get("domain.dim")
+    if dim == 3:
+        layers = scene.get("particles.thickness_cells")
+        zc = (np.arange(layers) - (layers - 1) / 2.0) * dx
+        z = np.repeat(zc, x.size)
+        x, y = np.tile(x, layers), np.tile(y, layers)
     radius = cells * dx / 2.0
     r_c = scene.get("numerics.contact_radius") * dx
     centre_y = scene.get("domain.base_y") + r_c + scene.get("particles.gap") * dx - y.min()
@@ -127,7 +143,7 @@ def build_specimen(scene: Scene, seed: int) -> Specimen:
     w = draw_weights(scene.get("particles.masses.distribution"), n, rng,
                      scene.get("particles.masses.normal_sd"),
                      scene.get("particles.masses.poisson_lambda"))
-    total = n * rho0 * dx * dx
+    total = n * rho0 * dx * dx * (dx if dim == 3 else 1.0)  # rho0 Delta^d per particle
     if w.sum() <= 0:
         raise SceneError("particles.masses: every drawn weight is zero")
     mass = w * (total / w.sum())
@@ -141,7 +157,7 @@ def build_specimen(scene: Scene, seed: int) -> Specimen:
         crack = precrack_mask(x, y, layouts[name], radius, dx)
         mass[crack] = 0.0
     return Specimen(x=x, y=y + centre_y, mass=mass, spacing=dx, radius=radius,
-                    centre_y=centre_y, precrack=crack)
+                    centre_y=centre_y, precrack=crack, z=z)
 
 
 def _rings_specimen(scene: Scene, dx: float) -> Specimen:

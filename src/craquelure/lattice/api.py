@@ -50,12 +50,12 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     m = beam.lattice_moduli(c.kn, c.ks)
     p = engine_params(scene, s)
     rho2 = float(s.mass[0] / beam.cell_area(s.L))
-    steps = math.ceil(scene.get("outputs.t_end") / p["dt"])
+    load = workload(scene)
     return {
         "particles": s.n, "bonds": int(s.bi.size), "k_n": c.kn, "k_s": c.ks,
         "E_b": c.E_b, "beam width": c.width, "lattice E": m["E"], "lattice nu": m["nu"],
-        "P-wave speed": math.sqrt(m["M"] / rho2), "time step": p["dt"], "steps": steps,
-        **prediction_lines("lattice", workload(scene)),
+        "P-wave speed": math.sqrt(m["M"] / rho2), "time step": p["dt"], "steps": load["units"],
+        **prediction_lines("lattice", load),
     }
 
 

@@ -107,11 +107,6 @@ class BeamConstants:
     def ks(self) -> float:
         return 2.0 * (self.a + self.b) / self.L**2
 
-    @property
-    def k_theta(self) -> float:
-        """Rotational stiffness of one end (4 E_b I/L or k_r) for the stable-step estimate."""
-        return self.a
-
 
 def euler_bernoulli(E_b: float, width: float, L: float = 1.0,  # noqa: N803
                     thickness: float = 1.0) -> BeamConstants:

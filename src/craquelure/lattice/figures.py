@@ -13,6 +13,14 @@ import numpy as np  # noqa: E402
 from craquelure.lattice import fragments  # noqa: E402
 
 
+def _save(fig, out, title=None, **title_kw) -> None:
+    if title is not None:
+        fig.suptitle(title, **title_kw)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+
+
 def _broken_midpoints(ds, frame=0):
     broken = ds.bond_state.values == 0
     i, j = ds.bond_i.values[broken], ds.bond_j.values[broken]
@@ -66,10 +74,7 @@ def calving(ds, labels, summary, out, title):
     ax[3].set_title(f"{sz.size - 1} fragments: ML exponent {tau:.2f} (cut-off {cut:.0f}); "
                     f"binned slope {slope:.2f} over {decades:.1f} dec.", fontsize=9)
     ax[3].legend(fontsize=8)
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out, title)
 
 
 def fretting(ds, labels, per_cycle, out, title):
@@ -99,10 +104,7 @@ def fretting(ds, labels, per_cycle, out, title):
     ax[2].set_xticks(cyc)
     ax[2].set_xlabel("cycle")
     ax[2].set_ylabel("detached platelets")
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out, title)
 
 
 def glen(table, fit, frozen_fit, out, title):
@@ -122,10 +124,7 @@ def glen(table, fit, frozen_fit, out, title):
     ax[1].set_xlabel("tau_app")
     ax[1].set_ylabel("strain rate gamma_dot")
     ax[1].legend(fontsize=8)
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out, title)
 
 
 def gravity(ds, predicted, out, title):
@@ -140,9 +139,7 @@ def gravity(ds, predicted, out, title):
     ax.set_ylabel("settlement")
     ax.legend()
     ax.set_title(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out)
 
 
 def scaling(rows, out, title):
@@ -159,10 +156,7 @@ def scaling(rows, out, title):
     ax[1].set_xlabel("particles N")
     ax[1].set_ylabel("bond updates per second [1e6]")
     ax[1].legend()
-    fig.suptitle(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out, title, fontsize=9)
 
 
 def accuracy(rows, out, title):
@@ -192,7 +186,4 @@ def accuracy(rows, out, title):
     ax[1].set_ylabel("|T / T_continuum - 1|")
     ax[1].legend(fontsize=8)
     ax[1].set_title("error versus resolution (order 2 expected)", fontsize=9)
-    fig.suptitle(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out, title, fontsize=9)

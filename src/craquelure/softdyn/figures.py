@@ -17,6 +17,7 @@ import numpy as np  # noqa: E402
 def _save(fig, path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
@@ -43,7 +44,6 @@ def fig4(ds, path, profile: str, scene: str):
     fig.suptitle(f"T1 in time ({profile} profile, scene {scene}): h0 = {ds.attrs['h0']:g} R, "
                  f"F~ = {ds.attrs['reduced_force']:g}, T = {ds.attrs['duration']:.4g} tau",
                  fontsize=9)
-    fig.tight_layout()
     return _save(fig, path)
 
 
@@ -72,7 +72,6 @@ def fig5(ds, path, profile: str, scene: str):
     fig.suptitle(f"T1 duration ({profile} profile, scene {scene}): "
                  f"{int(ds.attrs['n_points'])} runs, {int(ds.attrs['n_finished'])} finished",
                  fontsize=9)
-    fig.tight_layout()
     return _save(fig, path)
 
 
@@ -94,7 +93,6 @@ def fig3(ds, path, profile: str, scene: str):
     ax.set_title(f"T1 occurrence ({profile} profile, scene {scene}), h0 = {ds.attrs['h0']:g} R,"
                  f"\ntheta <= {ds.attrs['theta_end_deg']:g} deg within {ds.attrs['t_end']:g} "
                  f"tau", fontsize=9)
-    fig.tight_layout()
     return _save(fig, path)
 
 
@@ -109,7 +107,6 @@ def two_sphere(ds, path, profile: str, scene: str):
     ax.legend(fontsize=8)
     ax.set_title(f"two spheres ({profile} profile, scene {scene}): h0 = {ds.attrs['h0']:g} R, "
                  f"F~ = {ds.attrs['reduced_force']:g}", fontsize=9)
-    fig.tight_layout()
     return _save(fig, path)
 
 
@@ -143,5 +140,4 @@ def accuracy(ds, path, profile: str, scene: str):
         f"{ds.attrs['reference_duration']:.4f} tau)\nreference: {ds.attrs['reference']}; "
         f"heun order (3 finest dt): duration {order:.2f}, state "
         f"{ds.attrs.get('heun_state_order', math.nan):.2f}", fontsize=9)
-    fig.tight_layout()
     return _save(fig, path)

@@ -153,15 +153,6 @@ def kernel_dwdr_array(kind, r, s, dim):
     return out
 
 
-@njit(cache=True)
-def kernel_w_dwdr_array(kind, r, s, dim):
-    w_out = np.empty_like(r)
-    d_out = np.empty_like(r)
-    for i in range(r.size):
-        w_out.flat[i], d_out.flat[i] = kernel_w_dwdr(kind, r.flat[i], s, dim)
-    return w_out, d_out
-
-
 def w(name: str, r, s: float, dim: int = 2) -> np.ndarray:
     """Vectorised W for Python callers (tests, analysis)."""
     return kernel_w_array(kernel_kind(name), np.asarray(r, dtype=np.float64), float(s), dim)

@@ -122,15 +122,16 @@ def _difference(d, length, periodic):
 
 
 @njit(parallel=True, cache=True)
-def _count(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max):
+def _scan(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max, offsets, index, fill):
+    """Pairs closer than sqrt(r2max): counted into offsets[i + 1] (``fill`` false), or
+    written into index from offsets[i] on (``fill`` true, offsets the prefix sums)."""
     n = x.size
-    counts = np.zeros(n, np.int64)
     for i in prange(n):
         if cell[i] < 0:
             continue
         cells = np.empty(9, np.int64)
         nc = _neighbour_cells(cell[i], nx, ny, periodic, cells)
-        k = 0
+        k = offsets[i] if fill else 0
         for a in range(nc):
             c = cells[a]
             for p in range(start[c], start[c + 1]):
@@ -140,31 +141,11 @@ def _count(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max):
                 dx = _difference(x[i] - x[j], lx, periodic)
                 dy = _difference(y[i] - y[j], ly, periodic)
                 if dx * dx + dy * dy < r2max:
+                    if fill:
+                        index[k] = j
                     k += 1
-        counts[i] = k
-    return counts
-
-
-@njit(parallel=True, cache=True)
-def _fill(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max, offsets, index):
-    n = x.size
-    for i in prange(n):
-        if cell[i] < 0:
-            continue
-        cells = np.empty(9, np.int64)
-        nc = _neighbour_cells(cell[i], nx, ny, periodic, cells)
-        k = offsets[i]
-        for a in range(nc):
-            c = cells[a]
-            for p in range(start[c], start[c + 1]):
-                j = order[p]
-                if j == i:
-                    continue
-                dx = _difference(x[i] - x[j], lx, periodic)
-                dy = _difference(y[i] - y[j], ly, periodic)
-                if dx * dx + dy * dy < r2max:
-                    index[k] = j
-                    k += 1
+        if not fill:
+            offsets[i + 1] = k
 
 
 def neighbour_list(x: np.ndarray, y: np.ndarray, radius: float, box: Box,
@@ -177,13 +158,13 @@ def neighbour_list(x: np.ndarray, y: np.ndarray, radius: float, box: Box,
     nx, ny = cells_per_side(box, radius)
     cell, start, order = bin_particles(x, y, active, box.lo_x, box.lo_y, box.length_x,
                                        box.length_y, nx, ny, box.periodic)
-    counts = _count(x, y, cell, start, order, nx, ny, box.length_x, box.length_y,
-                    box.periodic, radius * radius)
     offsets = np.zeros(x.size + 1, np.int64)
-    np.cumsum(counts, out=offsets[1:])
+    args = (x, y, cell, start, order, nx, ny, box.length_x, box.length_y, box.periodic,
+            radius * radius, offsets)
+    _scan(*args, np.empty(0, np.int64), False)
+    np.cumsum(offsets, out=offsets)
     index = np.empty(offsets[-1], np.int64)
-    _fill(x, y, cell, start, order, nx, ny, box.length_x, box.length_y, box.periodic,
-          radius * radius, offsets, index)
+    _scan(*args, index, True)
     return offsets, index
 
 
@@ -207,3 +188,34 @@ def brute_force_pairs(x, y, radius, box: Box) -> set[tuple[int, int]]:
     close = (dx * dx + dy * dy < radius * radius)
     np.fill_diagonal(close, False)
     return {(int(i), int(j)) for i, j in zip(*np.nonzero(close), strict=True)}
+
+
+def neighbour_list_points(points: np.ndarray, radius: float,
+                          box_lengths: tuple[float, ...] | None = None
+                          ) -> tuple[np.ndarray, np.ndarray]:
+    """All pairs with ``|r_I - r_J| < radius`` for points of any dimension (rows of
+    ``points``), as the CSR arrays of :func:`neighbour_list` (both rows of every pair, each row
+    sorted by J, so the order is reproducible). A k-d tree (scipy, single-threaded); with
+    ``box_lengths`` the box [0, L_1) x ... is periodic (minimum image). The 3D impact engine
+    uses it; the 2D cell list above stays the engines' plane search."""
+    from scipy.spatial import cKDTree
+
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    n = points.shape[0]
+    if radius <= 0:
+        raise ValueError(f"search radius must be > 0, got {radius}")
+    if box_lengths is not None:
+        if min(box_lengths) < 2 * radius:
+            raise ValueError(f"periodic box {box_lengths} is smaller than twice the search "
+                             f"radius {radius}: the minimum image is ambiguous")
+        points = np.mod(points, np.asarray(box_lengths, float))
+        # np.mod can round a tiny negative coordinate up to L itself, outside [0, L)
+        points[points >= np.asarray(box_lengths, float)] = 0.0
+    tree = cKDTree(points, boxsize=box_lengths)
+    pairs = tree.query_pairs(radius * (1 - 1e-15), output_type="ndarray")
+    i = np.concatenate([pairs[:, 0], pairs[:, 1]]).astype(np.int64)
+    j = np.concatenate([pairs[:, 1], pairs[:, 0]]).astype(np.int64)
+    order = np.lexsort((j, i))
+    offsets = np.zeros(n + 1, np.int64)
+    np.cumsum(np.bincount(i, minlength=n), out=offsets[1:])
+    return offsets, np.ascontiguousarray(j[order])

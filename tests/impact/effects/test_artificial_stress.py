@@ -23,22 +23,32 @@ def rotated(s1, s2, theta):
     return (c * c * s1 + s * s * s2, s * s * s1 + c * c * s2, c * s * (s1 - s2))
 
 
+def plane(sxx, syy, sxy, szz=0.0):
+    """The 2D stress as the fragment's six components (xz = yz = 0)."""
+    return (sxx, syy, sxy, szz, 0.0, 0.0)
+
+
+def tensor_2d(*s):
+    """In-plane R (xx, yy, xy) of an in-plane stress, as the 2D kernels store it."""
+    return artificial_stress_tensor(plane(*s), RHO, EPS)[:3]
+
+
 def test_biaxial_tension_uses_total_stress():
     """Equal principal tensions: R = -eps sigma / rho^2 times the identity (a deviatoric R would
     vanish here)."""
-    r = artificial_stress_tensor(2.0e6, 2.0e6, 0.0, RHO, EPS)
+    r = tensor_2d(2.0e6, 2.0e6, 0.0)
     assert r == pytest.approx((-EPS * 2.0e6 / RHO**2, -EPS * 2.0e6 / RHO**2, 0.0), rel=1e-14)
 
 
 def test_compression_contributes_nothing():
-    assert artificial_stress_tensor(-3.0e6, -1.0e6, 0.5e6, RHO, EPS) == (0.0, 0.0, 0.0)
+    assert tensor_2d(-3.0e6, -1.0e6, 0.5e6) == (0.0, 0.0, 0.0)
 
 
 @pytest.mark.parametrize("theta", [0.0, 0.3, math.pi / 6, math.pi / 4, 1.2, 2.0])
 def test_only_the_tensile_principal_component_rotated_back(theta):
     """sigma = s1 n n^T + s2 m m^T with s1 > 0 > s2: R = -eps s1/rho^2 n n^T exactly."""
     s1, s2 = 2.5e6, -7.0e6
-    rxx, ryy, rxy = artificial_stress_tensor(*rotated(s1, s2, theta), RHO, EPS)
+    rxx, ryy, rxy = tensor_2d(*rotated(s1, s2, theta))
     a = -EPS * s1 / RHO**2
     c, s = math.cos(theta), math.sin(theta)
     scale = abs(a)
@@ -72,11 +82,10 @@ def test_pair_term_weight_and_antisymmetry(h_over_delta, r_over_delta):
     y = np.array([0.02, 0.02 + r * math.sin(0.4)])
     zero = np.zeros(2)
     m = np.full(2, RHO * delta**2)
-    rst = np.array([artificial_stress_tensor(*rotated(2.0e6, -1.0e6, 0.7), RHO, EPS),
-                    artificial_stress_tensor(3.0e6, 1.0e6, 0.4e6, RHO, EPS)])
-    out = [np.zeros(2) for _ in range(5)]
-    k.force_pass(x, y, zero, zero, m, np.full(2, RHO), np.full(2, h), np.zeros((2, 4)), rst,
-                 np.array([0, 1, 2]), np.array([1, 0]), prm, *out)
+    rst = np.array([tensor_2d(*rotated(2.0e6, -1.0e6, 0.7)), tensor_2d(3.0e6, 1.0e6, 0.4e6)])
+    out = [np.zeros(2) for _ in range(6)]
+    k.force_pass(x, y, zero, zero, zero, zero, m, np.full(2, RHO), np.full(2, h),
+                 np.zeros((2, 4)), rst, np.array([0, 1, 2]), np.array([1, 0]), prm, *out)
     ax, ay = out[0], out[1]
     f4 = (cubic_shape(r / h) / cubic_shape(delta / h)) ** 4
     dwdr = kernel_dwdr(CUBIC, r, 2.0 * h, 2)

@@ -7,7 +7,8 @@ The nominal stress :math:`\sigma_i` is rotated to principal axes
 :math:`R_{xx} = c^2R'_1 + s^2R'_2`, :math:`R_{yy} = s^2R'_1 + c^2R'_2`,
 :math:`R_{xy} = cs(R'_1 - R'_2)`. The pair term :math:`f_{ij}^n (R_i + R_j)` with
 :math:`f_{ij} = W(r_{ij}; h_{ij})/W(\Delta; h_{ij})`, n = ``numerics.as_n`` (4), is added to the
-momentum bracket. In-plane components only (zz does not enter the 2D momentum equation).
+momentum bracket. 2D: in-plane components only (zz does not enter the 2D momentum equation);
+3D: all six components, principal axes of the full 3x3 stress (Jacobi rotations).
 
 Decisions: σ is the total nominal stress (Gray et al. 2001; a deviatoric R would vanish in
 hydrostatic tension); Δ is the initial particle spacing ``particles.spacing`` (fixed; not h, not the
@@ -37,13 +38,18 @@ At h(0) = 1.8Δ the nearest neighbour sits inside the cubic spline's inflection 
 ε_AS = 0.2 / 0.15 / 0 at h(0)/Δ = 0.84 / 1.2 / 1.8, linearly interpolated in h(0)/Δ between
 them and held constant outside; with it check 8 passes at every κ, while the spec's 0.3 at κ = 1
 lets the velocity noise grow ×2.2 in 2000 steps (the growing mode is kΔ = (π/2, π)). The
-value used is recorded in each run's attributes (``metric_as_epsilon``).
+value used is recorded in each run's attributes (``as_epsilon``).
 """
 
 import numpy as np
 from numba import njit
 
-from craquelure.impact.effects.damage import in_plane_principal
+from craquelure.impact.effects.damage import (
+    from_principal,
+    in_plane_principal,
+    principal,
+    principal_bound,
+)
 from craquelure.registry import Effect
 
 EFFECT = Effect(
@@ -67,11 +73,23 @@ def auto_epsilon(support_ratio: float) -> float:
 
 
 @njit(inline="always", cache=True)
-def artificial_stress_tensor(sxx, syy, sxy, rho, eps):
-    """(R_xx, R_yy, R_xy) of particle i from its nominal in-plane stress."""
-    s1, s2, c2, s2t = in_plane_principal(sxx, syy, sxy)
-    r1 = -eps * s1 / (rho * rho) if s1 > 0.0 else 0.0
-    r2 = -eps * s2 / (rho * rho) if s2 > 0.0 else 0.0
-    # c^2 = (1 + cos 2θ)/2, s^2 = (1 - cos 2θ)/2, cs = sin 2θ / 2
-    cc, ss, cs = 0.5 * (1.0 + c2), 0.5 * (1.0 - c2), 0.5 * s2t
-    return cc * r1 + ss * r2, ss * r1 + cc * r2, cs * (r1 - r2)
+def artificial_stress_tensor(s, rho, eps):
+    """R of particle i, (xx, yy, xy, zz, xz, yz), from its nominal stress s in the same order.
+    2D uses the in-plane part (xx, yy, xy); with xz = yz = 0 the in-plane block is rotated in
+    closed form (R_zz from σ_zz alone), otherwise by the Jacobi decomposition of the 3x3 stress."""
+    sxx, syy, sxy, szz, sxz, syz = s
+    inv = -eps / (rho * rho)
+    if sxz == 0.0 and syz == 0.0:
+        s1, s2, c2, s2t = in_plane_principal(sxx, syy, sxy)
+        r1 = inv * s1 if s1 > 0.0 else 0.0
+        r2 = inv * s2 if s2 > 0.0 else 0.0
+        # c^2 = (1 + cos 2θ)/2, s^2 = (1 - cos 2θ)/2, cs = sin 2θ / 2
+        cc, ss, cs = 0.5 * (1.0 + c2), 0.5 * (1.0 - c2), 0.5 * s2t
+        rzz = inv * szz if szz > 0.0 else 0.0
+        return cc * r1 + ss * r2, ss * r1 + cc * r2, cs * (r1 - r2), rzz, 0.0, 0.0
+    if principal_bound(s) <= 0.0:  # no tensile principal stress
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    lam, vec = principal(s)
+    for a in range(3):
+        lam[a] = inv * lam[a] if lam[a] > 0.0 else 0.0
+    return from_principal(lam, vec)

@@ -161,11 +161,13 @@ def cap_position(epsv, x0, w, d1, d2):
 
 
 @njit(inline="always", cache=True)
-def cap_return(sxx, syy, sxy, szz, epsv, alpha, lam, beta, theta, e, x0, w, d1, d2, bulk,
+def cap_return(s, epsv, alpha, lam, beta, theta, e, x0, w, d1, d2, bulk,
                shear, strength, dif):
-    """Returns (sxx, syy, sxy, szz, d_eps_v^p, d_eps_p, plastic work density).
+    """Returns (stress, d_eps_v^p, d_eps_p, plastic work density) for the trial stress ``s``,
+    both (xx, yy, xy, zz, xz, yz) (xz = yz = 0 in 2D).
     ``strength`` = 1 - D_c scales the shear surface, ``dif`` = DIF_c enlarges it
     homothetically (:mod:`.rate_effects`)."""
+    sxx, syy, sxy, szz, sxz, syz = s
     i1 = -(sxx + syy + szz)
     d_epsv = 0.0
     work = 0.0
@@ -192,15 +194,16 @@ def cap_return(sxx, syy, sxy, szz, epsv, alpha, lam, beta, theta, e, x0, w, d1, 
         d_epsv = dv
         work = i1 / 3.0 * dv
     if i1 <= 0.0:
-        return sxx, syy, sxy, szz, d_epsv, 0.0, work
+        return (sxx, syy, sxy, szz, sxz, syz), d_epsv, 0.0, work
     m = -i1 / 3.0
     dxx, dyy, dzz = sxx - m, syy - m, szz - m
-    j2 = 0.5 * (dxx * dxx + dyy * dyy + dzz * dzz) + sxy * sxy
+    j2 = 0.5 * (dxx * dxx + dyy * dyy + dzz * dzz) + sxy * sxy + sxz * sxz + syz * syz
     if j2 <= 0.0:
-        return sxx, syy, sxy, szz, d_epsv, 0.0, work
+        return (sxx, syy, sxy, szz, sxz, syz), d_epsv, 0.0, work
     sq = math.sqrt(j2)
-    # J3 = det(s) with s_xz = s_yz = 0
-    j3 = dzz * (dxx * dyy - sxy * sxy)
+    # J3 = det(s); the xz, yz terms vanish in 2D
+    j3 = (dzz * (dxx * dyy - sxy * sxy) - dxx * syz * syz - dyy * sxz * sxz
+          + 2.0 * sxy * sxz * syz)
     c3 = 1.5 * math.sqrt(3.0) * j3 / (j2 * sq)
     c3 = min(1.0, max(-1.0, c3))
     cos_psi = math.cos(math.acos(c3) / 3.0)
@@ -208,8 +211,9 @@ def cap_return(sxx, syy, sxy, szz, epsv, alpha, lam, beta, theta, e, x0, w, d1, 
     limit = strength * dif * willam_warnke(cos_psi, e) * (alpha - lam * math.exp(-beta * i1s)
                                                           + theta * i1s)
     if sq <= limit:
-        return sxx, syy, sxy, szz, d_epsv, 0.0, work
+        return (sxx, syy, sxy, szz, sxz, syz), d_epsv, 0.0, work
     r = max(limit, 0.0) / sq
     deps = (1.0 - r) * sq / (math.sqrt(3.0) * shear)
     work += r * (1.0 - r) * j2 / shear if r > 0.0 else j2 / shear
-    return m + r * dxx, m + r * dyy, r * sxy, m + r * dzz, d_epsv, deps, work
+    return ((m + r * dxx, m + r * dyy, r * sxy, m + r * dzz, r * sxz, r * syz), d_epsv, deps,
+            work)

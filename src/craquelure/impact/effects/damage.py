@@ -9,7 +9,8 @@ r"""Rankine tensile damage, crack band with linear softening (spec section 2.3).
     \quad D_t = 1 \;(\kappa\ge\kappa_f), \quad
     \sigma_a = \tilde\sigma_a - D_t\langle\tilde\sigma_a\rangle_+ \text{ in principal axes}.
 
-:math:`\tilde\sigma_1` is the largest principal value including zz.
+:math:`\tilde\sigma_1` is the largest principal value including zz; in 3D (xz, yz non-zero) the
+principal values and axes come from Jacobi rotations (:func:`principal`).
 
 Crack-band width [D, calibrated by spec check 7, ``tests/impact/test_crack_band.py``]: the spec's
 first guess ℓ_c = h(0) over-dissipates, because the band the SPH kernel actually produces is wider
@@ -34,6 +35,7 @@ stress stays the state variable.
 
 import math
 
+import numpy as np
 from numba import njit
 
 from craquelure.registry import Effect
@@ -73,19 +75,110 @@ def damage_from_kappa(kap, kappa0, kappa_f):
 
 
 @njit(inline="always", cache=True)
-def damage_update(sxx, syy, sxy, szz, kap, young, kappa0, kappa_f):
-    """Returns (kappa, D_t, nominal sxx, syy, sxy, szz) for the effective stress."""
-    s1, s2, c2, s2t = in_plane_principal(sxx, syy, sxy)
-    top = max(s1, szz)
-    eq = max(top, 0.0) / young
-    if eq > kap:
-        kap = eq
+def principal(s):
+    """Eigen-decomposition of the symmetric tensor s = (xx, yy, xy, zz, xz, yz) by cyclic
+    Jacobi rotations: (eigenvalues (3,), eigenvectors as the columns of a (3, 3) array).
+    Converges quadratically; stops when the off-diagonal part is below 1e-30 of the norm²
+    (round-off), at most 20 sweeps."""
+    a = np.empty((3, 3))
+    a[0, 0], a[1, 1], a[2, 2] = s[0], s[1], s[3]
+    a[0, 1] = a[1, 0] = s[2]
+    a[0, 2] = a[2, 0] = s[4]
+    a[1, 2] = a[2, 1] = s[5]
+    v = np.eye(3)
+    norm2 = 0.0
+    for p in range(3):
+        for q in range(3):
+            norm2 += a[p, q] * a[p, q]
+    for _ in range(20):
+        off = a[0, 1] * a[0, 1] + a[0, 2] * a[0, 2] + a[1, 2] * a[1, 2]
+        if off <= 1e-30 * norm2:
+            break
+        for p, q in ((0, 1), (0, 2), (1, 2)):
+            apq = a[p, q]
+            if apq == 0.0:
+                continue
+            theta = (a[q, q] - a[p, p]) / (2.0 * apq)
+            if abs(theta) > 1e150:
+                t = 0.5 / theta
+            else:
+                t = (1.0 if theta >= 0.0 else -1.0) / (abs(theta) + math.sqrt(theta * theta
+                                                                                + 1.0))
+            c = 1.0 / math.sqrt(t * t + 1.0)
+            sn = t * c
+            for k in range(3):  # A <- A J (columns p, q)
+                akp, akq = a[k, p], a[k, q]
+                a[k, p] = c * akp - sn * akq
+                a[k, q] = sn * akp + c * akq
+            for k in range(3):  # A <- J^T A (rows p, q)
+                apk, aqk = a[p, k], a[q, k]
+                a[p, k] = c * apk - sn * aqk
+                a[q, k] = sn * apk + c * aqk
+            for k in range(3):  # V <- V J
+                vkp, vkq = v[k, p], v[k, q]
+                v[k, p] = c * vkp - sn * vkq
+                v[k, q] = sn * vkp + c * vkq
+    lam = np.empty(3)
+    for k in range(3):
+        lam[k] = a[k, k]
+    return lam, v
+
+
+@njit(inline="always", cache=True)
+def principal_bound(s):
+    """Gershgorin's upper bound of the principal values of s = (xx, yy, xy, zz, xz, yz): the
+    3D paths skip the Jacobi rotations when it shows no tensile part (compressed particles)."""
+    return max(s[0] + abs(s[2]) + abs(s[4]),
+               max(s[1] + abs(s[2]) + abs(s[5]), s[3] + abs(s[4]) + abs(s[5])))
+
+
+@njit(inline="always", cache=True)
+def from_principal(r, v):
+    """Σ_a r_a v_a v_aᵀ as (xx, yy, xy, zz, xz, yz) (v_a the columns of v)."""
+    xx = yy = xy = zz = xz = yz = 0.0
+    for a in range(3):
+        x, y, z = v[0, a], v[1, a], v[2, a]
+        xx += r[a] * x * x
+        yy += r[a] * y * y
+        xy += r[a] * x * y
+        zz += r[a] * z * z
+        xz += r[a] * x * z
+        yz += r[a] * y * z
+    return xx, yy, xy, zz, xz, yz
+
+
+@njit(inline="always", cache=True)
+def damage_update(s, kap, young, kappa0, kappa_f):
+    """Returns (kappa, D_t, nominal stress) for the effective stress s, both (xx, yy, xy, zz,
+    xz, yz). With xz = yz = 0 (2D, or a 3D state with z principal) the in-plane block is
+    diagonalised in closed form; otherwise by :func:`principal`."""
+    sxx, syy, sxy, szz, sxz, syz = s
+    if sxz == 0.0 and syz == 0.0:
+        s1, s2, c2, s2t = in_plane_principal(sxx, syy, sxy)
+        kap = max(kap, max(max(s1, szz), 0.0) / young)
+        d = damage_from_kappa(kap, kappa0, kappa_f)
+        if d == 0.0:
+            return kap, d, s
+        n1 = s1 - d * max(s1, 0.0)
+        n2 = s2 - d * max(s2, 0.0)
+        nzz = szz - d * max(szz, 0.0)
+        c = 0.5 * (n1 + n2)
+        a = 0.5 * (n1 - n2)
+        return kap, d, (c + a * c2, c - a * c2, a * s2t, nzz, 0.0, 0.0)
+    bound = principal_bound(s)
+    if bound <= 0.0 or bound <= kap * young:
+        # no principal value above the history: kappa unchanged; no tensile part to soften
+        # when all are <= 0, nothing to soften when D = 0
+        d = damage_from_kappa(kap, kappa0, kappa_f)
+        if bound <= 0.0 or d == 0.0:
+            return kap, d, s
+    lam, vec = principal(s)
+    kap = max(kap, max(lam.max(), 0.0) / young)
     d = damage_from_kappa(kap, kappa0, kappa_f)
     if d == 0.0:
-        return kap, d, sxx, syy, sxy, szz
-    n1 = s1 - d * max(s1, 0.0)
-    n2 = s2 - d * max(s2, 0.0)
-    nzz = szz - d * max(szz, 0.0)
-    c = 0.5 * (n1 + n2)
-    a = 0.5 * (n1 - n2)
-    return kap, d, c + a * c2, c - a * c2, a * s2t, nzz
+        return kap, d, s
+    # σ − D Σ_a <σ_a>+ n_a n_aᵀ
+    for a in range(3):
+        lam[a] = d * max(lam[a], 0.0)
+    cxx, cyy, cxy, czz, cxz, cyz = from_principal(lam, vec)
+    return kap, d, (sxx - cxx, syy - cyy, sxy - cxy, szz - czz, sxz - cxz, syz - cyz)

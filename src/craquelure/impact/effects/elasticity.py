@@ -6,14 +6,18 @@ r"""Hypo-elastic effective stress with the Jaumann rate, bulk/shear moduli K, G 
     \tilde\sigma = -p\mathbf 1 + s,
 
 with :math:`L_{ab} = \partial v_a/\partial x_b`, :math:`D = (L+L^T)/2`, :math:`\Omega = (L-L^T)/2`.
-Components stored: xx, yy, xy, zz (tension positive). Plane strain: :math:`D_{zz} = 0` and
+Components: xx, yy, xy, zz, and in 3D (``domain.dim: 3``) xz, yz (tension positive; the
+fragments take all six, 2D passes zeros for xz, yz). Plane strain: :math:`D_{zz} = 0` and
 :math:`\tilde\sigma_{zz}` evolves (the material point driver of check 6 passes a non-zero
 :math:`D_{zz}` to make the z direction stress-free). Plane stress (``domain.plane: stress``, the
 spec's open doubt 5): the kernel passes the :math:`D_{zz}` that keeps :math:`\tilde\sigma_{zz} = 0`
 through the trial and the plastic return (``plane_stress_dzz`` in the kernel template); the P-wave
 speed is then :math:`\sqrt{E/((1-\nu^2)\rho)}`. With :math:`w = \Omega_{xy}`:
 :math:`(\Omega\sigma-\sigma\Omega)_{xx} = 2w\sigma_{xy}`, :math:`(\ldots)_{yy} = -2w\sigma_{xy}`,
-:math:`(\ldots)_{xy} = w(\sigma_{yy}-\sigma_{xx})`, zz unaffected by an in-plane spin.
+:math:`(\ldots)_{xy} = w(\sigma_{yy}-\sigma_{xx})`, zz unaffected by an in-plane spin. 3D, with
+the full spin :math:`(\Omega_{xy}, \Omega_{xz}, \Omega_{yz})`:
+:math:`(\Omega\sigma-\sigma\Omega)_{ab} = \sum_k \Omega_{ak}\sigma_{kb} - \sigma_{ak}\Omega_{kb}`,
+written out in :func:`jaumann_trial` (checked against the matrix product in the tests).
 The increment is explicit (forward Euler over the step with the mid-step gradient).
 """
 
@@ -31,21 +35,31 @@ EFFECT = Effect(
 
 
 @njit(inline="always", cache=True)
-def jaumann_trial(sxx, syy, sxy, szz, dxx, dyy, dxy, dzz, w, bulk, shear, dt):
-    """Trial effective stress after ``dt`` for strain rate D (xx, yy, xy, zz) and spin w."""
+def jaumann_trial(s, d, w, bulk, shear, dt):
+    """Trial effective stress after ``dt``. ``s`` and the strain rate ``d`` are symmetric
+    tensors (xx, yy, xy, zz, xz, yz), ``w`` the spin (Ω_xy, Ω_xz, Ω_yz); in 2D the xz, yz
+    components and Ω_xz, Ω_yz are zero and the extra terms add exact zeros."""
+    sxx, syy, sxy, szz, sxz, syz = s
+    dxx, dyy, dxy, dzz, dxz, dyz = d
+    wxy, wxz, wyz = w
     tr = dxx + dyy + dzz
     lam = bulk - 2.0 * shear / 3.0
-    nxx = sxx + dt * (lam * tr + 2.0 * shear * dxx + 2.0 * w * sxy)
-    nyy = syy + dt * (lam * tr + 2.0 * shear * dyy - 2.0 * w * sxy)
-    nxy = sxy + dt * (2.0 * shear * dxy + w * (syy - sxx))
-    nzz = szz + dt * (lam * tr + 2.0 * shear * dzz)
-    return nxx, nyy, nxy, nzz
+    # (Ωσ − σΩ) for Ω antisymmetric, σ symmetric, component by component
+    nxx = sxx + dt * (lam * tr + 2.0 * shear * dxx + 2.0 * wxy * sxy + 2.0 * wxz * sxz)
+    nyy = syy + dt * (lam * tr + 2.0 * shear * dyy - 2.0 * wxy * sxy + 2.0 * wyz * syz)
+    nxy = sxy + dt * (2.0 * shear * dxy + wxy * (syy - sxx) + (wxz * syz + wyz * sxz))
+    nzz = szz + dt * (lam * tr + 2.0 * shear * dzz - 2.0 * (wxz * sxz + wyz * syz))
+    nxz = sxz + dt * (2.0 * shear * dxz + wxz * (szz - sxx) + (wxy * syz - wyz * sxy))
+    nyz = syz + dt * (2.0 * shear * dyz + wyz * (szz - syy) - (wxy * sxz + wxz * sxy))
+    return nxx, nyy, nxy, nzz, nxz, nyz
 
 
 @njit(inline="always", cache=True)
-def elastic_energy_density(sxx, syy, sxy, szz, bulk, shear):
-    """p^2/(2K) + s:s/(4G) of an effective stress (J/m^3)."""
+def elastic_energy_density(s, bulk, shear):
+    """p^2/(2K) + s:s/(4G) of an effective stress s = (xx, yy, xy, zz, xz, yz) (J/m^3)."""
+    sxx, syy, sxy, szz, sxz, syz = s
     p = -(sxx + syy + szz) / 3.0
     dxx, dyy, dzz = sxx + p, syy + p, szz + p
-    ss = dxx * dxx + dyy * dyy + dzz * dzz + 2.0 * sxy * sxy
+    ss = dxx * dxx + dyy * dyy + dzz * dzz + 2.0 * sxy * sxy + 2.0 * sxz * sxz \
+        + 2.0 * syz * syz
     return 0.5 * p * p / bulk + 0.25 * ss / shear

@@ -9,7 +9,8 @@ fitted to uniaxial (:math:`f_c`) and equibiaxial (:math:`f_{bc} = 1.16 f_c`) com
 :math:`r = (k - \alpha I_1)/\sqrt{J_2}` (:math:`s = 0` if :math:`r < 0`), the pressure is
 unchanged; :math:`\Delta\bar\varepsilon_p = (1-r)\sqrt{J_2^{trial}}/(\sqrt3 G)`; plastic work
 density :math:`s:(s^{tr}-s)/(2G) = r(1-r) J_2^{tr}/G` (:math:`J_2^{tr}/G` if r is clipped to 0).
-:math:`J_2 = \tfrac12 s:s` includes :math:`s_{zz}` (plane strain keeps it).
+:math:`J_2 = \tfrac12 s:s` includes :math:`s_{zz}` (plane strain keeps it) and, in 3D,
+:math:`s_{xz}, s_{yz}`.
 
 Decision [D]: the return is applied only for a compressive mean stress (:math:`I_1 < 0`). The
 cone's tensile side (uniaxial tension at :math:`k/(1/\sqrt3+\alpha)` = 33.8 MPa effective) would
@@ -41,18 +42,20 @@ def dp_constants(f_c: float, f_bc_ratio: float) -> tuple[float, float]:
 
 
 @njit(inline="always", cache=True)
-def dp_return(sxx, syy, sxy, szz, alpha, k, shear):
-    """Returns (sxx, syy, sxy, szz, d_eps_p, plastic work density)."""
+def dp_return(s, alpha, k, shear):
+    """Returns (stress (xx, yy, xy, zz, xz, yz), d_eps_p, plastic work density) for the trial
+    stress ``s`` in the same order (xz = yz = 0 in 2D)."""
+    sxx, syy, sxy, szz, sxz, syz = s
     i1 = sxx + syy + szz
     m = i1 / 3.0
     dxx, dyy, dzz = sxx - m, syy - m, szz - m
-    j2 = 0.5 * (dxx * dxx + dyy * dyy + dzz * dzz) + sxy * sxy
+    j2 = 0.5 * (dxx * dxx + dyy * dyy + dzz * dzz) + sxy * sxy + sxz * sxz + syz * syz
     sq = math.sqrt(j2)
     if i1 >= 0.0 or sq + alpha * i1 - k <= 0.0:
-        return sxx, syy, sxy, szz, 0.0, 0.0
+        return s, 0.0, 0.0
     r = (k - alpha * i1) / sq
     if r < 0.0:
         r = 0.0
     deps = (1.0 - r) * sq / (math.sqrt(3.0) * shear)
     work = r * (1.0 - r) * j2 / shear if r > 0.0 else j2 / shear
-    return m + r * dxx, m + r * dyy, r * sxy, m + r * dzz, deps, work
+    return (m + r * dxx, m + r * dyy, r * sxy, m + r * dzz, r * sxz, r * syz), deps, work

@@ -34,6 +34,7 @@ import math
 
 from numba import njit
 
+from craquelure.impact.effects.damage import principal
 from craquelure.registry import Effect
 
 EFFECT = Effect(
@@ -64,9 +65,12 @@ def increase_factor(rate, young, eta0, n, over, strength):
 
 
 @njit(inline="always", cache=True)
-def principal_rates(dxx, dyy, dxy, dzz):
-    """(largest, smallest) principal strain rate, zz included (no xz, yz shear)."""
-    c = 0.5 * (dxx + dyy)
-    rad = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
-    return max(c + rad, dzz), min(c - rad, dzz)
-
+def principal_rates(d):
+    """(largest, smallest) principal strain rate of d = (xx, yy, xy, zz, xz, yz)."""
+    dxx, dyy, dxy, dzz, dxz, dyz = d
+    if dxz == 0.0 and dyz == 0.0:
+        c = 0.5 * (dxx + dyy)
+        rad = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
+        return max(c + rad, dzz), min(c - rad, dzz)
+    lam = principal(d)[0]
+    return lam.max(), lam.min()

@@ -1,0 +1,55 @@
+"""The 3D campaign of the workflow (config impact.dims, impact.three_d): its runs per profile,
+and the per-run threads, memory, run time and overrides of rule impact_run by scene."""
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+import yaml
+
+from craquelure.impact import workflow
+from craquelure.scene import load_scene, project_root
+
+
+def section(profile: str) -> dict:
+    return yaml.safe_load(Path(project_root() / "config" / profile).read_text())["impact"]
+
+
+@pytest.mark.parametrize("profile,expected", [("config.yaml", 5), ("ci.yaml", 1),
+                                              ("paper.yaml", 132)])
+def test_three_d_campaign_sizes(profile, expected):
+    """Default: the homogeneous disc at each kappa + 2 uniform-mass seeds at kappa = 1; CI: one
+    tiny disc; paper: every variant (3 kappas x 4 layouts x (1 + 10 seeds))."""
+    sec = section(profile)
+    runs = workflow.campaign_runs_3d(sec)
+    assert len(runs) == len(set(runs)) == expected
+    scene = sec["three_d"]["scene"]
+    assert all(r.startswith(f"results/impact/{scene}/") for r in runs)
+    assert load_scene(f"impact/{scene}").get("domain.dim") == 3
+    # the 2D campaign is unchanged by the 3D section
+    assert not set(runs) & set(workflow.campaign_runs(sec))
+
+
+def test_paper_profile_has_eight_or_more_seeds_for_every_3d_variant():
+    cfg = workflow.three_d(section("paper.yaml"))
+    assert cfg["n_seeds"] >= 8
+    assert set(cfg["heterogeneous_kappas"]) == set(cfg["kappas"]) == {0.7, 1.0, 1.5}
+    assert cfg["precrack_heterogeneous"] and cfg["precracks"] == ["pf1", "pf2", "pf3"]
+
+
+def test_no_three_d_without_dim_3():
+    sec = {**section("config.yaml"), "dims": [2]}
+    assert workflow.three_d(sec) is None and workflow.campaign_runs_3d(sec) == []
+
+
+def test_run_resources_and_overrides_by_scene():
+    sec = section("config.yaml")
+    three_d = SimpleNamespace(scene=sec["three_d"]["scene"])
+    flat = SimpleNamespace(scene=sec["scene"])
+    for key in ("threads", "mem_mb", "runtime_run"):
+        value = workflow.run_resource(sec, key)
+        assert value(three_d) == sec["three_d"][key]
+        assert value(flat) == sec[key]
+    overrides = workflow.three_d_overrides(sec)
+    assert overrides(three_d) == "--set outputs.t_end=5.0e-4"
+    assert overrides(flat) == ""
