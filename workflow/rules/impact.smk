@@ -176,18 +176,20 @@ rule impact_regime_run:
         "logs/impact_regime_run/{scene}/ft{ft}_a{a}_v{v}.log",
     benchmark:
         "benchmarks/results/impact_regime_run/{scene}/ft{ft}_a{a}_v{v}.tsv"
-    threads: IMPACT["threads"]
+    threads: impact_workflow.regime_resource(IMPACT, "threads")
     resources:
-        mem_mb=IMPACT["mem_mb"],
-        runtime=IMPACT["runtime_run"],
+        mem_mb=impact_workflow.regime_resource(IMPACT, "mem_mb"),
+        runtime=impact_workflow.regime_resource(IMPACT, "runtime_run"),
     shell:
         "{params.cli} run {input.scene} --seed 0 --out {output} --threads {threads} "
         "{params.variant} {params.overrides} > {log} 2>&1"
 
 
+# The regime map in 2D (impact.regime) and, with impact.regime.three_d, in 3D: one figure with
+# a row of panels per dimension, regime.json with both.
 rule impact_regime:
     input:
-        impact_workflow.regime_runs(IMPACT),
+        impact_workflow.regime_runs(IMPACT) + impact_workflow.regime_runs_3d(IMPACT),
     output:
         json="results/impact/regime.json",
         png=report(
@@ -198,7 +200,6 @@ rule impact_regime:
         ),
     params:
         profile=config["profile"],
-        scene=IMPACT_SCENE,
     log:
         "logs/impact_regime.log",
     threads: 1
@@ -221,5 +222,8 @@ TARGETS["impact"] = [
     "results/impact/figures/impact_regime_map.png",
 ]
 DATASETS["impact"] = (
-    impact_workflow.campaign_runs(IMPACT) + IMPACT_RUNS_3D + impact_workflow.regime_runs(IMPACT)
+    impact_workflow.campaign_runs(IMPACT)
+    + IMPACT_RUNS_3D
+    + impact_workflow.regime_runs(IMPACT)
+    + impact_workflow.regime_runs_3d(IMPACT)
 )

@@ -1,11 +1,17 @@
 """Regime map of the homogeneous disc (issue 16 item 5): where does it split once and where does
-it fan out, over tensile strength f_t, contact stiffness (penalty scale a) and impact speed?
+it fan out, over tensile strength f_t, contact stiffness (penalty scale a) and impact speed, in
+2D and in 3D?
 
-Each run is a short homogeneous 2D run of the campaign's scene (``impact.regime`` config
-section: f_t values, ``numerics.contact_a`` values, speeds, end time). A run is classified by
-the revised check-12 main cracks (:func:`craquelure.impact.measure.revised_cracks`: cracked
-clusters from the contact zone reaching >= 0.5 D): ``splits once`` (one main crack), ``fans
-out`` (two or more) or ``no main crack``; the centre-row crossings of all cracks are given too.
+Each run is a short homogeneous run: of the campaign's 2D scene (``impact.regime`` config
+section: f_t values, ``numerics.contact_a`` values, speeds, end time) or of the 3D disc
+(``impact.regime.three_d``: its scene, end time and grid). A run is classified by the revised
+check-12 main cracks (:func:`craquelure.impact.measure.revised_cracks`: cracked clusters from
+the contact zone reaching >= 0.5 D), measured as for every run
+(:func:`craquelure.impact.analysis.run_metrics`; a 3D run on its mid-thickness layer):
+``splits once`` (one main crack), ``fans out`` (two or more) or ``no main crack``; the
+centre-row crossings of all cracks are given too. The class is also taken at each field
+snapshot before the end, so that a row says from when on its class no longer changed (is the
+run long enough to classify?).
 """
 
 from __future__ import annotations
@@ -15,10 +21,37 @@ from pathlib import Path
 from craquelure.io import open_dataset
 
 CLASSES = ("no main crack", "splits once", "fans out")
+SNAPSHOT_FIELDS = ("softening", "damage", "plastic_strain")
 
 
 def classify(n_main: int) -> str:
     return CLASSES[min(int(n_main), 2)]
+
+
+def class_history(ds) -> list[dict]:
+    """Main cracks and class at each field snapshot (the last one is the end of the run), from
+    the snapshot's crack indicator, damage and plastic strain."""
+    from craquelure.impact.analysis import run_metrics
+
+    out = []
+    for i, t in enumerate(ds["snapshot_time"].values):
+        at = ds.assign({k: ds[f"snap_{k}"].isel(snapshot_time=i, drop=True)
+                        for k in SNAPSHOT_FIELDS})
+        n_main = int(run_metrics(at)["n_main_cracks_revised"])
+        out.append({"t": float(t), "n_main_cracks": n_main, "class": classify(n_main)})
+    return out
+
+
+def settled_from(history: list[dict]) -> float | None:
+    """Earliest snapshot time from which on the class stays the final one (None: no snapshot)."""
+    if not history:
+        return None
+    t = history[-1]["t"]
+    for h in reversed(history):
+        if h["class"] != history[-1]["class"]:
+            break
+        t = h["t"]
+    return t
 
 
 def regime_row(path: Path) -> dict:
@@ -28,7 +61,9 @@ def regime_row(path: Path) -> dict:
     m = run_metrics(ds)  # the current measurement code, from the final fields
     n_main = int(m["n_main_cracks_revised"])
     x_mid = m["main_crack_x_mid"]
-    return {"f_t": float(m["f_t"]), "contact_a": float(m["contact_a"]),
+    history = class_history(ds)
+    return {"dim": f"{int(m['dim'])}D", "scene": str(ds.attrs.get("scene_name", "")),
+            "f_t": float(m["f_t"]), "contact_a": float(m["contact_a"]),
             "impact_velocity": float(m["impact_velocity"]),
             "t_end": float(ds["time"].values[-1]), "n_main_cracks": n_main,
             "main_crossings_x_mm": m["main_crossings_x_mm"],
@@ -38,38 +73,64 @@ def regime_row(path: Path) -> dict:
             "crushed_area": float(m["crushed_area"]),
             "energy_balance_error_max": float(m["energy_balance_error_max"]),
             "material_model": str(m.get("material_model") or ""),
-            "class": classify(n_main), "path": str(path)}
+            "class": classify(n_main), "class_history": history,
+            "class_settled_from": settled_from(history),
+            "wall_time_s": ds.attrs.get("wall_time_s"), "path": str(path)}
 
 
-def figure_regime(rows: list[dict], out: Path, label: str) -> None:
-    """One panel per contact scale a: f_t (x) against impact speed (y), marker = class, number
-    = main cracks (centre-row crossings in brackets)."""
+def regime_maps(rows: list[dict]) -> dict:
+    """Per dimension ("2D", then "3D"): scene, end time, number of runs and of each class."""
+    out = {}
+    for dim in sorted({r["dim"] for r in rows}):
+        sub = [r for r in rows if r["dim"] == dim]
+        out[dim] = {"scene": sorted({r["scene"] for r in sub}),
+                    "t_end": max(r["t_end"] for r in sub), "n_runs": len(sub),
+                    "classes": {c: sum(r["class"] == c for r in sub) for c in CLASSES},
+                    "settled_from_max": max((r["class_settled_from"] or 0.0) for r in sub)}
+    return out
+
+
+def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
+    """One row of panels per dimension (2D above 3D), one panel per contact scale a: f_t (x)
+    against impact speed (y), marker = class, number = main cracks (centre-row crossings in
+    brackets). Returns the panels' titles."""
     import matplotlib.pyplot as plt
 
-    scales = sorted({r["contact_a"] for r in rows})
-    fig, axes = plt.subplots(1, len(scales), figsize=(4.6 * len(scales), 4.2), squeeze=False)
+    maps = regime_maps(rows)
+    dims = list(maps)
+    scales = {d: sorted({r["contact_a"] for r in rows if r["dim"] == d}) for d in dims}
+    ncols = max(len(s) for s in scales.values())
+    fig, axes = plt.subplots(len(dims), ncols, figsize=(4.6 * ncols, 4.2 * len(dims)),
+                             squeeze=False)
     style = {"no main crack": ("s", "0.75"), "splits once": ("o", "C2"),
              "fans out": ("X", "C3")}
-    for ax, a in zip(axes[0], scales, strict=True):
-        seen = set()
-        for r in (r for r in rows if r["contact_a"] == a):
-            marker, color = style[r["class"]]
-            ax.scatter(r["f_t"] / 1e6, r["impact_velocity"], marker=marker, color=color, s=160,
-                       label=r["class"] if r["class"] not in seen else None)
-            seen.add(r["class"])
-            ax.annotate(f"{r['n_main_cracks']} ({r['centre_crossings']})",
-                        (r["f_t"] / 1e6, r["impact_velocity"]), textcoords="offset points",
-                        xytext=(9, -3), fontsize=7)
-        ax.set_xlabel("tensile strength f_t [MPa]")
-        ax.set_ylabel("impact speed [m/s]")
-        ax.set_title(f"penalty scale a = {a:.3g}", fontsize=9)
-        ax.margins(0.2)
-        low, high = ax.get_ylim()
-        ax.set_ylim(low, high + 0.3 * (high - low))  # room for the legend above the points
-        ax.legend(fontsize=7, loc="upper center", ncol=3)
-    t_end = max(r["t_end"] for r in rows)
-    fig.suptitle(f"homogeneous disc at {t_end * 1e6:.0f} us: main cracks from the contact zone "
-                 f"(centre-row crossings)\n{label}", fontsize=8)
+    titles = []
+    for row_axes, dim in zip(axes, dims, strict=True):
+        info = maps[dim]
+        for ax in row_axes[len(scales[dim]):]:
+            ax.set_visible(False)
+        for ax, a in zip(row_axes, scales[dim], strict=False):
+            seen = set()
+            for r in (r for r in rows if r["dim"] == dim and r["contact_a"] == a):
+                marker, color = style[r["class"]]
+                ax.scatter(r["f_t"] / 1e6, r["impact_velocity"], marker=marker, color=color,
+                           s=160, label=r["class"] if r["class"] not in seen else None)
+                seen.add(r["class"])
+                ax.annotate(f"{r['n_main_cracks']} ({r['centre_crossings']})",
+                            (r["f_t"] / 1e6, r["impact_velocity"]), textcoords="offset points",
+                            xytext=(9, -3), fontsize=7)
+            ax.set_xlabel("tensile strength f_t [MPa]")
+            ax.set_ylabel("impact speed [m/s]")
+            titles.append(f"{dim}, {'/'.join(info['scene'])}, {info['t_end'] * 1e6:.0f} us: "
+                          f"penalty scale a = {a:.3g}")
+            ax.set_title(titles[-1], fontsize=9)
+            ax.margins(0.2)
+            low, high = ax.get_ylim()
+            ax.set_ylim(low, high + 0.3 * (high - low))  # room for the legend above the points
+            ax.legend(fontsize=7, loc="upper center", ncol=3)
+    fig.suptitle("homogeneous disc: main cracks from the contact zone (centre-row crossings); "
+                 f"3D on its mid-thickness layer\n{label}", fontsize=8)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     plt.close(fig)
+    return titles

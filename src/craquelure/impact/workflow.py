@@ -107,19 +107,68 @@ def variant_overrides(section: dict):
     return overrides
 
 
+def regime_path(scene: str, f_t: float, a, v: float) -> str:
+    """One regime run: f_t in Pa (written in MPa), penalty scale a (number or ``auto``), speed."""
+    return f"results/impact/{scene}/regime/ft{f_t / 1e6:g}_a{a}_v{v:g}.nc"
+
+
+def _grid_runs(scene: str, grid: dict) -> list[str]:
+    return [regime_path(scene, f_t, a, v)
+            for f_t in grid["f_t"] for a in grid["contact_a"] for v in grid["velocities"]]
+
+
 def regime_runs(section: dict) -> list[str]:
-    """Runs of the regime map (config ``impact.regime``): f_t x contact_a x speed."""
+    """Runs of the 2D regime map (config ``impact.regime``): f_t x contact_a x speed."""
+    return _grid_runs(section["scene"], section["regime"])
+
+
+def regime_three_d(section: dict) -> dict | None:
+    """The 3D regime grid (config ``impact.regime.three_d`` over the 2D grid's keys: its own
+    scene, end time, threads, memory, run time and, if given, its own f_t, contact_a and
+    speeds), or None when it is absent or ``impact.dims`` lacks 3."""
     reg = section["regime"]
-    return [f"results/impact/{section['scene']}/regime/ft{f_t / 1e6:g}_a{a}_v{v:g}.nc"
-            for f_t in reg["f_t"] for a in reg["contact_a"] for v in reg["velocities"]]
+    if "three_d" not in reg or 3 not in section.get("dims", [2]):
+        return None
+    cfg = {**{k: v for k, v in reg.items() if k != "three_d"}, **reg["three_d"]}
+    if cfg["scene"] == section["scene"]:
+        raise ValueError(f"impact.regime.three_d.scene: {cfg['scene']!r} is the 2D scene; the "
+                         "3D regime map needs its own 3D scene (domain.dim 3), e.g. disc3d")
+    return cfg
+
+
+def regime_runs_3d(section: dict) -> list[str]:
+    """Runs of the 3D regime map (:func:`regime_three_d`), under its own scene; none without."""
+    cfg = regime_three_d(section)
+    return _grid_runs(cfg["scene"], cfg) if cfg is not None else []
+
+
+def _regime_grid(section: dict, scene: str) -> dict:
+    """The grid a regime run belongs to, by its scene: the 3D one for the 3D scene."""
+    cfg = regime_three_d(section)
+    return cfg if cfg is not None and scene == cfg["scene"] else section["regime"]
 
 
 def regime_overrides(section: dict):
-    """`--set` arguments of one regime run from its wildcards (f_t in MPa, a, speed)."""
+    """`--set` arguments of one regime run from its wildcards (scene, f_t in MPa, a, speed);
+    the end time is its grid's (2D or 3D, by scene)."""
     def overrides(wildcards) -> str:
+        t_end = _regime_grid(section, wildcards.scene)["t_end"]
         return (f"--set material.f_t={wildcards.ft}e+6 "
                 f"--set numerics.contact_a={wildcards.a} "
                 f"--set particles.impact_velocity={wildcards.v} "
-                f"--set outputs.t_end={section['regime']['t_end']!r} "
+                f"--set outputs.t_end={t_end!r} "
                 f"--set particles.masses.distribution=homogeneous --set particles.precrack=none")
     return overrides
+
+
+def regime_resource(section: dict, key: str):
+    """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_regime_run: the 3D
+    grid's value for runs of the 3D scene, the 2D section's otherwise (a function of the
+    wildcards)."""
+    cfg = regime_three_d(section)
+
+    def value(wildcards) -> int:
+        if cfg is not None and wildcards.scene == cfg["scene"]:
+            return cfg[key]
+        return section[key]
+    return value
