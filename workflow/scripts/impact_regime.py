@@ -14,7 +14,8 @@ if "snakemake" in globals():
     rows = [regime_row(Path(p)) for p in smk.input]
     maps = regime_maps(rows)
     label = f"profile {smk.params.profile}, " + ", ".join(
-        f"{dim}: scene impact/{'/'.join(m['scene'])}, {m['n_runs']} runs" for dim, m in maps.items())
+        f"{dim}: scene impact/{'/'.join(m['scene'])}, {m['n_runs']} runs"
+        for dim, m in maps.items())
     write_text_atomic(Path(smk.output.json), json.dumps(
         {"profile": smk.params.profile, "dims": list(maps), "maps": maps, "runs": rows},
         indent=2) + "\n")
