@@ -98,7 +98,7 @@ def test_regime_runs_and_their_overrides_are_valid_scenes():
         pass
 
     w = W()
-    w.ft, w.a, w.v = ft, a[1:], v[1:]
+    w.scene, w.ft, w.a, w.v = section["scene"], ft, a[1:], v[1:]
     args = shlex.split(workflow.regime_overrides(section)(w))
     scene = load_scene("impact/default", args[1::2])
     assert scene.get("material.f_t") == pytest.approx(9.648e6)

@@ -73,6 +73,8 @@ def test_3d_grid_has_its_own_scene_end_time_and_resources(profile):
         scene = scene_of(path, sec)
         assert scene.get("domain.dim") == 3
         assert scene.get("outputs.t_end") == pytest.approx(cfg["t_end"])
+        assert scene.get("outputs.snapshot_times") == pytest.approx(
+            [k * cfg["t_end"] / 5 for k in range(1, 5)])  # the class's history
         assert scene.get("particles.masses.distribution") == "homogeneous"
         w = wildcards(path)
         assert scene.get("material.f_t") == pytest.approx(float(w.ft) * 1e6)
@@ -164,6 +166,9 @@ def test_class_settles_from_the_last_change():
                                                (3, "splits once"), (4, "splits once"))]
     assert regime.settled_from(hist) == 3
     assert regime.settled_from(hist[:2]) == 2 and regime.settled_from([]) is None
+    assert not regime.changed_at_end({"class_history": hist})
+    assert regime.changed_at_end({"class_history": hist[:3]})
+    assert not regime.changed_at_end({"class_history": hist[:1]})
 
 
 def _row(dim, a, f_t, v, n):
@@ -179,6 +184,7 @@ def test_figure_has_a_row_of_panels_per_dimension(tmp_path):
     maps = regime.regime_maps(rows)
     assert list(maps) == ["2D", "3D"] and maps["3D"]["t_end"] == 3e-4
     assert maps["2D"]["classes"] == {"no main crack": 1, "splits once": 1, "fans out": 1}
+    assert maps["2D"]["n_changed_at_end"] == 0
     titles = regime.figure_regime(rows, tmp_path / "map.png", "test")
     assert titles == ["2D, s2D, 500 us: penalty scale a = 0.1",
                       "2D, s2D, 500 us: penalty scale a = 6.27",

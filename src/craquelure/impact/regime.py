@@ -54,6 +54,13 @@ def settled_from(history: list[dict]) -> float | None:
     return t
 
 
+def changed_at_end(row: dict) -> bool:
+    """Did the run's class change between its last snapshot and its end? (Then a longer run
+    might classify it differently.)"""
+    hist = row.get("class_history") or []
+    return len(hist) >= 2 and hist[-2]["class"] != hist[-1]["class"]
+
+
 def regime_row(path: Path) -> dict:
     from craquelure.impact.analysis import run_metrics
 
@@ -86,14 +93,15 @@ def regime_maps(rows: list[dict]) -> dict:
         out[dim] = {"scene": sorted({r["scene"] for r in sub}),
                     "t_end": max(r["t_end"] for r in sub), "n_runs": len(sub),
                     "classes": {c: sum(r["class"] == c for r in sub) for c in CLASSES},
-                    "settled_from_max": max((r["class_settled_from"] or 0.0) for r in sub)}
+                    "settled_from_max": max((r["class_settled_from"] or 0.0) for r in sub),
+                    "n_changed_at_end": sum(changed_at_end(r) for r in sub)}
     return out
 
 
 def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     """One row of panels per dimension (2D above 3D), one panel per contact scale a: f_t (x)
     against impact speed (y), marker = class, number = main cracks (centre-row crossings in
-    brackets). Returns the panels' titles."""
+    brackets; * if the class changed after the last snapshot). Returns the panels' titles."""
     import matplotlib.pyplot as plt
 
     maps = regime_maps(rows)
@@ -116,7 +124,8 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
                 ax.scatter(r["f_t"] / 1e6, r["impact_velocity"], marker=marker, color=color,
                            s=160, label=r["class"] if r["class"] not in seen else None)
                 seen.add(r["class"])
-                ax.annotate(f"{r['n_main_cracks']} ({r['centre_crossings']})",
+                ax.annotate(f"{r['n_main_cracks']} ({r['centre_crossings']})"
+                            + ("*" if changed_at_end(r) else ""),
                             (r["f_t"] / 1e6, r["impact_velocity"]), textcoords="offset points",
                             xytext=(9, -3), fontsize=7)
             ax.set_xlabel("tensile strength f_t [MPa]")
@@ -128,8 +137,9 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
             low, high = ax.get_ylim()
             ax.set_ylim(low, high + 0.3 * (high - low))  # room for the legend above the points
             ax.legend(fontsize=7, loc="upper center", ncol=3)
-    fig.suptitle("homogeneous disc: main cracks from the contact zone (centre-row crossings); "
-                 f"3D on its mid-thickness layer\n{label}", fontsize=8)
+    fig.suptitle("homogeneous disc: main cracks from the contact zone (centre-row crossings; "
+                 "* class changed after the last snapshot); 3D on its mid-thickness layer\n"
+                 f"{label}", fontsize=8)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     plt.close(fig)

@@ -148,15 +148,21 @@ def _regime_grid(section: dict, scene: str) -> dict:
     return cfg if cfg is not None and scene == cfg["scene"] else section["regime"]
 
 
+REGIME_SNAPSHOTS = 5  # field snapshots at t_end/5, 2 t_end/5, ...: the class's history
+
+
 def regime_overrides(section: dict):
     """`--set` arguments of one regime run from its wildcards (scene, f_t in MPa, a, speed);
-    the end time is its grid's (2D or 3D, by scene)."""
+    the end time is its grid's (2D or 3D, by scene), with field snapshots at fifths of it so
+    that the map can say from when on each run's class stayed the same."""
     def overrides(wildcards) -> str:
         t_end = _regime_grid(section, wildcards.scene)["t_end"]
+        snaps = ",".join(f"{k * t_end / REGIME_SNAPSHOTS:.6e}" for k in range(1, REGIME_SNAPSHOTS))
         return (f"--set material.f_t={wildcards.ft}e+6 "
                 f"--set numerics.contact_a={wildcards.a} "
                 f"--set particles.impact_velocity={wildcards.v} "
                 f"--set outputs.t_end={t_end!r} "
+                f"--set {shlex.quote(f'outputs.snapshot_times=[{snaps}]')} "
                 f"--set particles.masses.distribution=homogeneous --set particles.precrack=none")
     return overrides
 
