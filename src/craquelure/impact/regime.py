@@ -98,6 +98,12 @@ def regime_maps(rows: list[dict]) -> dict:
     return out
 
 
+def _limits(values: list[float], below: float, above: float) -> tuple[float, float]:
+    low, high = min(values), max(values)
+    span = (high - low) or max(abs(high), 1.0)
+    return low - below * span, high + above * span
+
+
 def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     """One row of panels per dimension (2D above 3D), one panel per contact scale a: f_t (x)
     against impact speed (y), marker = class, number = main cracks (centre-row crossings in
@@ -113,6 +119,8 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     style = {"no main crack": ("s", "0.75"), "splits once": ("o", "C2"),
              "fans out": ("X", "C3")}
     titles = []
+    xlim = _limits([r["f_t"] / 1e6 for r in rows], 0.2, 0.2)
+    ylim = _limits([r["impact_velocity"] for r in rows], 0.2, 0.5)  # room for the legend
     for row_axes, dim in zip(axes, dims, strict=True):
         info = maps[dim]
         for ax in row_axes[len(scales[dim]):]:
@@ -133,9 +141,8 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
             titles.append(f"{dim}, {'/'.join(info['scene'])}, {info['t_end'] * 1e6:.0f} us: "
                           f"penalty scale a = {a:.3g}")
             ax.set_title(titles[-1], fontsize=9)
-            ax.margins(0.2)
-            low, high = ax.get_ylim()
-            ax.set_ylim(low, high + 0.3 * (high - low))  # room for the legend above the points
+            ax.set_xlim(*xlim)  # the same axes in every panel: 2D and 3D compare point by point
+            ax.set_ylim(*ylim)
             ax.legend(fontsize=7, loc="upper center", ncol=3)
     fig.suptitle("homogeneous disc: main cracks from the contact zone (centre-row crossings; "
                  "* class changed after the last snapshot); 3D on its mid-thickness layer\n"
