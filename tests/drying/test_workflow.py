@@ -105,7 +105,7 @@ def test_settings_file_of_the_job_round_trips(tmp_path, monkeypatch):
     wildcards = SimpleNamespace(scene=sec["scene"], pi="0p022")
     script = runpy.run_path(str(ROOT / "workflow/scripts/drying_speed_scene.py"),
                             run_name="drying_speed_scene")
-    out = tmp_path / jobs.speed_settings(wildcards)
+    out = tmp_path / "medium_Pi0p022" / "speed_settings.yaml"
     script["main"](jobs.scene_path(wildcards), jobs.speed_value(wildcards),
                    jobs.speed_end_over_t_star(wildcards), sec["speed"]["times_over_t_star"],
                    str(out))
@@ -124,8 +124,6 @@ def test_speed_inputs_and_ends_per_pi():
     ends = [jobs.speed_end_over_t_star(SimpleNamespace(pi=p)) for p in ("0p022", "0p066",
                                                                       "0p22", "0p66")]
     assert ends == [1.5, 2.0, 3.0, 4.0]
-    assert jobs.speed_settings(SimpleNamespace(scene="medium", pi="0p22")) == \
-        "results/drying/medium_Pi0p22/speed_settings.yaml"
     assert jobs.speed_overrides() == "--set numerics.integrator=rkc2"
     one_end = workflow.Jobs(section("config.yaml"))
     assert one_end.speed_end_over_t_star(SimpleNamespace(pi="0p66")) == 2.0

@@ -127,7 +127,7 @@ rule drying_speed_run:
     input:
         scene=DRYING_JOBS.scene_path,
         state="results/mass/{scene}/seed{seed}.nc",
-        speed=DRYING_JOBS.speed_settings,
+        speed="results/drying/{scene}_Pi{pi}/speed_settings.yaml",
     output:
         "results/drying/{scene}_Pi{pi}/run/seed{seed}.nc",
     wildcard_constraints:

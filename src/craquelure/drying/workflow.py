@@ -27,11 +27,6 @@ def label_value(text: str) -> float:
     return float(text.replace("p", "."))
 
 
-def speed_settings_path(scene: str, pi: str) -> str:
-    """The settings of the drying-speed runs of ``scene`` at the Pi label ``pi``."""
-    return f"results/drying/{scene}_Pi{pi}/speed_settings.yaml"
-
-
 class Jobs:
     """Config-bound helpers for the Snakemake rules (input functions take ``wildcards``)."""
 
@@ -89,10 +84,6 @@ class Jobs:
         the speed settings."""
         items = self.section["speed"].get("set", [])
         return " ".join(f"--set {shlex.quote(item)}" for item in items)
-
-    @staticmethod
-    def speed_settings(wildcards) -> str:
-        return speed_settings_path(wildcards.scene, wildcards.pi)
 
     def speed_fragments(self, wildcards) -> dict[str, list[str]]:
         """Fragment datasets of the drying-speed study, grouped by Pi (inputs P<label>)."""
