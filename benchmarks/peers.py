@@ -22,8 +22,9 @@ times, at 1 and 2 threads (PySPH: OpenMP threads; LAMMPS: MPI ranks; craquelure:
 
 Each timing is the steady cost of ``--steps`` steps: every code runs a short and a long run
 (PySPH: two processes; LAMMPS: two ``run`` commands in one input; craquelure: in this process,
-kernels compiled, a fresh run per round timed over its steps short..short + steps), and the difference is divided by the extra steps, so start-up, compilation
-and neighbour-list set-up are excluded for all three alike. Printed: particle-steps/s,
+kernels compiled, a fresh run per round timed over its steps short..short + steps), and the
+difference is divided by the extra steps, so start-up, compilation and neighbour-list set-up
+are excluded for all three alike. Printed: particle-steps/s,
 evaluations per step, particle-evaluations/s, the neighbour counts and the ratios craquelure /
 peer, with the issue's targets (2 threads: >= 3x PySPH, >= 2x LAMMPS).
 
