@@ -34,7 +34,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure.drying.analysis import analyse_run
-from craquelure.drying.run import run
+from craquelure.drying.api import run
 from craquelure.io import open_dataset, write_dataset
 from craquelure.scene import load_scene, scenes_dir
 
