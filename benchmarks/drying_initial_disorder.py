@@ -32,8 +32,8 @@ import numpy as np
 import xarray as xr
 
 from craquelure.drying.analysis import analyse_run
+from craquelure.drying.api import run
 from craquelure.drying.initial_state import build_initial_state
-from craquelure.drying.run import run
 from craquelure.errors import CraquelureError
 from craquelure.io import open_dataset, write_dataset
 from craquelure.provenance import WallClock, provenance_attrs

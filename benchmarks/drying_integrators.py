@@ -30,8 +30,8 @@ import time
 
 import numba
 
+from craquelure.drying.api import engine_from_initial
 from craquelure.drying.initial_state import build_initial_state
-from craquelure.drying.run import engine_from_initial
 from craquelure.scene import load_scene, scenes_dir
 
 PAPER_T_END = 300.0

@@ -10,8 +10,9 @@ rkc2, then the statistics of each scheme with bootstrap intervals over seeds:
   broken (least squares), b and t0/t*.
 
 Agreement per statistic: the two 95 % bootstrap intervals overlap (printed as "agree") or not
-("DIFFER"). Runs are written to ``--out-dir`` and reused (an interrupted run resumes from its
-checkpoint), so the comparison can be built up over several sessions; ``--analyse-only`` only
+("DIFFER"); with one seed there is no interval and no verdict. Runs are written to
+``--out-dir`` and reused (an interrupted run resumes from its checkpoint), so the comparison
+can be built up over several sessions; ``--analyse-only`` only
 reads what exists. Scene: config/scenes/drying/paper_speed.yaml (L = 5, N = 1e4,
 v_r = 2.2e-5, t = 0..300). The full comparison of the issue:
 
@@ -33,7 +34,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure.drying.analysis import analyse_run
-from craquelure.drying.run import run
+from craquelure.drying.api import run
 from craquelure.io import open_dataset, write_dataset
 from craquelure.scene import load_scene, scenes_dir
 
@@ -125,7 +126,9 @@ def statistics(frags: list[xr.Dataset], tstar: float, fit_mask: np.ndarray) -> d
     return out
 
 
-def _agree(a: list[float], b: list[float]) -> str:
+def _agree(a: list[float], b: list[float], seeds: int) -> str:
+    if seeds < 2:
+        return "n/a (1 seed: no interval)"
     if not all(np.isfinite(a + b)):
         return "n/a"
     return "agree" if a[0] <= b[1] and b[0] <= a[1] else "DIFFER"
@@ -148,7 +151,8 @@ def report(stats: dict[str, dict], cpu: dict[str, float]) -> None:
                      {"value": vb, "ci95": cb}))
     for label, x, y in rows:
         cells = [f"{s['value']:.4g} [{s['ci95'][0]:.4g}, {s['ci95'][1]:.4g}]" for s in (x, y)]
-        print(f"{label:<34} {cells[0]:>34} {cells[1]:>34}  {_agree(x['ci95'], y['ci95'])}")
+        verdict = _agree(x["ci95"], y["ci95"], min(a["seeds"], b["seeds"]))
+        print(f"{label:<34} {cells[0]:>34} {cells[1]:>34}  {verdict}")
     for n in names:
         print(f"CPU s of the runs made by this process, {n}: {cpu.get(n, 0.0):.0f}")
 
@@ -191,6 +195,15 @@ def main(argv: list[str] | None = None) -> None:
           f"Pi = tau/t* = {tau / tstar:.3f}; fit over the snapshots where every sample of "
           f"both schemes is broken: {np.asarray(times)[fit_mask].tolist()}")
     report(stats, cpu)
+    log = args.out_dir / "cpu_seconds.json"
+    if log.exists():  # every part of each run, over all the processes that ran it
+        record = json.loads(log.read_text())
+        for seed in seeds:
+            parts = [record.get(_run_path(args.out_dir, n, seed).name) for n in args.integrators]
+            if all(parts):
+                print(f"recorded CPU s, seed {seed}: " + ", ".join(
+                    f"{n} {c:.0f}" for n, c in zip(args.integrators, parts, strict=True))
+                    + f"; ratio {parts[0] / parts[1]:.2f}")
     (args.out_dir / "comparison.json").write_text(json.dumps(
         {"seeds": seeds, "box_length": args.box_length, "t_end": args.t_end, "t_star": tstar,
          "statistics": stats}, indent=1))

@@ -83,8 +83,8 @@ def timed_steps(step, steps: int, repeats: int = 3, clock=time.perf_counter) -> 
 
 
 def drying_probe(n: int):
+    from craquelure.drying.api import engine_from_initial
     from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
 
     scene = load_scene("drying/default", [f"particles.n={n}",
                                           f"domain.box_length={math.sqrt(n) / 20.0}"])

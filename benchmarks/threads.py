@@ -48,8 +48,8 @@ TARGET = 1.8
 
 
 def drying(n: int):
+    from craquelure.drying.api import engine_from_initial
     from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
 
     scene = load_scene("drying/default", [f"particles.n={n}",
                                           f"domain.box_length={math.sqrt(n) / 20.0}"])

@@ -175,7 +175,7 @@ def test_damaged_drying_checkpoint_is_refused_with_the_reason(files, damage, rea
         with open(ck, "wb") as fh:
             np.savez(fh, something=np.zeros(3))
     elif damage == "truncated":
-        from craquelure.drying.run import run
+        from craquelure.drying.api import run
         from craquelure.scene import load_scene
 
         run(load_scene(files["scene"]), out, init=files["init"], stop_after_checkpoints=1)
@@ -195,7 +195,7 @@ def test_damaged_drying_checkpoint_is_refused_with_the_reason(files, damage, rea
 
 def test_checkpoint_of_another_run_is_refused_with_the_reason(files, capsys, tmp_path):
     out = tmp_path / "run.nc"
-    from craquelure.drying.run import run
+    from craquelure.drying.api import run
     from craquelure.scene import load_scene
 
     scene = load_scene(files["scene"])

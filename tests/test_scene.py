@@ -19,6 +19,7 @@ from craquelure.scene import (
     load_scene,
     load_scene_text,
     model_schema,
+    overrides_from_file,
     parse_override,
     scenes_dir,
 )
@@ -153,6 +154,42 @@ def test_parse_and_apply_override():
     data = {"a": {"b": 1}}
     apply_override(data, "a.c.d=[1, 2]")
     assert data == {"a": {"b": 1, "c": {"d": [1, 2]}}}
+
+
+def test_set_file_overrides_in_order_among_set(tmp_path):
+    """`--set-file` adds a file's `set` list where it stands among the `--set` arguments: the
+    scene (and the overrides its datasets record) as with the same items given as `--set`."""
+    path = tmp_path / "settings.yaml"
+    path.write_text(yaml.safe_dump({"note": 1, "set": ["numerics.h=0.3", "outputs.times=[1, 2]"]}))
+    args = cli.build_parser().parse_args(["run", "drying/ci", "--out", "x.nc",
+                                          "--set", "numerics.h=0.2", "--set-file", str(path),
+                                          "--set", "outputs.t_end=4"])
+    expected = ["numerics.h=0.2", "numerics.h=0.3", "outputs.times=[1, 2]", "outputs.t_end=4"]
+    assert args.overrides == expected
+    scene = load_scene("drying/ci", args.overrides)
+    assert scene.get("numerics.h") == 0.3 and scene.get("outputs.times") == [1, 2]
+    assert scene.overrides == tuple(expected)
+
+
+@pytest.mark.parametrize("text,fragment", [
+    ("set: numerics.h=0.3\n", "expected a mapping whose `set` is a list"),
+    ("- numerics.h=0.3\n", "expected a mapping whose `set` is a list"),
+    ("set: [numerics.h]\n", "--set 'numerics.h': expected key.path=value"),
+    ("set: [a: b\n", "not valid YAML"),
+])
+def test_set_file_errors_name_the_file(tmp_path, capsys, text, fragment):
+    path = tmp_path / "settings.yaml"
+    path.write_text(text)
+    with pytest.raises(SceneError, match="settings.yaml"):
+        overrides_from_file(path)
+    with pytest.raises(SystemExit) as stop:
+        cli.main(["check", "drying/ci", "--set-file", str(path)])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert f"--set-file: {path}" in err and fragment in err, err
+    with pytest.raises(SystemExit):
+        cli.main(["check", "drying/ci", "--set-file", str(tmp_path / "missing.yaml")])
+    assert "missing.yaml" in capsys.readouterr().err
 
 
 def test_builtin_scenes_are_valid_and_listed():

@@ -179,6 +179,26 @@ def parse_override(item: str) -> tuple[list[str], Any]:
     return keys, value
 
 
+def overrides_from_file(path: str | Path) -> list[str]:
+    """The ``set`` list of a YAML file: ``key.path=value`` strings as for ``--set`` (e.g. the
+    settings a workflow job derived for a run)."""
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as exc:
+        raise SceneError(f"{path}: not valid YAML: {exc}") from exc
+    items = data.get("set") if isinstance(data, dict) else None
+    if not isinstance(items, list) or not all(isinstance(item, str) for item in items):
+        raise SceneError(f"{path}: expected a mapping whose `set` is a list of "
+                         f"key.path=value strings")
+    for item in items:
+        try:
+            parse_override(item)
+        except SceneError as exc:
+            raise SceneError(f"{path}: {exc}") from exc
+    return items
+
+
 def apply_override(data: dict[str, Any], item: str) -> None:
     """Set ``data[a][b][c] = value`` for ``a.b.c=value`` (intermediate mappings are created;
     the schema then rejects keys that do not exist)."""

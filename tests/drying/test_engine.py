@@ -78,8 +78,8 @@ def test_viscous_decay(make_scene, make_lattice_engine, polarisation, factor):
 def test_momentum_conserved_with_xsph(make_scene):
     """Check 6: substrate off, random velocities on an RSA configuration, XSPH on:
     |sum m v(t) - sum m v(0)| <= 1e-12 sum m |v| after 1000 steps."""
+    from craquelure.drying.api import engine_from_initial
     from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
 
     scene = make_scene(effects=["elasticity", "viscosity", "xsph", "continuity"],
                        particles={"placement": "rsa"}, numerics={"integrator": "abm4"})
@@ -193,8 +193,8 @@ def test_long_run_stability_of_a_random_velocity_field(make_scene, integrator):
     which SPH cannot represent, is the next test. Measured 2026-11-22: max|v| never above its
     initial value (0.79 max|v(0)| after the first step), kinetic energy at t = 50 is 2.9 % of
     the initial one, for both integrators."""
+    from craquelure.drying.api import engine_from_initial
     from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
 
     scene = make_scene(effects=["elasticity", "viscosity", "substrate", "xsph", "continuity"],
                        particles={"placement": "rsa"}, numerics={"integrator": integrator},
@@ -218,8 +218,8 @@ def test_long_run_stability_of_a_random_velocity_field(make_scene, integrator):
 def _noisy_paste(make_scene, numerics):
     """Check 9's paste: per-particle white-noise velocities of amplitude 1e-3, sigma_e = 0,
     50 time units; the engine and its initial kinetic energy."""
+    from craquelure.drying.api import engine_from_initial
     from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
 
     scene = make_scene(effects=["elasticity", "viscosity", "substrate", "xsph", "continuity"],
                        particles={"placement": "rsa"}, numerics=numerics,
@@ -270,8 +270,8 @@ def test_long_run_stability(make_scene, integrator):
 def _relaxed_strip(make_scene, extra_effects=()):
     """Strip of width 3 between particle-free bands, F held at 2e-3, fracture off, relaxed to
     t = 10 (steady: the same at t = 20, 30). Returns (x - centre, sigma_xx, F, width)."""
+    from craquelure.drying.api import engine_from_initial
     from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
 
     length, width, cap = 3.6, 3.0, 2e-3
     scene = make_scene(
@@ -311,8 +311,8 @@ def test_gradient_correction_makes_the_velocity_gradient_exact_at_a_free_edge(ma
     """Effect ``gradient_correction``: a linear velocity field v = (a x, 0) on a strip with free
     edges gives the viscous stress eta a at every particle, edges included (raw kernel
     gradient: about eta a / 2 on the last row); in the bulk both agree to check 2's 2e-3."""
+    from craquelure.drying.api import engine_from_initial
     from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
 
     length, width, a = 2.0, 1.2, 1e-3
     rows = {}
@@ -378,8 +378,8 @@ def test_without_fracture_nothing_is_removed(make_scene, make_lattice_engine):
 def test_without_drying_unstressed_paste_stays_at_rest(make_scene):
     """Effects on demand: without `drying`, an unstressed paste (RSA, consistent masses) does
     not move at all."""
+    from craquelure.drying.api import engine_from_initial
     from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
 
     scene = make_scene(effects=["elasticity", "viscosity", "substrate", "fracture", "xsph",
                                 "continuity"], particles={"placement": "rsa"})
@@ -416,8 +416,8 @@ def test_divergence_is_detected(make_scene, make_lattice_engine):
 # -- rkc2: stabilised explicit stepping not bound by the viscous limit ---------------------------
 def _smooth_paste(make_scene, integrator, dt, adapt=False):
     """Small RSA paste drying fast without fracture or initial stress: a smooth solution."""
+    from craquelure.drying.api import engine_from_initial
     from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
 
     scene = make_scene(effects=["elasticity", "viscosity", "drying", "substrate", "xsph",
                                 "continuity"],
@@ -483,8 +483,8 @@ def test_rkc2_steps_shrink_at_removal_and_grow_between(make_scene):
     every step is below 0.05 (error and removal-event control); once the cracks have run the
     step grows again above 0.1. Measured 2026-12-01: first removal at t = 2.17 after a 0.2
     step, steps of 0.0007-0.03 while particles go, 0.18 at t = 4."""
+    from craquelure.drying.api import engine_from_initial
     from craquelure.drying.initial_state import build_initial_state
-    from craquelure.drying.run import engine_from_initial
 
     scene = make_scene(particles={"placement": "rsa"},
                        material={"drying_rate": 2e-3, "initial_stress_amplitude": 0.01},

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 import yaml
 
+from craquelure.drying.api import run
 from craquelure.drying.initial_state import build_initial_state
-from craquelure.drying.run import run
 from craquelure.io import open_dataset, write_dataset
 from craquelure.scene import load_scene_text
 

@@ -20,7 +20,7 @@ LOCAL_RULES = {
     "all", "archive", "validation_report",
     "drying_campaign", "drying_summary", "drying_figures", "drying_accuracy_figure",
     "drying_thickness", "drying_thickness_figure", "drying_speed", "drying_speed_figure",
-    "drying_speed_study",
+    "drying_speed_study", "drying_speed_scene",
     "impact_summary", "impact_figures",
     "lattice_glen_figure", "lattice_scene_figure",
     "softdyn_sweep", "softdyn_fig4", "softdyn_fig3", "softdyn_pair_figure", "softdyn_summary",

@@ -85,6 +85,8 @@ def test_dry_run_builds_the_dag(fresh, config):
     # The drying-speed study runs where its section has seeds (medium): one run per Pi and seed.
     study = {**profile("config")["drying"]["speed"], **profile(config)["drying"]["speed"]}
     assert counts.get("drying_speed_run", 0) == len(study["pis"]) * study["n_seeds"]
+    # and one settings job per Pi (drying rate, end and snapshot times derived from the scene)
+    assert counts.get("drying_speed_scene", 0) == (len(study["pis"]) if study["n_seeds"] else 0)
     assert counts.get("drying_speed_figure", 0) == (1 if study["n_seeds"] else 0)
     assert counts["total"] == sum(v for k, v in counts.items() if k != "total")
 

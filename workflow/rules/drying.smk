@@ -1,9 +1,12 @@
 # Drying paste (SPH): mass-consistency initial states, runs, fragments, campaign, figures.
+from craquelure.drying import workflow as drying_workflow
+
+DRYING_JOBS = drying_workflow.Jobs(config["drying"])
 
 
 rule mass_consistency:
     input:
-        scene=drying_scene,
+        scene=DRYING_JOBS.scene_path,
     output:
         "results/mass/{scene}/seed{seed}.nc",
     params:
@@ -27,7 +30,7 @@ rule mass_consistency:
 
 rule drying_run:
     input:
-        scene=drying_scene,
+        scene=DRYING_JOBS.scene_path,
         state="results/mass/{scene}/seed{seed}.nc",
     output:
         "results/drying/{scene}/run/seed{seed}.nc",
@@ -52,7 +55,7 @@ rule drying_run:
 TARGETS["drying"] = expand(
     "results/drying/{scene}/run/seed{seed}.nc",
     scene=config["drying"]["scene"],
-    seed=seeds("drying"),
+    seed=DRYING_JOBS.seeds(),
 )
 
 
@@ -64,7 +67,7 @@ ruleorder: drying_thickness_run > drying_run
 
 rule drying_thickness_run:
     input:
-        scene=drying_scene,
+        scene=DRYING_JOBS.scene_path,
         state="results/mass/{scene}/seed{seed}.nc",
     output:
         "results/drying/{scene}_H{thickness}/run/seed{seed}.nc",
@@ -73,7 +76,7 @@ rule drying_thickness_run:
     params:
         cli=CRAQUELURE,
         overrides=scene_overrides("drying"),
-        thickness=thickness_value,
+        thickness=DRYING_JOBS.thickness_value,
     log:
         "logs/drying_run/{scene}_H{thickness}/seed{seed}.log",
     benchmark:
@@ -93,13 +96,38 @@ rule drying_thickness_run:
 # Drying-speed study (rules drying_speed*): the same initial states dried at other speeds
 # Pi = tau/t* (config drying.speed), snapshots at fixed fractions of t*;
 # results/drying/<scene>_Pi<Pi>/ (decimal point spelled p) then goes through drying_fragments.
+# Rule drying_speed_scene derives each speed's drying rate, end and snapshot times from the
+# scene (in a job, not while the DAG is built); the runs read them with --set-file.
 ruleorder: drying_speed_run > drying_run
+
+
+rule drying_speed_scene:
+    localrule: True
+    input:
+        scene=DRYING_JOBS.scene_path,
+    output:
+        "results/drying/{scene}_Pi{pi}/speed_settings.yaml",
+    wildcard_constraints:
+        pi=r"[0-9]+(?:p[0-9]+)?",
+    params:
+        pi=DRYING_JOBS.speed_value,
+        end_over_t_star=DRYING_JOBS.speed_end_over_t_star,
+        times_over_t_star=config["drying"]["speed"]["times_over_t_star"],
+    log:
+        "logs/drying_speed_scene/{scene}_Pi{pi}.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_speed_scene.py"
 
 
 rule drying_speed_run:
     input:
-        scene=drying_scene,
+        scene=DRYING_JOBS.scene_path,
         state="results/mass/{scene}/seed{seed}.nc",
+        speed="results/drying/{scene}_Pi{pi}/speed_settings.yaml",
     output:
         "results/drying/{scene}_Pi{pi}/run/seed{seed}.nc",
     wildcard_constraints:
@@ -107,7 +135,7 @@ rule drying_speed_run:
     params:
         cli=CRAQUELURE,
         overrides=scene_overrides("drying"),
-        speed=speed_run_settings,
+        study=DRYING_JOBS.speed_overrides(),
     log:
         "logs/drying_run/{scene}_Pi{pi}/seed{seed}.log",
     benchmark:
@@ -119,4 +147,5 @@ rule drying_speed_run:
         runtime=config["drying"]["runtime_run"],
     shell:
         "{params.cli} run {input.scene} --init {input.state} --out {output} --resume "
-        "--threads {threads} {params.overrides} {params.speed} > {log} 2>&1"
+        "--threads {threads} {params.overrides} --set-file {input.speed} {params.study} "
+        "> {log} 2>&1"

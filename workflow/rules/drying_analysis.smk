@@ -5,7 +5,9 @@
 DRYING_FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
 DRYING_CAMPAIGN = f"results/drying/{config['drying']['scene']}/campaign.nc"
 # Run dataset of the first seed, drawn in the crack-pattern figure.
-DRYING_SNAPSHOT_RUN = f"results/drying/{config['drying']['scene']}/run/seed{seeds('drying')[0]}.nc"
+DRYING_SNAPSHOT_RUN = (
+    f"results/drying/{config['drying']['scene']}/run/seed{DRYING_JOBS.seeds()[0]}.nc"
+)
 DRYING_PNG = {name: f"results/drying/figures/drying_{name}.png" for name in DRYING_FIGURES}
 DRYING_PDF = [f"results/drying/figures/drying_{name}.pdf" for name in DRYING_FIGURES]
 
@@ -44,7 +46,7 @@ rule drying_fragments:
 
 rule drying_campaign:
     input:
-        expand("results/drying/{{scene}}/fragments/seed{seed}.nc", seed=seeds("drying")),
+        expand("results/drying/{{scene}}/fragments/seed{seed}.nc", seed=DRYING_JOBS.seeds()),
     output:
         "results/drying/{scene}/campaign.nc",
     params:
@@ -181,7 +183,7 @@ TARGETS["drying_accuracy"] = [
 
 rule drying_thickness:
     input:
-        unpack(thickness_fragments),
+        unpack(DRYING_JOBS.thickness_fragments),
     output:
         "results/drying/{scene}/thickness.nc",
     log:
@@ -234,14 +236,14 @@ DATASETS["drying"] = [
     *expand(
         "results/drying/{scene}/fragments/seed{seed}.nc",
         scene=config["drying"]["scene"],
-        seed=seeds("drying"),
+        seed=DRYING_JOBS.seeds(),
     ),
 ]
 
 
 rule drying_speed:
     input:
-        unpack(speed_fragments),
+        unpack(DRYING_JOBS.speed_fragments),
     output:
         "results/drying/{scene}/speed.nc",
     params:

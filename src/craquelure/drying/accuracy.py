@@ -31,9 +31,9 @@ from collections.abc import Sequence
 import numpy as np
 import xarray as xr
 
+from craquelure.drying.api import engine_from_initial
 from craquelure.drying.engine import VX, VY
 from craquelure.drying.initial_state import build_initial_state
-from craquelure.drying.run import engine_from_initial
 from craquelure.errors import CraquelureError
 from craquelure.scene import Scene
 

@@ -1,18 +1,41 @@
-"""Model API of the drying paste for the CLI: initial state and derived numbers."""
+"""Model API of the drying paste for the CLI: initial state, derived numbers and the run
+(``craquelure run``: initial state -> engine -> run dataset, with checkpoints and resume).
+
+Run dataset: snapshots on dim ``time`` x ``particle``: ``x``, ``y`` (wrapped into the box),
+``vx``, ``vy``, ``alive`` (removed particles keep their index with alive = 0), ``mass``, ``rho``,
+``mean_stress`` (tr(sigma)/2 of the total stress); time series on dim ``step_time``:
+``n_removed``, ``kinetic_energy``, ``elastic_energy``, ``momentum_x``, ``momentum_y``; attributes
+``h``, ``box_length``, ``effects`` and the provenance of :mod:`craquelure.provenance`.
+
+The loop, checkpoints (every ``numerics.checkpoint_every`` steps) and ``--resume`` are the
+runner's (:mod:`craquelure.runner`); :class:`DryingRun` gives it the full engine state (with the
+neighbour list and the integrator history) and the output gathered so far, so a resumed run is
+bit-identical.
+"""
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
+import numpy as np
+import xarray as xr
+
+from craquelure import runner
+from craquelure.drying.engine import NVAR, VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
+from craquelure.errors import CraquelureError, SceneError
+from craquelure.io import read_dataset
+from craquelure.provenance import WallClock
 from craquelure.scene import Scene
+from craquelure.scene_rules import drying_run_step, initial_state_problems
 from craquelure.sph.integrators import RKC_SPECTRAL_SAFETY, rkc_stages
 from craquelure.throughput import prediction_lines
 
 RK4_REAL_AXIS, ABM4_REAL_AXIS = 2.785, 1.285
 EVALS_PER_STEP = {"rk4": 4, "abm4": 2, "rk2": 2}
 
-__all__ = ["build_initial_state", "derived_numbers", "run"]
+__all__ = ["build_initial_state", "derived_numbers", "run", "workload"]
 
 
 def evaluations_per_step(scene: Scene, dt: float) -> int:
@@ -68,8 +91,6 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
 def _run_steps(scene: Scene) -> tuple[float, int, int]:
     """The step the run takes (numerics.adapt_dt halves it), the step count and the rate
     evaluations per step."""
-    from craquelure.scene_rules import drying_run_step
-
     dt = drying_run_step(scene.data)
     return dt, math.ceil(scene.get("outputs.t_end") / dt), evaluations_per_step(scene, dt)
 
@@ -84,7 +105,245 @@ def workload(scene: Scene) -> dict[str, float]:
             "neighbours": 1.21 * (n * math.pi * h * h / length**2 - 1)}
 
 
-def run(scene: Scene, out, seed: int = 0, init=None, resume: bool = False, **checkpoints):
-    from craquelure.drying.run import run as run_drying
+SNAPSHOT_VARS = {
+    "x": ("position x (wrapped into the box)", "length"),
+    "y": ("position y (wrapped into the box)", "length"),
+    "vx": ("velocity x", "sqrt(lambda/rho0)"),
+    "vy": ("velocity y", "sqrt(lambda/rho0)"),
+    "alive": ("1 if the particle is present, 0 once removed by fracture", "1"),
+    "mass": ("particle mass", "rho0 length^2"),
+    "rho": ("density", "rho0"),
+    "mean_stress": ("mean stress tr(sigma)/2 of the total stress", "lambda"),
+}
+SERIES_VARS = {
+    "n_removed": ("particles removed so far", "1"),
+    "kinetic_energy": ("kinetic energy sum m v^2 / 2", "lambda length^2"),
+    "elastic_energy": ("elastic energy of sigma_e", "lambda length^2"),
+    "momentum_x": ("total momentum x", "rho0 length^2 sqrt(lambda/rho0)"),
+    "momentum_y": ("total momentum y", "rho0 length^2 sqrt(lambda/rho0)"),
+    "time_step": ("size of the last time step", "eta/lambda"),
+}
 
-    return run_drying(scene, out, seed=seed, init=init, resume=resume, **checkpoints)
+
+INITIAL_STATE_VARS = ("x", "y", "mass", "rho", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy")
+
+
+def output_times(scene: Scene) -> np.ndarray:
+    t_end = float(scene.get("outputs.t_end"))
+    times = scene.get("outputs.times", None)
+    if times is None:
+        return np.linspace(t_end / 10, t_end, 10)
+    times = np.asarray(sorted(times), float)
+    if times.size and times[-1] > t_end + 1e-12:
+        raise CraquelureError(f"outputs.times: {times[-1]} is after outputs.t_end = {t_end}")
+    return times
+
+
+def engine_from_initial(scene: Scene, init: xr.Dataset) -> DryingEngine:
+    stress = np.stack([init["sigma_e_xx"].values, init["sigma_e_yy"].values,
+                       init["sigma_e_xy"].values])
+    return DryingEngine(scene, init["x"].values, init["y"].values, init["mass"].values,
+                        init["rho"].values, stress)
+
+
+class Recorder:
+    """Snapshots and time series gathered during a run."""
+
+    def __init__(self, times: np.ndarray) -> None:
+        self.times = times
+        self.next_output = 0
+        self.snapshots: dict[str, list[np.ndarray]] = {k: [] for k in SNAPSHOT_VARS}
+        self.snapshot_times: list[float] = []
+        self.series: dict[str, list[float]] = {k: [] for k in SERIES_VARS}
+        self.series_times: list[float] = []
+
+    def record_series(self, engine: DryingEngine) -> None:
+        px, py = engine.momentum()
+        self.series_times.append(engine.t)
+        self.series["n_removed"].append(engine.n_removed)
+        self.series["kinetic_energy"].append(engine.kinetic_energy())
+        self.series["elastic_energy"].append(engine.elastic_energy())
+        self.series["momentum_x"].append(px)
+        self.series["momentum_y"].append(py)
+        self.series["time_step"].append(engine.dt)
+
+    def maybe_snapshot(self, engine: DryingEngine) -> None:
+        while (self.next_output < self.times.size
+               and engine.t >= self.times[self.next_output] - engine.time_tolerance()):
+            length = engine.box_length
+            s = engine.state
+            values = {
+                "x": np.mod(s[X], length), "y": np.mod(s[Y], length), "vx": s[VX].copy(),
+                "vy": s[VY].copy(), "alive": engine.alive.astype(np.int8),
+                "mass": engine.mass.copy(), "rho": s[4].copy(),
+                "mean_stress": engine.mean_stress.copy(),
+            }
+            for key, value in values.items():
+                self.snapshots[key].append(value)
+            self.snapshot_times.append(engine.t)
+            self.next_output += 1
+
+    def next_stop(self, t_end: float) -> float:
+        """The next output time (adaptive steps end exactly on it), else t_end."""
+        return float(self.times[self.next_output]) if not self.done() else t_end
+
+    def done(self) -> bool:
+        return self.next_output >= self.times.size
+
+
+def _dataset(engine: DryingEngine, rec: Recorder, finished: bool) -> xr.Dataset:
+    data = {}
+    for key, (long_name, units) in SNAPSHOT_VARS.items():
+        arr = (np.stack(rec.snapshots[key]) if rec.snapshots[key]
+               else np.zeros((0, engine.n), np.int8 if key == "alive" else float))
+        data[key] = (("time", "particle"), arr, {"long_name": long_name, "units": units})
+    for key, (long_name, units) in SERIES_VARS.items():
+        data[key] = (("step_time",), np.asarray(rec.series[key], float),
+                     {"long_name": long_name, "units": units})
+    coords = {
+        "time": ("time", np.asarray(rec.snapshot_times, float),
+                 {"long_name": "snapshot time", "units": "eta/lambda"}),
+        "step_time": ("step_time", np.asarray(rec.series_times, float),
+                      {"long_name": "time-series sample time", "units": "eta/lambda"}),
+    }
+    return xr.Dataset(data, coords=coords, attrs={
+        "h": engine.h, "box_length": engine.box_length, "n_particles": engine.n,
+        "dt_final": engine.dt, "steps": engine.step_count,
+        "rate_evaluations": engine.evaluations, "neighbour_builds": engine.neighbour_builds,
+        "integrator": engine.stepper.name, "finished": int(finished),
+        "rkc_stage_evaluations": engine.stage_evaluations,
+        "spectral_radius_evaluations": engine.viscous_evaluations,
+        "rejected_steps": engine.controller.rejected if engine.controller else 0,
+    })
+
+
+class DryingRun(runner.EngineRun):
+    """The drying engine and its recorder as the runner sees them (:mod:`craquelure.runner`).
+
+    One advance is one step. After it, in this order: the series every
+    ``outputs.series_every`` steps, the snapshots due, the time-step control every
+    ``numerics.spectral_check_every`` steps and a fresh neighbour list every
+    ``numerics.checkpoint_every`` steps (a fixed schedule of the trajectory, so a checkpoint
+    written at any step, which holds the neighbour list, does not change it)."""
+
+    def __init__(self, scene: Scene, engine: DryingEngine, rec: Recorder) -> None:
+        self.engine, self.rec = engine, rec
+        self.t_end = float(scene.get("outputs.t_end"))
+        self.series_every = int(scene.get("outputs.series_every"))
+        self.rebuild_every = int(scene.get("numerics.checkpoint_every"))
+        self.spectral_every = int(scene.get("numerics.spectral_check_every"))
+        self.n_particles = engine.n
+
+    def start(self) -> None:
+        self.engine.control_time_step()
+        self.rec.maybe_snapshot(self.engine)
+        self.rec.record_series(self.engine)
+
+    def done(self) -> bool:
+        return self.engine.t >= self.t_end - self.engine.time_tolerance()
+
+    def advance(self) -> None:
+        # adaptive steps (rkc2) end exactly on the next output time
+        self.engine.stop_at = self.rec.next_stop(self.t_end)
+        self.engine.step()
+
+    def check(self):
+        return self.engine.health()
+
+    def sample(self) -> None:
+        engine, step = self.engine, self.engine.step_count
+        if step % self.series_every == 0:
+            self.rec.record_series(engine)
+        self.rec.maybe_snapshot(engine)
+        if step % self.spectral_every == 0:
+            engine.control_time_step()
+        if step % self.rebuild_every == 0:
+            engine.rebuild()
+
+    def finish(self) -> None:
+        if self.engine.step_count % self.series_every != 0:
+            self.rec.record_series(self.engine)
+
+    def state(self) -> dict[str, np.ndarray]:
+        engine, rec = self.engine, self.rec
+        history, rk4_left = engine.stepper.state()
+        out = {name: getattr(engine, name) for name in ENGINE_STATE}
+        out["history"] = np.stack(history) if history else np.zeros((0, NVAR, engine.n))
+        out["rk4_left"] = rk4_left
+        out["next_output"] = rec.next_output
+        out["snapshot_times"] = np.asarray(rec.snapshot_times, float)
+        out["series_times"] = np.asarray(rec.series_times, float)
+        for key in SNAPSHOT_VARS:
+            out[f"snapshot_{key}"] = (np.stack(rec.snapshots[key]) if rec.snapshots[key]
+                                      else np.zeros((0, engine.n)))
+        for key in SERIES_VARS:
+            out[f"series_{key}"] = np.asarray(rec.series[key], float)
+        for key, value in engine.step_control_state().items():
+            out[f"step_control_{key}"] = np.asarray(value, float)
+        return out
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        engine, rec = self.engine, self.rec
+        for name in ENGINE_STATE:
+            value = state[name]
+            setattr(engine, name, value.copy() if value.ndim else value.item())
+        engine.alive = engine.alive.astype(np.bool_)
+        engine.stepper.set_state(list(state["history"]), int(state["rk4_left"]))
+        rec.next_output = int(state["next_output"])
+        rec.snapshot_times = state["snapshot_times"].tolist()
+        rec.series_times = state["series_times"].tolist()
+        for key in SNAPSHOT_VARS:
+            rec.snapshots[key] = list(state[f"snapshot_{key}"])
+        for key in SERIES_VARS:
+            rec.series[key] = state[f"series_{key}"].tolist()
+        prefix = "step_control_"
+        engine.set_step_control_state({k[len(prefix):]: float(v) for k, v in state.items()
+                                       if k.startswith(prefix)})
+
+
+# everything of the engine that evolves (with the neighbour list and the current rate, so
+# that resuming needs no rebuild)
+ENGINE_STATE = ("state", "x0", "y0", "mass", "alive", "t", "step_count", "dt", "n_removed",
+                "evaluations", "neighbour_builds", "offsets", "index", "_built_x", "_built_y",
+                "f_current", "stress", "viscous_evaluations", "stage_evaluations")
+
+
+def _init_fingerprint(init: xr.Dataset) -> bytes:
+    """The initial state's bytes: a checkpoint is only resumed by the run it belongs to."""
+    return b"".join(np.ascontiguousarray(init[key].values).tobytes()
+                    for key in ("x", "y", "mass", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy"))
+
+
+def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
+        resume: bool = False, checkpoint_every: int | None = None,
+        checkpoint_minutes: float | None = None,
+        stop_after_checkpoints: int | None = None) -> Path:
+    """Simulate ``scene`` and write the run dataset to ``out`` (through the runner;
+    checkpoints every ``numerics.checkpoint_every`` steps unless ``checkpoint_every`` is given).
+
+    ``stop_after_checkpoints`` ends early after that many checkpoints and returns the
+    checkpoint's path (tests of resume)."""
+    clock = WallClock()
+    out = Path(out)
+    if init is not None:
+        init_ds = read_dataset(init, "drying initial state", model="drying",
+                               variables=INITIAL_STATE_VARS)
+        problems = initial_state_problems(scene, init_ds, init)
+        if problems:
+            raise SceneError("--init does not match the scene:\n  " + "\n  ".join(problems))
+        seed = int(init_ds.attrs.get("seed", seed))
+    else:
+        init_ds = build_initial_state(scene, seed)
+    model = DryingRun(scene, engine_from_initial(scene, init_ds), Recorder(output_times(scene)))
+    try:
+        summary = runner.run(
+            model, scene, seed, t_end=model.t_end, desc=f"drying {scene.name} seed {seed}",
+            out=out, resume=resume, every=checkpoint_every or model.rebuild_every,
+            minutes=runner.minutes_or_default(checkpoint_minutes), time_unit="eta/lambda",
+            extra_fingerprint=_init_fingerprint(init_ds), clock=clock,
+            stop_after_checkpoints=stop_after_checkpoints)
+    except runner.Stopped:
+        return runner.checkpoint_path(out)
+    model.finish()
+    return runner.write_run(_dataset(model.engine, model.rec, finished=True), out, scene, seed,
+                            summary, clock)

@@ -1,5 +1,5 @@
 """Drying-paste SPH engine: state, specialised rate function, neighbour list, fracture and the
-integrator loop (drying spec sections 2-8). No file I/O here (see :mod:`craquelure.drying.run`).
+integrator loop (drying spec sections 2-8). No file I/O here (see :mod:`craquelure.drying.api`).
 
 - The rate function is compiled for the scene's effect set only (:mod:`craquelure.codegen`).
 - Neighbours: CSR Verlet list of radius h(1 + skin), rebuilt when a particle has moved more

@@ -30,6 +30,7 @@ import xarray as xr
 from craquelure.drying import checks
 from craquelure.drying.analysis import build_campaign, drying_number
 from craquelure.errors import CraquelureError
+from craquelure.scene import Scene
 
 ONSET_ITEMS = ("first_removal_earliest", "first_removal_median", "first_sample_broken",
                "half_samples_broken", "all_samples_broken")
@@ -37,6 +38,26 @@ PAPER = {"paper_pi": 0.022, "paper_first_broken_over_t_star": 0.40,
          "paper_all_broken_over_t_star": 0.8, "paper_t0_over_t_star_max": 1.0}
 N_BOOT = 1000
 SEED = 20261201
+
+
+def speed_run_settings(scene: Scene, pi: float, end_over_t_star: float,
+                       times_over_t_star: Sequence[float]) -> dict[str, Any]:
+    r"""Settings of the drying-speed run of ``scene`` at :math:`\Pi`: :math:`\tau =
+    \eta/(2\mu)`, :math:`t^* = \tau/\Pi`, the drying rate :math:`v_r = \Pi\sigma_Y/\tau`, the
+    end ``end_over_t_star`` :math:`t^*` and the snapshots at the fractions
+    ``times_over_t_star`` of :math:`t^*` up to that end. ``set`` holds the three as scene
+    overrides (6 significant digits), what the run applies (``craquelure run --set-file``)."""
+    tau = scene.get("material.eta") / (2.0 * scene.get("material.lame_mu"))
+    sigma_y = scene.get("material.yield_stress")
+    t_star = tau / pi
+    times = [f * t_star for f in times_over_t_star if f <= end_over_t_star * (1 + 1e-9)]
+    rate, t_end = pi * sigma_y / tau, end_over_t_star * t_star
+    return {
+        "pi": pi, "tau": tau, "t_star": t_star, "drying_rate": rate, "t_end": t_end,
+        "times": times,
+        "set": [f"material.drying_rate={rate:.6g}", f"outputs.t_end={t_end:.6g}",
+                f"outputs.times=[{', '.join(f'{t:.6g}' for t in times)}]"],
+    }
 
 
 def _broken_window(campaign: xr.Dataset) -> np.ndarray:

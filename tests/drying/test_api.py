@@ -1,4 +1,5 @@
-"""`craquelure run` for the drying paste: the run dataset, resume after a kill, guards."""
+"""The drying model API (craquelure.drying.api): `craquelure run`, the run dataset, resume after
+a kill, guards."""
 
 from __future__ import annotations
 
@@ -7,8 +8,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from craquelure.drying.api import run
 from craquelure.drying.initial_state import build_initial_state
-from craquelure.drying.run import run
 from craquelure.errors import SceneError, SimulationDiverged
 from craquelure.io import write_dataset
 from craquelure.runner import checkpoint_path

@@ -1,0 +1,97 @@
+"""DAG helpers of ``workflow/rules/drying.smk`` and ``drying_analysis.smk``: scene paths, seeds,
+wildcard labels and the inputs of the thickness sweep and the drying-speed study, bound to the
+config's ``drying`` section (no module state).
+
+No physics here: a drying-speed run's drying rate, end and snapshot times come from the job of
+rule ``drying_speed_scene`` (:func:`craquelure.drying.speed.speed_run_settings`); the one scene
+value read while the DAG is built is the scene's own layer thickness H, so that the thickness
+sweep reuses the scene's runs at that H.
+"""
+
+from __future__ import annotations
+
+import shlex
+
+from craquelure.scene import load_scene
+
+SCENE_DIR = "config/scenes/drying"
+
+
+def label(value: float) -> str:
+    """A number as a wildcard value (scene wildcards have no dots): 0.25 -> 0p25."""
+    return f"{value:g}".replace(".", "p")
+
+
+def label_value(text: str) -> float:
+    """The number a wildcard label spells: 0p25 -> 0.25."""
+    return float(text.replace("p", "."))
+
+
+class Jobs:
+    """Config-bound helpers for the Snakemake rules (input functions take ``wildcards``)."""
+
+    def __init__(self, section: dict) -> None:
+        study = section["speed"]
+        ends = study["t_end_over_t_star"]
+        if isinstance(ends, list) and len(ends) != len(study["pis"]):
+            raise ValueError(
+                f"config drying.speed.t_end_over_t_star: one number or one value per entry of "
+                f"drying.speed.pis ({len(study['pis'])}), got {ends}")
+        self.section = section
+
+    @staticmethod
+    def scene_path(wildcards) -> str:
+        return f"{SCENE_DIR}/{wildcards.scene}.yaml"
+
+    def seeds(self) -> list[int]:
+        first = self.section["first_seed"]
+        return list(range(first, first + self.section["n_seeds"]))
+
+    @staticmethod
+    def thickness_value(wildcards) -> str:
+        return wildcards.thickness.replace("p", ".")
+
+    def thickness_fragments(self, wildcards) -> dict[str, list[str]]:
+        """Fragment datasets of the sweep, grouped by H (inputs H<label>); the scene's own H
+        reuses its runs."""
+        sweep = self.section["thickness"]
+        own = float(load_scene(self.scene_path(wildcards)).get("material.thickness"))
+        files = {}
+        for value in sweep["values"]:
+            folder = (wildcards.scene if abs(value - own) < 1e-12
+                      else f"{wildcards.scene}_H{label(value)}")
+            files[f"H{label(value)}"] = [f"results/drying/{folder}/fragments/seed{seed}.nc"
+                                         for seed in self.seeds()[: sweep["n_seeds"]]]
+        return files
+
+    @staticmethod
+    def speed_value(wildcards) -> float:
+        """Pi = tau/t* of a drying-speed run, from its label."""
+        return label_value(wildcards.pi)
+
+    def speed_end_over_t_star(self, wildcards) -> float:
+        """End of the speed run at Pi in units of t*: one number for every speed, or one per
+        entry of ``pis`` (slow drying is expensive per t*, fast drying breaks late in t*)."""
+        study = self.section["speed"]
+        ends = study["t_end_over_t_star"]
+        if not isinstance(ends, list):
+            return float(ends)
+        by_label = {label(p): float(e) for p, e in zip(study["pis"], ends, strict=True)}
+        return by_label[label(self.speed_value(wildcards))]
+
+    def speed_overrides(self) -> str:
+        """`--set` arguments of the study's own scene overrides (``speed.set``), applied after
+        the speed settings."""
+        items = self.section["speed"].get("set", [])
+        return " ".join(f"--set {shlex.quote(item)}" for item in items)
+
+    def speed_fragments(self, wildcards) -> dict[str, list[str]]:
+        """Fragment datasets of the drying-speed study, grouped by Pi (inputs P<label>)."""
+        study = self.section["speed"]
+        return {
+            f"P{label(pi)}": [
+                f"results/drying/{wildcards.scene}_Pi{label(pi)}/fragments/seed{seed}.nc"
+                for seed in self.seeds()[: study["n_seeds"]]
+            ]
+            for pi in study["pis"]
+        }

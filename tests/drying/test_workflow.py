@@ -1,0 +1,160 @@
+"""DAG helpers of the drying rules (craquelure.drying.workflow) and the drying-speed settings
+the job of rule drying_speed_scene writes: the same `--set` arguments, to the character, as the
+workflow passed when it derived them while building the DAG (old formula kept below)."""
+
+from __future__ import annotations
+
+import runpy
+import shlex
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+import yaml
+
+from craquelure.drying import workflow
+from craquelure.drying.speed import speed_run_settings
+from craquelure.scene import load_scene, overrides_from_file, project_root
+
+ROOT = project_root()
+
+
+def section(profile: str) -> dict:
+    """The drying section of a profile as Snakemake sees it: merged over config/config.yaml."""
+    def merge(base: dict, over: dict) -> dict:
+        return {**base, **{k: merge(base[k], v) if isinstance(v, dict) and k in base else v
+                           for k, v in over.items()}}
+    base = yaml.safe_load((ROOT / "config" / "config.yaml").read_text())["drying"]
+    return merge(base, yaml.safe_load((ROOT / "config" / profile).read_text())["drying"])
+
+
+def old_speed_run_settings(study: dict, scene_path: str, pi_label: str) -> str:
+    """workflow/rules/common.smk before the drying workflow module (commit 8497a7e), verbatim
+    but for its inputs: what the DAG passed to `craquelure run`."""
+    def speed_label(pi):
+        return f"{pi:g}".replace(".", "p")
+
+    def speed_end_over_t_star(study, pi):
+        ends = study["t_end_over_t_star"]
+        if not isinstance(ends, list):
+            return float(ends)
+        by_pi = {speed_label(p): float(e) for p, e in zip(study["pis"], ends, strict=True)}
+        return by_pi[speed_label(pi)]
+
+    scene = load_scene(scene_path)
+    pi = float(pi_label.replace("p", "."))
+    tau = scene.get("material.eta") / (2.0 * scene.get("material.lame_mu"))
+    sigma_y = scene.get("material.yield_stress")
+    t_star = tau / pi
+    end = speed_end_over_t_star(study, pi)
+    times = ", ".join(
+        f"{f * t_star:.6g}" for f in study["times_over_t_star"] if f <= end * (1 + 1e-9)
+    )
+    items = [
+        f"material.drying_rate={pi * sigma_y / tau:.6g}",
+        f"outputs.t_end={end * t_star:.6g}",
+        f"outputs.times=[{times}]",
+        *study.get("set", []),
+    ]
+    return " ".join(f"--set {shlex.quote(item)}" for item in items)
+
+
+def new_speed_settings(jobs: workflow.Jobs, wildcards) -> dict:
+    """What rule drying_speed_scene's job computes from its input and params."""
+    scene = load_scene(ROOT / jobs.scene_path(wildcards))
+    return speed_run_settings(scene, jobs.speed_value(wildcards),
+                              jobs.speed_end_over_t_star(wildcards),
+                              jobs.section["speed"]["times_over_t_star"])
+
+
+PROFILE_SPEEDS = [(profile, pi) for profile in ("medium.yaml", "config.yaml")
+                  for pi in section(profile)["speed"]["pis"]]
+
+
+@pytest.mark.parametrize("profile,pi", PROFILE_SPEEDS)
+def test_speed_run_gets_the_same_settings_as_before(profile, pi, monkeypatch):
+    """Each speed run of config/medium.yaml and config/config.yaml gets the same drying rate,
+    end and snapshot times (6 significant digits) as when the DAG derived them, in the same
+    order before the study's own overrides."""
+    monkeypatch.chdir(ROOT)
+    sec = section(profile)
+    jobs = workflow.Jobs(sec)
+    wildcards = SimpleNamespace(scene=sec["scene"], pi=workflow.label(pi))
+    old = shlex.split(old_speed_run_settings(sec["speed"], jobs.scene_path(wildcards),
+                                             wildcards.pi))
+    settings = new_speed_settings(jobs, wildcards)
+    new = [*(w for item in settings["set"] for w in ("--set", item)),
+           *shlex.split(jobs.speed_overrides())]
+    assert new == old
+    # and the physics: t* = sigma_Y / v_r = tau / Pi, the end in units of t*
+    scene = load_scene(jobs.scene_path(wildcards))
+    tau = scene.get("material.eta") / (2 * scene.get("material.lame_mu"))
+    assert settings["tau"] == pytest.approx(tau, rel=1e-15)
+    assert settings["t_star"] == pytest.approx(scene.get("material.yield_stress")
+                                               / settings["drying_rate"], rel=1e-12)
+    assert settings["t_end"] / settings["t_star"] == pytest.approx(
+        jobs.speed_end_over_t_star(wildcards), rel=1e-12)
+    assert settings["times"][-1] <= settings["t_end"] * (1 + 1e-9)
+
+
+def test_settings_file_of_the_job_round_trips(tmp_path, monkeypatch):
+    """The script of rule drying_speed_scene writes the `set` list that `--set-file` reads."""
+    monkeypatch.chdir(ROOT)
+    sec = section("medium.yaml")
+    jobs = workflow.Jobs(sec)
+    wildcards = SimpleNamespace(scene=sec["scene"], pi="0p022")
+    script = runpy.run_path(str(ROOT / "workflow/scripts/drying_speed_scene.py"),
+                            run_name="drying_speed_scene")
+    out = tmp_path / "medium_Pi0p022" / "speed_settings.yaml"
+    script["main"](jobs.scene_path(wildcards), jobs.speed_value(wildcards),
+                   jobs.speed_end_over_t_star(wildcards), sec["speed"]["times_over_t_star"],
+                   str(out))
+    assert overrides_from_file(out) == new_speed_settings(jobs, wildcards)["set"]
+    assert yaml.safe_load(out.read_text())["pi"] == 0.022
+    assert not list(out.parent.glob(".*tmp*"))
+
+
+def test_speed_inputs_and_ends_per_pi():
+    sec = section("medium.yaml")
+    jobs = workflow.Jobs(sec)
+    groups = jobs.speed_fragments(SimpleNamespace(scene="medium"))
+    assert list(groups) == ["P0p022", "P0p066", "P0p22", "P0p66"]
+    assert all(len(paths) == sec["speed"]["n_seeds"] == 7 for paths in groups.values())
+    assert groups["P0p022"][0] == "results/drying/medium_Pi0p022/fragments/seed1.nc"
+    ends = [jobs.speed_end_over_t_star(SimpleNamespace(pi=p)) for p in ("0p022", "0p066",
+                                                                      "0p22", "0p66")]
+    assert ends == [1.5, 2.0, 3.0, 4.0]
+    assert jobs.speed_overrides() == "--set numerics.integrator=rkc2"
+    one_end = workflow.Jobs(section("config.yaml"))
+    assert one_end.speed_end_over_t_star(SimpleNamespace(pi="0p66")) == 2.0
+    assert one_end.speed_overrides() == ""
+
+
+def test_one_end_per_pi_or_one_for_all():
+    sec = section("medium.yaml")
+    bad = {**sec, "speed": {**sec["speed"], "t_end_over_t_star": [1.5, 2.0]}}
+    with pytest.raises(ValueError, match=r"t_end_over_t_star: one number or one value per "
+                                         r"entry of drying.speed.pis \(4\)"):
+        workflow.Jobs(bad)
+
+
+def test_thickness_sweep_reuses_the_scenes_own_runs(monkeypatch):
+    """config.yaml: H = 0.2, 0.25, 0.316; the default scene's own H = 0.316 reads its runs."""
+    monkeypatch.chdir(ROOT)
+    jobs = workflow.Jobs(section("config.yaml"))
+    wildcards = SimpleNamespace(scene="default")
+    assert load_scene(jobs.scene_path(wildcards)).get("material.thickness") == 0.316
+    assert jobs.thickness_fragments(wildcards) == {
+        "H0p2": ["results/drying/default_H0p2/fragments/seed1.nc"],
+        "H0p25": ["results/drying/default_H0p25/fragments/seed1.nc"],
+        "H0p316": ["results/drying/default/fragments/seed1.nc"],
+    }
+    assert jobs.thickness_value(SimpleNamespace(thickness="0p25")) == "0.25"
+    assert jobs.seeds() == [1, 2, 3]
+    assert Path(ROOT / jobs.scene_path(wildcards)).is_file()
+
+
+def test_labels_round_trip():
+    for value in (0.022, 0.66, 1.0, 4.0, 0.316):
+        assert workflow.label_value(workflow.label(value)) == value
+    assert workflow.label(0.25) == "0p25" and workflow.label(2.0) == "2"
