@@ -209,4 +209,4 @@ def test_script_writes_both_dimensions(runs, tmp_path, monkeypatch):
     assert doc["maps"]["2D"]["scene"] == ["ci"] and doc["maps"]["3D"]["scene"] == ["ci3d"]
     assert [r["dim"] for r in doc["runs"]] == ["2D", "3D"]
     assert Path(out.png).stat().st_size > 1000
-    assert "3D f_t 3.22 MPa" in Path(smk.log[0]).read_text()
+    assert "3D f_t 3.22 MPa" in Path(smk.log[0]).read_text()  # one line per run
