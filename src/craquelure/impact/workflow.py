@@ -58,16 +58,20 @@ def three_d_overrides(section: dict):
     return overrides
 
 
-def run_resource(section: dict, key: str):
-    """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_run: the 3D campaign's
-    value for runs of its scene, the 2D section's otherwise (a function of the wildcards)."""
-    cfg = three_d(section)
-
+def _by_scene(section: dict, cfg: dict | None, key: str):
+    """``cfg[key]`` for runs of ``cfg``'s 3D scene, ``section[key]`` otherwise (a function of
+    the wildcards)."""
     def value(wildcards) -> int:
         if cfg is not None and wildcards.scene == cfg["scene"]:
             return cfg[key]
         return section[key]
     return value
+
+
+def run_resource(section: dict, key: str):
+    """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_run: the 3D campaign's
+    value for runs of its scene, the 2D section's otherwise."""
+    return _by_scene(section, three_d(section), key)
 
 
 def figure_runs(section: dict) -> dict:
@@ -171,10 +175,4 @@ def regime_resource(section: dict, key: str):
     """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_regime_run: the 3D
     grid's value for runs of the 3D scene, the 2D section's otherwise (a function of the
     wildcards)."""
-    cfg = regime_three_d(section)
-
-    def value(wildcards) -> int:
-        if cfg is not None and wildcards.scene == cfg["scene"]:
-            return cfg[key]
-        return section[key]
-    return value
+    return _by_scene(section, regime_three_d(section), key)
