@@ -89,3 +89,17 @@ def test_speed_figure_is_drawn_with_pi_in_the_caption(study, tmp_path):
     assert image.shape[1] > 1000
     assert np.unique(image.reshape(-1, image.shape[-1]), axis=0).shape[0] > 20
     assert pdf.read_bytes().startswith(b"%PDF")
+
+
+def test_speed_figure_says_which_speeds_have_no_fit_or_unbroken_samples(study):
+    from craquelure.drying.figures import fig_speed
+
+    blank = study.copy(deep=True)
+    blank["t0_over_t_star"][:] = np.nan
+    blank["all_samples_broken"][0] = np.nan
+    fig = fig_speed(blank, "test")
+    texts = [t.get_text() for ax in fig.axes for t in ax.texts]
+    assert any("no fit at Pi = 0.022, 0.05, 0.2, 0.66" in t for t in texts)
+    assert any("not all samples broken by the run's end at Pi = 0.022" in t for t in texts)
+    # the fixture's every speed has a fit and all samples broken: nothing to say
+    assert not [t for ax in fig_speed(study, "t").axes for t in ax.texts]

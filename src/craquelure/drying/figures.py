@@ -371,6 +371,17 @@ def fig_speed(study: xr.Dataset, profile: str):
     ax_f.axhline(a["paper_t0_over_t_star_max"], color="C4", ls=":", lw=1,
                  label="t0 <= t* (dimensional analysis)")
     ax_f.set_title("1/<S>_t = b (t - t0) over the broken snapshots", fontsize=9)
+    # An undetermined value is said, not left as a silently empty point or panel.
+    unfit = [f"{p:.3g}" for p, v in zip(pi, study["t0_over_t_star"].values, strict=True)
+             if not np.isfinite(v)]
+    if unfit:
+        ax_f.text(0.5, 0.5, f"no fit at Pi = {', '.join(unfit)}:\nfewer than 4 snapshots with "
+                  "every sample broken", transform=ax_f.transAxes, ha="center", fontsize=8)
+    unbroken = [f"{p:.3g}" for p, v in zip(pi, study["all_samples_broken"].values, strict=True)
+                if not np.isfinite(v)]
+    if unbroken:
+        ax_o.text(0.02, 0.02, f"not all samples broken by the run's end at Pi = "
+                  f"{', '.join(unbroken)}", transform=ax_o.transAxes, fontsize=7)
     fixed = study["fixed_time"].values
     for colour, f in zip(_colours(fixed.size), fixed, strict=True):
         row = study.sel(fixed_time=f)
