@@ -375,7 +375,7 @@ def fig_speed(study: xr.Dataset, profile: str):
     unfit = [f"{p:.3g}" for p, v in zip(pi, study["t0_over_t_star"].values, strict=True)
              if not np.isfinite(v)]
     if unfit:
-        ax_f.text(0.5, 0.5, f"no fit at Pi = {', '.join(unfit)}:\nfewer than 4 snapshots with "
+        ax_f.text(0.5, 0.3, f"no fit at Pi = {', '.join(unfit)}:\nfewer than 4 snapshots with "
                   "every sample broken", transform=ax_f.transAxes, ha="center", fontsize=8)
     unbroken = [f"{p:.3g}" for p, v in zip(pi, study["all_samples_broken"].values, strict=True)
                 if not np.isfinite(v)]
