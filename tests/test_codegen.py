@@ -116,18 +116,24 @@ def test_pack_parameters_orders_by_name_and_rejects_unknown_names():
 
 
 def _index_constants(module) -> dict[str, str]:
-    """{constant: parameter name} for every ``NAME = _index("name")`` in a template."""
+    """{constant: parameter name} for every ``A, B = param_indices(PARAMS, "a", "b")`` and
+    ``NAME = PARAMS.index("name")`` in a template."""
     found = {}
     for node in ast.parse(inspect.getsource(module)).body:
-        if not isinstance(node, ast.Assign):
+        if not isinstance(node, ast.Assign) or not isinstance(node.value, ast.Call):
             continue
         targets = node.targets[0]
         names = targets.elts if isinstance(targets, ast.Tuple) else [targets]
-        values = node.value.elts if isinstance(node.value, ast.Tuple) else [node.value]
-        for target, value in zip(names, values, strict=False):
-            if (isinstance(value, ast.Call) and isinstance(value.func, ast.Name)
-                    and value.func.id == "_index"):
-                found[target.id] = value.args[0].value
+        func = node.value.func
+        if isinstance(func, ast.Name) and func.id == "param_indices":
+            params = node.value.args[1:]
+        elif (isinstance(func, ast.Attribute) and func.attr == "index"
+              and getattr(func.value, "id", None) == "PARAMS"):
+            params = node.value.args
+        else:
+            continue
+        for target, value in zip(names, params, strict=True):
+            found[target.id] = value.value
     return found
 
 

@@ -155,6 +155,12 @@ def specialise(template: str, flags: Mapping[str, bool | int], engine: str) -> M
 specialise.cache_clear = _specialise.cache_clear  # tests: a new process in miniature
 
 
+def param_indices(names: tuple[str, ...], *wanted: str) -> tuple[int, ...]:
+    """Positions of ``wanted`` in a template's parameter tuple ``names``: its index constants,
+    each paired with its parameter by name (``A, B = param_indices(PARAMS, "a", "b")``)."""
+    return tuple(names.index(name) for name in wanted)
+
+
 def pack_parameters(names: tuple[str, ...], values: Mapping[str, float],
                     defaults: Mapping[str, float] | None = None) -> np.ndarray:
     """The kernel's parameter vector: ``values`` (over ``defaults``) in the order of ``names``,

@@ -1,10 +1,10 @@
 """Registry of physical effects.
 
 Every effect is one small module (``craquelure/<engine>/effects/<name>.py``) that declares
-``EFFECT = Effect(...)``: its name, the models it belongs to, the scene parameters it needs
-(dotted paths, per model) and a one-line description. Scene validation reads the registry, so
-an unknown effect or a missing parameter is rejected before anything runs, and the engine
-compiles only the effects a scene lists.
+``EFFECT = Effect.of(...)``: its model, name, kernel flag, a one-line description and the scene
+parameters it needs (dotted paths). Scene validation reads the registry, so an unknown effect or a
+missing parameter is rejected before anything runs, and the engine compiles only the effects a
+scene lists.
 """
 
 from __future__ import annotations
@@ -35,6 +35,14 @@ class Effect:
 
     def required_paths(self, model: str) -> tuple[str, ...]:
         return tuple(self.requires.get(model, ()))
+
+    @classmethod
+    def of(cls, model: str, name: str, flag: str | None, description: str,
+           requires: tuple[str, ...] = (), conflicts: tuple[str, ...] = ()) -> Effect:
+        """The declaration of an effect of one model (every effect so far): ``requires`` are
+        its dotted scene paths in that model."""
+        return cls(name, (model,), description, {model: tuple(requires)} if requires else {},
+                   tuple(conflicts), flag)
 
 
 # Each model lists the packages whose modules declare its effects.

@@ -9,7 +9,8 @@ An engine adapter exposes a few small methods and the runner does the rest:
 - ``state()`` / ``restore(state)``: everything that evolves, as arrays, so that a run resumed
   from ``state()`` is bit-identical to the uninterrupted run (taking a checkpoint must not
   change the trajectory);
-- ``done()``, and the attributes ``time``, ``steps`` and ``n_particles``.
+- ``done()``, and the attributes ``time``, ``steps`` and ``n_particles``;
+- ``finish()``: record what is due at the end (:func:`run_to_file`; not after an early stop).
 
 The runner writes checkpoints (``<out>.checkpoint.npz``, atomically) every ``every`` advances
 or ``minutes`` of wall time, each with a fingerprint of the resolved scene, the seed and the
@@ -40,10 +41,6 @@ from craquelure.provenance import WallClock, provenance_attrs
 
 # wall-time checkpoint interval when a scene gives none (minutes)
 DEFAULT_CHECKPOINT_MINUTES = 10.0
-
-
-def minutes_or_default(minutes: float | None) -> float:
-    return DEFAULT_CHECKPOINT_MINUTES if minutes is None else float(minutes)
 
 
 @dataclass(frozen=True)
@@ -80,8 +77,8 @@ def diverged(desc: str, bad: Divergence, step: int, time: float,
 
 class EngineRun:
     """Base of the models' adapters: ``time`` and ``steps`` read from ``self.engine`` (its
-    attributes named by ``TIME`` and ``STEPS``); nothing to record at the start, no check
-    and no sample unless overridden."""
+    attributes named by ``TIME`` and ``STEPS``); nothing to record at the start or the end, no
+    check and no sample unless overridden."""
 
     TIME, STEPS = "t", "step_count"
     engine: object
@@ -101,6 +98,9 @@ class EngineRun:
         return None
 
     def sample(self) -> None:
+        pass
+
+    def finish(self) -> None:
         pass
 
 
@@ -315,13 +315,6 @@ def run(engine: Engine, scene, seed: int, *, t_end: float, desc: str, out: Path 
     return summary
 
 
-def finish(out: Path) -> None:
-    """Remove the checkpoint once the finished dataset is written."""
-    ck = checkpoint_path(out)
-    if ck.exists():
-        os.unlink(ck)
-
-
 def write_run(ds, out: Path, scene, seed: int | None, summary: Summary,
               clock: WallClock) -> Path:
     """Write the finished run dataset with its provenance (wall time of all parts of a resumed
@@ -332,5 +325,21 @@ def write_run(ds, out: Path, scene, seed: int | None, summary: Summary,
                                      extra_wall_time=summary.earlier_wall_time_s))
     ds.attrs.update(summary.attrs())
     path = write_dataset(ds, out)
-    finish(out)
+    checkpoint_path(out).unlink(missing_ok=True)
     return path
+
+
+def run_to_file(engine: EngineRun, scene, seed: int | None, out: Path, dataset,
+                clock: WallClock, minutes: float | None = None, **options) -> Path:
+    """A model's run: :func:`run` with checkpoints next to ``out`` (every ``minutes`` of wall
+    time, None: :data:`DEFAULT_CHECKPOINT_MINUTES`; ``options`` as for :func:`run`), then
+    ``engine.finish()`` and :func:`write_run` of ``dataset()``; the checkpoint's path instead
+    when ``stop_after_checkpoints`` ended the run early."""
+    out = Path(out)
+    try:
+        summary = run(engine, scene, seed or 0, out=out, clock=clock, minutes=(
+            DEFAULT_CHECKPOINT_MINUTES if minutes is None else float(minutes)), **options)
+    except Stopped:
+        return checkpoint_path(out)
+    engine.finish()
+    return write_run(dataset(), out, scene, seed, summary, clock)

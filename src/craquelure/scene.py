@@ -296,10 +296,7 @@ def _check_effects(data: dict[str, Any]) -> None:
     for name in listed:
         effect = known[name]
         for dotted in effect.required_paths(model):
-            node: Any = data
-            for key in dotted.split("."):
-                node = node.get(key) if isinstance(node, dict) else None
-            if node is None:
+            if scene_rules.SceneView(data).get(dotted, None) is None:
                 problems.append(f"effect {name!r} needs {dotted}, which the scene does not set")
         for other in effect.conflicts:
             if other in listed:

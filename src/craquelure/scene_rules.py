@@ -34,21 +34,25 @@ MEMORY_FRACTION = 0.8
 INT64_MAX = 2**63 - 1
 
 
-def non_finite_values(node: Any, path: str = "") -> list[tuple[str, float]]:
-    """(dotted path such as ``outputs.times[2]``, value) of every NaN or infinite number under
-    ``node``, and of every integer beyond 64 bits."""
-    bad: list[tuple[str, float]] = []
+def _leaves(node: Any, path: str = ""):
+    """(dotted path such as ``outputs.times[2]``, value) of every number or string under
+    ``node`` (lists and nested mappings included)."""
     if isinstance(node, dict):
         for key, value in node.items():
-            bad += non_finite_values(value, f"{path}.{key}" if path else str(key))
+            yield from _leaves(value, f"{path}.{key}" if path else str(key))
     elif isinstance(node, list | tuple):
         for k, value in enumerate(node):
-            bad += non_finite_values(value, f"{path}[{k}]")
-    elif isinstance(node, float) and not math.isfinite(node):
-        bad.append((path or "(top level)", node))
-    elif isinstance(node, int) and not isinstance(node, bool) and abs(node) > INT64_MAX:
-        bad.append((path or "(top level)", node))  # no machine integer holds it (numba, numpy)
-    return bad
+            yield from _leaves(value, f"{path}[{k}]")
+    else:
+        yield path, node
+
+
+def non_finite_values(node: Any, path: str = "") -> list[tuple[str, float]]:
+    """(path, value) of every NaN or infinite number under ``node``, and of every integer
+    beyond 64 bits (no machine integer holds it: numba, numpy)."""
+    return [(where or "(top level)", v) for where, v in _leaves(node, path)
+            if (isinstance(v, float) and not math.isfinite(v))
+            or (isinstance(v, int) and not isinstance(v, bool) and abs(v) > INT64_MAX)]
 
 
 def _get(data: dict, dotted: str, default: Any = None) -> Any:
@@ -289,17 +293,8 @@ def cross_field_problems(data: dict) -> list[str]:
 def extreme_values(node: Any, path: str = "", bound: float = 1e100) -> list[str]:
     """Dotted paths of numbers beyond 1e100 or below 1e-100 in magnitude (but not 0): the
     suspects when finite inputs overflow in a formula."""
-    out: list[str] = []
-    if isinstance(node, dict):
-        for key, value in node.items():
-            out += extreme_values(value, f"{path}.{key}" if path else str(key), bound)
-    elif isinstance(node, list | tuple):
-        for k, value in enumerate(node):
-            out += extreme_values(value, f"{path}[{k}]", bound)
-    elif isinstance(node, int | float) and not isinstance(node, bool) and node != 0 \
-            and not 1 / bound <= abs(node) <= bound:
-        out.append(path)
-    return out
+    return [where for where, v in _leaves(node, path) if isinstance(v, int | float)
+            and not isinstance(v, bool) and v != 0 and not 1 / bound <= abs(v) <= bound]
 
 
 # -- memory --------------------------------------------------------------------------------

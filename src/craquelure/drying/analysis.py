@@ -304,20 +304,19 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
     area = np.concatenate(areas) if areas else np.zeros(0)
     index = np.concatenate(frag_time_index) if frag_time_index else np.zeros(0, np.int64)
     alive = run["alive"].values.astype(bool)
+    # bare variables get their long names and units from craquelure.cf's table on writing
     ds = xr.Dataset(
         {
             "fragment_area": ("fragment", area, {"long_name": "fragment area S",
                                                  "units": "length^2"}),
             "fragment_time": ("fragment", times[index], {"long_name": "snapshot time"}),
-            "fragment_time_index": ("fragment", index,
-                                    {"long_name": "index of the snapshot on dim time"}),
-            "n_fragments": ("time", n_frag, {"long_name": "number of fragments"}),
+            "fragment_time_index": ("fragment", index),
+            "n_fragments": ("time", n_frag),
             "mean_area": ("time", mean_area, {"long_name": "mean fragment area of this run",
                                               "units": "length^2"}),
             "paste_fraction": ("time", paste,
                                {"long_name": "fraction of mesh points with phi >= phi0"}),
-            "n_alive": ("time", alive.sum(axis=1).astype(np.int64),
-                        {"long_name": "particles not removed"}),
+            "n_alive": ("time", alive.sum(axis=1).astype(np.int64)),
         },
         coords={"time": ("time", times, dict(run["time"].attrs))},
     )
@@ -467,38 +466,28 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
     first_removal = np.array([float(ds.attrs.get("first_removal_time", np.nan))
                               for ds in fragments])
 
+    # bare variables get their long names and units from craquelure.cf's table on writing
     ds = xr.Dataset(
         {
             "n_fragments": (("seed", "time"), count, {"long_name": "fragments per sample"}),
-            "total_area": (("seed", "time"), total,
-                           {"long_name": "total fragment area of the sample"}),
-            "sample_mean_area": (("seed", "time"), sample_mean,
-                                 {"long_name": "mean fragment area of the sample"}),
+            "total_area": (("seed", "time"), total),
+            "sample_mean_area": (("seed", "time"), sample_mean),
             "paste_fraction": (("seed", "time"),
-                               np.stack([d["paste_fraction"].values for d in fragments]),
-                               {"long_name": "fraction of paste mesh points"}),
-            "first_removal_time": ("seed", first_removal,
-                                   {"long_name": "time of the first particle removal"}),
+                               np.stack([d["paste_fraction"].values for d in fragments])),
+            "first_removal_time": ("seed", first_removal),
             "mean_area": ("time", mean, {"long_name": "pooled mean fragment area <S>_t"}),
-            "mean_area_se": ("time", se, {"long_name": "standard error of <S>_t over seeds"}),
-            "inverse_mean_area": ("time", 1.0 / mean, {"long_name": "1/<S>_t"}),
-            "inverse_mean_area_se": ("time", se / mean**2,
-                                     {"long_name": "standard error of 1/<S>_t"}),
-            "n_fragments_mean": ("time", count.mean(axis=0),
-                                 {"long_name": "mean number of fragments per sample"}),
+            "mean_area_se": ("time", se),
+            "inverse_mean_area": ("time", 1.0 / mean),
+            "inverse_mean_area_se": ("time", se / mean**2),
+            "n_fragments_mean": ("time", count.mean(axis=0)),
             "n_fragments_se": ("time", count.std(axis=0, ddof=1) / np.sqrt(n_s)
-                               if n_s > 1 else np.full(n_t, np.nan),
-                               {"long_name": "standard error of the number of fragments"}),
-            "unbroken_fraction": ("time", (count <= 1).mean(axis=0),
-                                  {"long_name": "fraction of samples still one fragment"}),
-            "size_density": (("time", "bin"), size_density,
-                             {"long_name": "P(S;t), pooled over seeds"}),
-            "size_in_range_fraction": ("time", in_range,
-                                       {"long_name": "fraction of fragments with S <= S_max"}),
-            "scaled_density": (("time", "bin"), scaled_density,
-                               {"long_name": "scaled distribution <S>_t P(X <S>_t; t)"}),
-            "fragment_area": ("fragment", area, {"long_name": "fragment area S"}),
-            "fragment_scaled_area": ("fragment", x_all, {"long_name": "X = S/<S>_t"}),
+                               if n_s > 1 else np.full(n_t, np.nan)),
+            "unbroken_fraction": ("time", (count <= 1).mean(axis=0)),
+            "size_density": (("time", "bin"), size_density),
+            "size_in_range_fraction": ("time", in_range),
+            "scaled_density": (("time", "bin"), scaled_density),
+            "fragment_area": ("fragment", area),
+            "fragment_scaled_area": ("fragment", x_all),
             "fragment_time": ("fragment", times[f_time_index]),
             "fragment_time_index": ("fragment", f_time_index),
             "fragment_seed": ("fragment", f_seed),
@@ -562,7 +551,7 @@ def _slopes(t: np.ndarray, y: np.ndarray) -> np.ndarray:
     return ((y - y.mean(axis=-1, keepdims=True)) * tc).sum(axis=-1) / np.sum(tc**2)
 
 
-def _per_sample_totals(campaign: xr.Dataset, s_min: float = 0.0
+def per_sample_totals(campaign: xr.Dataset, s_min: float = 0.0
                        ) -> tuple[np.ndarray, np.ndarray]:
     """Total area and fragment count per (seed, time), fragments with S >= s_min only."""
     seeds = campaign["seed"].values
@@ -722,11 +711,11 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
     lo, hi = win["start"], win["end"]
     times = campaign["time"].values.astype(float)
     window = win["mask"]
-    total, count = _per_sample_totals(campaign)
+    total, count = per_sample_totals(campaign)
     fits = _fits(times, total, count, window, n_boot)
     h = float(attrs["h"])
     s_min = math.pi * h * h
-    fits_smin = _fits(times, *_per_sample_totals(campaign, s_min), window, n_boot)
+    fits_smin = _fits(times, *per_sample_totals(campaign, s_min), window, n_boot)
     lam, mu = float(attrs["lame_lambda"]), float(attrs["lame_mu"])
     b_star = (mu * float(attrs["drying_rate"])
               / ((lam + 2 * mu) * float(attrs["thickness"]) ** 2 * float(attrs["yield_stress"])))

@@ -200,12 +200,8 @@ def _dataset(engine: DryingEngine, rec: Recorder, finished: bool) -> xr.Dataset:
     for key, (long_name, units) in SERIES_VARS.items():
         data[key] = (("step_time",), np.asarray(rec.series[key], float),
                      {"long_name": long_name, "units": units})
-    coords = {
-        "time": ("time", np.asarray(rec.snapshot_times, float),
-                 {"long_name": "snapshot time", "units": "eta/lambda"}),
-        "step_time": ("step_time", np.asarray(rec.series_times, float),
-                      {"long_name": "time-series sample time", "units": "eta/lambda"}),
-    }
+    coords = {"time": np.asarray(rec.snapshot_times, float),  # long names, units: craquelure.cf
+              "step_time": np.asarray(rec.series_times, float)}
     return xr.Dataset(data, coords=coords, attrs={
         "h": engine.h, "box_length": engine.box_length, "n_particles": engine.n,
         "dt_final": engine.dt, "steps": engine.step_count,
@@ -273,29 +269,22 @@ class DryingRun(runner.EngineRun):
         out["next_output"] = rec.next_output
         out["snapshot_times"] = np.asarray(rec.snapshot_times, float)
         out["series_times"] = np.asarray(rec.series_times, float)
-        for key in SNAPSHOT_VARS:
-            out[f"snapshot_{key}"] = (np.stack(rec.snapshots[key]) if rec.snapshots[key]
-                                      else np.zeros((0, engine.n)))
-        for key in SERIES_VARS:
-            out[f"series_{key}"] = np.asarray(rec.series[key], float)
+        out.update({f"snapshot_{k}": np.asarray(v) for k, v in rec.snapshots.items()})
+        out.update({f"series_{k}": np.asarray(v, float) for k, v in rec.series.items()})
         for key, value in engine.step_control_state().items():
             out[f"step_control_{key}"] = np.asarray(value, float)
         return out
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
         engine, rec = self.engine, self.rec
-        for name in ENGINE_STATE:
-            value = state[name]
-            setattr(engine, name, value.copy() if value.ndim else value.item())
+        runner.set_attributes(engine, {name: state[name] for name in ENGINE_STATE})
         engine.alive = engine.alive.astype(np.bool_)
         engine.stepper.set_state(list(state["history"]), int(state["rk4_left"]))
         rec.next_output = int(state["next_output"])
         rec.snapshot_times = state["snapshot_times"].tolist()
         rec.series_times = state["series_times"].tolist()
-        for key in SNAPSHOT_VARS:
-            rec.snapshots[key] = list(state[f"snapshot_{key}"])
-        for key in SERIES_VARS:
-            rec.series[key] = state[f"series_{key}"].tolist()
+        rec.snapshots = {key: list(state[f"snapshot_{key}"]) for key in SNAPSHOT_VARS}
+        rec.series = {key: state[f"series_{key}"].tolist() for key in SERIES_VARS}
         prefix = "step_control_"
         engine.set_step_control_state({k[len(prefix):]: float(v) for k, v in state.items()
                                        if k.startswith(prefix)})
@@ -324,7 +313,6 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     ``stop_after_checkpoints`` ends early after that many checkpoints and returns the
     checkpoint's path (tests of resume)."""
     clock = WallClock()
-    out = Path(out)
     if init is not None:
         init_ds = read_dataset(init, "drying initial state", model="drying",
                                variables=INITIAL_STATE_VARS)
@@ -335,15 +323,8 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     else:
         init_ds = build_initial_state(scene, seed)
     model = DryingRun(scene, engine_from_initial(scene, init_ds), Recorder(output_times(scene)))
-    try:
-        summary = runner.run(
-            model, scene, seed, t_end=model.t_end, desc=f"drying {scene.name} seed {seed}",
-            out=out, resume=resume, every=checkpoint_every or model.rebuild_every,
-            minutes=runner.minutes_or_default(checkpoint_minutes), time_unit="eta/lambda",
-            extra_fingerprint=_init_fingerprint(init_ds), clock=clock,
-            stop_after_checkpoints=stop_after_checkpoints)
-    except runner.Stopped:
-        return runner.checkpoint_path(out)
-    model.finish()
-    return runner.write_run(_dataset(model.engine, model.rec, finished=True), out, scene, seed,
-                            summary, clock)
+    return runner.run_to_file(
+        model, scene, seed, out, lambda: _dataset(model.engine, model.rec, finished=True), clock,
+        checkpoint_minutes, t_end=model.t_end, desc=f"drying {scene.name} seed {seed}",
+        resume=resume, every=checkpoint_every or model.rebuild_every, time_unit="eta/lambda",
+        extra_fingerprint=_init_fingerprint(init_ds), stop_after_checkpoints=stop_after_checkpoints)

@@ -349,9 +349,9 @@ def fig_speed(study: xr.Dataset, profile: str):
     fig, (ax_o, ax_f, ax_n) = plt.subplots(1, 3, figsize=(14, 5.0))
     fig.subplots_adjust(bottom=0.26, wspace=0.3)
 
-    def bars(ax, key, label, colour, marker="o"):
-        y = study[key].values
-        err = np.abs(np.stack([y - study[f"{key}_lo"].values, study[f"{key}_hi"].values - y]))
+    def bars(ax, key, label, colour, marker="o", data=study):
+        y = data[key].values
+        err = np.abs(np.stack([y - data[f"{key}_lo"].values, data[f"{key}_hi"].values - y]))
         ax.errorbar(pi, y, yerr=np.nan_to_num(err), fmt=marker + "-", color=colour, capsize=3,
                     ms=4, label=label)
 
@@ -384,12 +384,7 @@ def fig_speed(study: xr.Dataset, profile: str):
                   f"{', '.join(unbroken)}", transform=ax_o.transAxes, fontsize=7)
     fixed = study["fixed_time"].values
     for colour, f in zip(_colours(fixed.size), fixed, strict=True):
-        row = study.sel(fixed_time=f)
-        y = row["fragments_per_area"].values
-        err = np.abs(np.stack([y - row["fragments_per_area_lo"].values,
-                               row["fragments_per_area_hi"].values - y]))
-        ax_n.errorbar(pi, y, yerr=np.nan_to_num(err), fmt="o-", color=colour, capsize=3, ms=4,
-                      label=f"t = {f:g} t*")
+        bars(ax_n, "fragments_per_area", f"t = {f:g} t*", colour, data=study.sel(fixed_time=f))
     ax_n.set_ylabel("fragments per unit area [1/length^2]")
     ax_n.set_title("Fragment density at fixed t/t*", fontsize=9)
     for ax in (ax_o, ax_f, ax_n):

@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure.drying import checks
-from craquelure.drying.analysis import build_campaign, drying_number
+from craquelure.drying.analysis import build_campaign, drying_number, per_sample_totals
 from craquelure.errors import CraquelureError
 from craquelure.scene import Scene
 
@@ -88,15 +88,10 @@ def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
               / ((float(a["lame_lambda"]) + 2 * float(a["lame_mu"]))
                  * float(a["thickness"]) ** 2 * float(a["yield_stress"])))
     seeds = campaign["seed"].values
-    n_t = times.size
-    area, count = campaign["fragment_area"].values, campaign["n_fragments"].values
-    owner = np.searchsorted(seeds, campaign["fragment_seed"].values)
-    total = np.bincount(owner * n_t + campaign["fragment_time_index"].values, area,
-                        seeds.size * n_t).reshape(seeds.size, n_t)
+    total, count = per_sample_totals(campaign)
     window = _broken_window(campaign)
-    fit = checks.check_inverse_area(times[window], total[:, window],
-                                    count[:, window].astype(float), tstar, b_star, n_boot,
-                                    n_power=200)
+    fit = checks.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
+                                    b_star, n_boot, n_power=200)
     for key, value, ci, scale in (("t0_over_t_star", "x_intercept_t0", "t0_ci95", tstar),
                                   ("b_over_b_star", "slope_b", "slope_b_ci95", b_star)):
         out[key] = fit[value] / scale if "error" not in fit else np.nan
@@ -149,8 +144,6 @@ def speed_study(fragments: Mapping[Any, Sequence[xr.Dataset]],
                       "units": "1/length^2"})
     return xr.Dataset(
         data,
-        coords={"speed": ("speed", np.array([r["pi"] for r in rows], float),
-                          {"long_name": "Pi = tau/t*, tau = eta/(2 mu)"}),
-                "fixed_time": ("fixed_time", fixed, {"long_name": "t/t*"})},
+        coords={"speed": np.array([r["pi"] for r in rows], float), "fixed_time": fixed},
         attrs={**PAPER, "n_bootstrap": n_boot},
     )

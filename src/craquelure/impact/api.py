@@ -219,7 +219,7 @@ class ImpactRun(runner.EngineRun):
     CHECK_EVERY = 50
 
     def __init__(self, scene: Scene, seed: int) -> None:
-        self.scene = scene
+        self.scene, self.seed = scene, seed
         self.specimen = build_specimen(scene, seed)
         self.engine = Engine(settings(scene), initial_state(scene, self.specimen))
         self.t_end = float(scene.get("outputs.t_end"))
@@ -296,10 +296,8 @@ class ImpactRun(runner.EngineRun):
         return out
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
-        runner.set_attributes(self.engine, {k: v for k, v in state.items()
-                                            if k.startswith("engine_")}, "engine_")
-        runner.set_attributes(self.engine.state, {k: v for k, v in state.items()
-                                                  if k.startswith("particles_")}, "particles_")
+        runner.set_attributes(self.engine, state, "engine_")
+        runner.set_attributes(self.engine.state, state, "particles_")
         self.series = {k: state[f"series_{k}"].tolist() for k in SERIES}
         self.snapshots = [(float(t), {key: state[f"snapshot_{key}"][i].copy()
                                       for key in SNAPSHOT_FIELDS})
@@ -311,21 +309,19 @@ class ImpactRun(runner.EngineRun):
         return (self.specimen, self.engine, {k: np.asarray(v) for k, v in self.series.items()},
                 self.snapshots)
 
+    def options(self) -> dict:
+        """The runner's end time, label and time unit (microseconds) of this run."""
+        return {"t_end": self.t_end, "desc": f"impact {self.scene.name} seed {self.seed}",
+                "time_unit": "us", "time_scale": 1e6}
 
-def simulate(scene: Scene, seed: int, progress: bool = True, out: Path | None = None,
-             resume: bool = False, clock: WallClock | None = None,
-             checkpoint_every: int | None = None, checkpoint_minutes: float | None = None,
-             stop_after_checkpoints: int | None = None):
-    """Run a scene through the runner; returns (specimen, engine, series dict, snapshots list
-    of (t, fields)) and the runner's summary as its fifth item when ``out`` is given."""
+
+def simulate(scene: Scene, seed: int, progress: bool = True):
+    """Run a scene through the runner without output files; returns (specimen, engine, series
+    dict, snapshots list of (t, fields))."""
     model = ImpactRun(scene, seed)
-    summary = runner.run(
-        model, scene, seed, t_end=model.t_end, desc=f"impact {scene.name} seed {seed}",
-        out=out, resume=resume, time_unit="us", time_scale=1e6, progress=progress, clock=clock,
-        stop_after_checkpoints=stop_after_checkpoints, every=checkpoint_every or 0,
-        minutes=runner.minutes_or_default(checkpoint_minutes))
+    runner.run(model, scene, seed, progress=progress, **model.options())
     model.finish()
-    return (*model.result(), summary) if out is not None else model.result()
+    return model.result()
 
 
 def run(scene: Scene, out: Path, seed: int, init: Path | None = None,
@@ -335,16 +331,11 @@ def run(scene: Scene, out: Path, seed: int, init: Path | None = None,
     if scene.model != "impact":
         raise CraquelureError(f"scene {scene.name} is not an impact scene")
     clock = WallClock()
-    out = Path(out)
-    try:
-        sp, eng, series, snapshots, summary = simulate(
-            scene, seed, out=out, resume=resume, clock=clock,
-            stop_after_checkpoints=stop_after_checkpoints, checkpoint_every=checkpoint_every,
-            checkpoint_minutes=checkpoint_minutes)
-    except runner.Stopped:
-        return runner.checkpoint_path(out)
-    return runner.write_run(run_dataset(scene, seed, sp, eng, series, snapshots), out, scene,
-                            seed, summary, clock)
+    model = ImpactRun(scene, seed)
+    return runner.run_to_file(
+        model, scene, seed, out, lambda: run_dataset(scene, seed, *model.result()), clock,
+        checkpoint_minutes, resume=resume, every=checkpoint_every or 0,
+        stop_after_checkpoints=stop_after_checkpoints, **model.options())
 
 
 def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:

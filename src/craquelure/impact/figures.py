@@ -6,10 +6,20 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
+import matplotlib
 
-from craquelure.impact.analysis import run_fact, run_metrics, run_scene
-from craquelure.io import open_dataset
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from craquelure.impact.analysis import run_fact, run_metrics, run_scene  # noqa: E402
+from craquelure.io import open_dataset  # noqa: E402
+
+
+def _save(fig, out: Path) -> None:
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
 
 
 def _disc(ax, ds, values, snapshot=-1, cmap="gray_r", vmin=0.0, vmax=1.0, reference=False):
@@ -42,8 +52,6 @@ def _title(ds):
 
 
 def figure_masses(run: Path, out: Path, label: str) -> None:
-    import matplotlib.pyplot as plt
-
     ds = open_dataset(run)
     mbar = float(np.mean(ds["mass"].values))
     fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4.4))
@@ -56,14 +64,10 @@ def figure_masses(run: Path, out: Path, label: str) -> None:
     fig.colorbar(sc, ax=b, label="mass per metre [g/m]")
     b.set_title("mass map (Fig. 6)")
     fig.suptitle(label, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out)
 
 
 def figure_damage_grid(runs, out: Path, title: str, label: str) -> None:
-    import matplotlib.pyplot as plt
-
     runs = list(runs)
     cols = len(runs)
     fig, axes = plt.subplots(1, cols, figsize=(3.2 * cols, 3.6), squeeze=False)
@@ -72,14 +76,10 @@ def figure_damage_grid(runs, out: Path, title: str, label: str) -> None:
         _disc(ax, ds, _failed(ds))
         ax.set_title(_title(ds), fontsize=7)
     fig.suptitle(f"{title}\n{label}", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out)
 
 
 def figure_precracks(runs, out: Path, label: str) -> None:
-    import matplotlib.pyplot as plt
-
     runs = list(runs)
     fig, axes = plt.subplots(2, len(runs), figsize=(3.2 * len(runs), 6.6), squeeze=False)
     for c, run in enumerate(runs):
@@ -94,14 +94,10 @@ def figure_precracks(runs, out: Path, label: str) -> None:
         axes[1, c].set_title(f"failure; {100 * float(fr):.0f} % cracked near the line",
                              fontsize=7)
     fig.suptitle(f"pre-cracks as zero-mass lines (Figs. 11-13)\n{label}", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out)
 
 
 def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(6.5, 4))
     scales = set()
     for kappa, runs in sorted(runs_by_kappa.items()):
@@ -120,16 +116,12 @@ def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
     ax.set_ylabel("contact force [MN/m]")
     ax.legend(fontsize=7)
     ax.set_title(f"{label}\npenalty scale factor a = {', '.join(sorted(scales))}", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out)
 
 
 def figure_accuracy(rows: list[dict], floors: dict, out: Path, label: str) -> None:
     """Error of the P-wave mode frequency versus CPU time, one curve per kappa (spacing
     annotated), the lattice floor 1 - g(kappa) dashed."""
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(6.5, 4.2))
     for i, kappa in enumerate(sorted({r["kappa"] for r in rows})):
         sel = sorted((r for r in rows if r["kappa"] == kappa), key=lambda r: -r["spacing"])
@@ -146,6 +138,4 @@ def figure_accuracy(rows: list[dict], floors: dict, out: Path, label: str) -> No
     ax.set_title(f"P-wave mode frequency error vs cost; reference: exact omega = k c_p, "
                  f"dashed: lattice floor 1 - g(kappa)\n{label}", fontsize=7)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    _save(fig, out)

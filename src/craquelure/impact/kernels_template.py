@@ -22,6 +22,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from craquelure.codegen import param_indices
 from craquelure.impact.effects.artificial_stress import artificial_stress_tensor
 from craquelure.impact.effects.artificial_viscosity import monaghan_pi
 from craquelure.impact.effects.cap_plasticity import cap_return
@@ -65,23 +66,16 @@ PARAMS = ("bulk", "shear", "young", "alpha_dp", "k_dp", "kappa0", "kappa_f", "wa
           "cap_d1", "cap_d2", "eps_fc", "eta0_t", "n_t", "eta0_c", "n_c", "overt", "overc",
           "f_t", "f_c")
 N_PARAMS = len(PARAMS)
-_index = PARAMS.index
-P_BULK, P_SHEAR, P_YOUNG, P_ALPHA_DP, P_K_DP, P_KAPPA0, P_KAPPA_F = (
-    _index("bulk"), _index("shear"), _index("young"), _index("alpha_dp"), _index("k_dp"),
-    _index("kappa0"), _index("kappa_f"),
-)
-P_C, P_AV_ALPHA, P_AV_BETA, P_AS_EPS, P_AS_N, P_SPACING = (
-    _index("wave_speed"), _index("av_alpha"), _index("av_beta"), _index("as_epsilon"),
-    _index("as_n"), _index("spacing"),
-)
-P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = (
-    _index("h_min"), _index("h_max"), _index("base_y"), _index("contact_radius"),
-    _index("contact_a"), _index("k_bulk"), _index("kinematic_ratio"),
-)
-P_LX, P_LY, P_LZ = _index("lx"), _index("ly"), _index("lz")
-P_CAP = _index("cap_alpha")
+P_BULK, P_SHEAR, P_YOUNG, P_ALPHA_DP, P_K_DP, P_KAPPA0, P_KAPPA_F = param_indices(
+    PARAMS, "bulk", "shear", "young", "alpha_dp", "k_dp", "kappa0", "kappa_f")
+P_C, P_AV_ALPHA, P_AV_BETA, P_AS_EPS, P_AS_N, P_SPACING = param_indices(
+    PARAMS, "wave_speed", "av_alpha", "av_beta", "as_epsilon", "as_n", "spacing")
+P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = param_indices(
+    PARAMS, "h_min", "h_max", "base_y", "contact_radius", "contact_a", "k_bulk", "kinematic_ratio")
+P_LX, P_LY, P_LZ = param_indices(PARAMS, "lx", "ly", "lz")
+P_CAP = PARAMS.index("cap_alpha")
 CAP_PARAMS = PARAMS[P_CAP:P_CAP + 18]
-P_FLUSH = _index("flush_below")
+P_FLUSH = PARAMS.index("flush_below")
 
 
 @njit(inline="always", cache=True)

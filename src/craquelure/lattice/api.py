@@ -170,15 +170,10 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
         raise CraquelureError("lattice runs build their initial state from the scene and seed: "
                               "run without --init")
     clock = WallClock()
-    out = Path(out)
     engine, labels = make_engine(scene, seed)
     model = LatticeRun(scene, engine)
-    try:
-        summary = runner.run(model, scene, seed, t_end=model.t_end, desc=f"lattice {scene.name}",
-                             out=out, resume=resume, every=checkpoint_every or model.rebuild_every,
-                             minutes=runner.minutes_or_default(checkpoint_minutes), clock=clock,
-                             stop_after_checkpoints=stop_after_checkpoints)
-    except runner.Stopped:
-        return runner.checkpoint_path(out)
-    return runner.write_run(to_dataset(scene, engine, labels, model.result()), out, scene, seed,
-                            summary, clock)
+    return runner.run_to_file(
+        model, scene, seed, out, lambda: to_dataset(scene, engine, labels, model.result()), clock,
+        checkpoint_minutes, t_end=model.t_end, desc=f"lattice {scene.name}",
+        every=checkpoint_every or model.rebuild_every, resume=resume,
+        stop_after_checkpoints=stop_after_checkpoints)

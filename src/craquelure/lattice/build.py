@@ -21,15 +21,8 @@ import numpy as np
 
 from craquelure.errors import SceneError
 from craquelure.lattice import beam
-from craquelure.lattice.engine import Engine, System, stable_step_estimate
-from craquelure.lattice.geometry import (
-    REMOVED,
-    ROW,
-    find_bonds,
-    half_disc,
-    remove_fraction,
-    triangular_block,
-)
+from craquelure.lattice.engine import Engine, System, lattice_system, stable_step_estimate
+from craquelure.lattice.geometry import REMOVED, ROW, half_disc, remove_fraction, triangular_block
 from craquelure.scene import Scene
 
 
@@ -52,11 +45,6 @@ def beam_constants(scene: Scene) -> beam.BeamConstants:
     return beam.euler_bernoulli(scene.get("material.E_b"), scene.get("material.width") * L, L)
 
 
-def particle_mass(scene: Scene) -> float:
-    L = scene.get("particles.spacing")  # noqa: N806
-    return scene.get("particles.density") * math.pi * L * L / 4.0
-
-
 def build_system(scene: Scene, seed: int) -> tuple[System, dict[str, np.ndarray]]:
     """The particle/bond system of a scene and per-particle labels (body, row, col)."""
     L = scene.get("particles.spacing")  # noqa: N806
@@ -77,19 +65,14 @@ def build_system(scene: Scene, seed: int) -> tuple[System, dict[str, np.ndarray]
         row = np.concatenate([row, np.full(px.size, -1)])
         col = np.concatenate([col, np.full(px.size, -1)])
         body = np.concatenate([body, np.ones(px.size, np.int64)])
-    period = nx * L if periodic else 0.0
-    bi, bj = find_bonds(x, y, body, L, period)
     c = beam_constants(scene)
-    m = particle_mass(scene)
-    n, nb = x.size, bi.size
-    system = System(x=x, y=y, mass=np.full(n, m), inertia=np.full(n, m * L * L / 8.0),
-                    diameter=np.full(n, L), bi=bi, bj=bj, kn=np.full(nb, c.kn),
-                    ka=np.full(nb, c.a), kb=np.full(nb, c.b), period_x=period, L=L)
-    system.unbreakable[(body[bi] == 1)] = 1
+    system = lattice_system(x, y, L, c.kn, c.a, c.b, scene.get("particles.density"),
+                            nx * L if periodic else 0.0, body)
+    system.unbreakable[(body[system.bi] == 1)] = 1
     removal = scene.get("particles.bond_removal")
     if removal > 0:
         rng = np.random.default_rng(seed)
-        candidates = np.flatnonzero(body[bi] == 0)
+        candidates = np.flatnonzero(body[system.bi] == 0)
         gone = candidates[remove_fraction(candidates.size, removal, rng)]
         system.state[gone] = REMOVED
     if scene.get("domain.clamp_bottom"):

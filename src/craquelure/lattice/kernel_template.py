@@ -46,6 +46,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from craquelure.codegen import param_indices
 from craquelure.lattice.effects.beams import deformation, elastic_energy
 from craquelure.lattice.effects.bed import bed
 from craquelure.lattice.effects.buoyancy import buoyancy
@@ -81,33 +82,21 @@ PARAMS = (
     "energy_tolerance", "energy_floor", "cell_area", "mass_damping_until", "slope_angle",
 )
 N_PARAMS = len(PARAMS)
-_index = PARAMS.index
-DT, BETA, GAMMA, AREA, INERTIA, WIDTH, SIGMA0, TAU0, T_FRACTURE = (
-    _index("dt"), _index("beta"), _index("gamma"), _index("area"), _index("inertia"),
-    _index("width"), _index("sigma0"), _index("tau0"), _index("fracture_start"),
-)
-MELT_A, E_B, BLOCK, FROZEN_RATE = (
-    _index("melt_rate_factor"), _index("E_b"), _index("block"), _index("frozen_rate"),
-)
-KC, MU_F, C_T, SKIN = (
-    _index("contact_stiffness"), _index("friction"), _index("friction_viscosity"),
-    _index("skin"),
-)
-G, RHO, RHO_W, Y_WATER, C_DRAG, DRAG_ALL = (
-    _index("g"), _index("rho"), _index("rho_w"), _index("water_level"), _index("drag_rate"),
-    _index("drag_everywhere"),
-)
-Y_BED, K_BED, C_BED, C_FRIC_BED = (
-    _index("bed_level"), _index("bed_stiffness"), _index("bed_damping"), _index("bed_friction"),
-)
-LX, DRIVE_VX, DRIVE_VY, DRIVE_AMP, DRIVE_PERIOD, DRIVE_T0, LOAD_RAMP = (
-    _index("period_x"), _index("drive_vx"), _index("drive_vy"), _index("drive_amplitude"),
-    _index("drive_period"), _index("drive_start"), _index("load_ramp"),
-)
-ENERGY_TOL, ENERGY_FLOOR, CELL_AREA, GAMMA_UNTIL, SLOPE = (
-    _index("energy_tolerance"), _index("energy_floor"), _index("cell_area"),
-    _index("mass_damping_until"), _index("slope_angle"),
-)
+DT, BETA, GAMMA, AREA, INERTIA, WIDTH, SIGMA0, TAU0, T_FRACTURE = param_indices(
+    PARAMS, "dt", "beta", "gamma", "area", "inertia", "width", "sigma0", "tau0", "fracture_start")
+MELT_A, E_B, BLOCK, FROZEN_RATE = param_indices(
+    PARAMS, "melt_rate_factor", "E_b", "block", "frozen_rate")
+KC, MU_F, C_T, SKIN = param_indices(
+    PARAMS, "contact_stiffness", "friction", "friction_viscosity", "skin")
+G, RHO, RHO_W, Y_WATER, C_DRAG, DRAG_ALL = param_indices(
+    PARAMS, "g", "rho", "rho_w", "water_level", "drag_rate", "drag_everywhere")
+Y_BED, K_BED, C_BED, C_FRIC_BED = param_indices(
+    PARAMS, "bed_level", "bed_stiffness", "bed_damping", "bed_friction")
+LX, DRIVE_VX, DRIVE_VY, DRIVE_AMP, DRIVE_PERIOD, DRIVE_T0, LOAD_RAMP = param_indices(
+    PARAMS, "period_x", "drive_vx", "drive_vy", "drive_amplitude", "drive_period", "drive_start",
+    "load_ramp")
+ENERGY_TOL, ENERGY_FLOOR, CELL_AREA, GAMMA_UNTIL, SLOPE = param_indices(
+    PARAMS, "energy_tolerance", "energy_floor", "cell_area", "mass_damping_until", "slope_angle")
 # accumulator indices
 A_DAMP, A_FRACT, A_MELT, A_WORK, A_BROKEN, A_MELTED, A_E0, A_E0SET, A_ROUND = range(9)
 N_ACC = 9
@@ -436,6 +425,7 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
     # parallel region of its own (two extra fork/joins per call for 48 + 120 numbers)
     bpart = np.empty((NCHUNK, N_BPART))
     ppart = np.empty((NCHUNK, N_PPART))
+    psum = np.empty(N_PPART)
     for c in range(NCHUNK):
         for r in range(N_BPART):
             bpart[c, r] = 0.0
@@ -537,45 +527,27 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
         for c in prange(NCHUNK):
             _particle_chunk(cn[c], cn[c + 1], qm, q, qref, qbuild, mass, inertia, diam, fix,
                             drive, load, fn, crange, fc, p, t, ppart[c])
-        kin = 0.0
-        rot = 0.0
-        u_ext = 0.0
-        work = 0.0
-        diss = 0.0
-        diss_fwd = 0.0
-        work_fwd = 0.0
-        lux = 0.0
-        luy = 0.0
-        nload = 0.0
-        dfx = 0.0
-        dfy = 0.0
-        moved = 0.0
-        round_kin = 0.0
+        # the chunks' partial sums, added in chunk order (the largest displacement is a max;
+        # the round-off allowance of the work goes straight into its accumulator)
+        for r in range(N_PPART):
+            psum[r] = 0.0
         for c in range(NCHUNK):
-            round_kin += ppart[c, P_ROUND_KIN]
+            for r in range(N_PPART):
+                if r == P_MOVED:
+                    psum[r] = max(psum[r], ppart[c, r])
+                else:
+                    psum[r] += ppart[c, r]
             acc[A_ROUND] += ppart[c, P_ROUND_WORK]
-            kin += ppart[c, P_KIN]
-            rot += ppart[c, P_ROT]
-            u_ext += ppart[c, P_UEXT]
-            work += ppart[c, P_WORK]
-            diss += ppart[c, P_DISS]
-            diss_fwd += ppart[c, P_DISS_FWD]
-            work_fwd += ppart[c, P_WORK_FWD]
-            lux += ppart[c, P_LUX]
-            luy += ppart[c, P_LUY]
-            nload += ppart[c, P_NLOAD]
-            dfx += ppart[c, P_DFX]
-            dfy += ppart[c, P_DFY]
-            moved = max(moved, ppart[c, P_MOVED])
-        acc[A_DAMP] += diss
-        acc[A_WORK] += work
+        kin, rot, u_ext = psum[P_KIN], psum[P_ROT], psum[P_UEXT]
+        acc[A_DAMP] += psum[P_DISS]
+        acc[A_WORK] += psum[P_WORK]
         done = k + 1
         # 5. energy sample and checks
         if (gstep + 1) % series_every == 0 or k == n_steps - 1:
             # work and dissipation up to t (the trapezoidal sums that make 1/2 m v- v+ + U
             # exact): drop the forward half-steps booked in this step
-            w_t = acc[A_WORK] - work_fwd
-            d_t = acc[A_DAMP] - diss_fwd
+            w_t = acc[A_WORK] - psum[P_WORK_FWD]
+            d_t = acc[A_DAMP] - psum[P_DISS_FWD]
             total = kin + rot + u_beams + u_contact + u_ext - w_t + d_t + acc[A_FRACT] + acc[A_MELT]
             if acc[A_E0SET] == 0.0:
                 acc[A_E0] = total
@@ -586,9 +558,10 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
                 row[4], row[5], row[6], row[7] = u_contact, u_ext, w_t, d_t
                 row[8], row[9], row[10] = acc[A_FRACT], acc[A_MELT], total
                 row[11], row[12] = acc[A_BROKEN], acc[A_MELTED]
-                row[13] = lux / nload if nload > 0 else 0.0
-                row[14] = luy / nload if nload > 0 else 0.0
-                row[15], row[16] = dfx, dfy
+                nload = psum[P_NLOAD]
+                row[13] = psum[P_LUX] / nload if nload > 0 else 0.0
+                row[14] = psum[P_LUY] / nload if nload > 0 else 0.0
+                row[15], row[16] = psum[P_DFX], psum[P_DFY]
                 rows += 1
             if not math.isfinite(total):
                 status = NAN
@@ -597,11 +570,12 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
                         abs(w_t), d_t + acc[A_FRACT] + acc[A_MELT],
                         p[ENERGY_FLOOR])
             # plus what round-off alone can do (tiny steps: displacements near eps |x|)
-            allowance = ROUNDOFF * (round_kin + acc[A_ROUND])
+            allowance = ROUNDOFF * (psum[P_ROUND_KIN] + acc[A_ROUND])
             if abs(total - acc[A_E0]) > p[ENERGY_TOL] * scale + allowance:
                 status = RUNAWAY
                 break
-        if HAS_CONTACT and (moved > 0.25 * p[SKIN] * p[SKIN] or acc[A_BROKEN] > broken_before):
+        if HAS_CONTACT and (psum[P_MOVED] > 0.25 * p[SKIN] * p[SKIN]
+                            or acc[A_BROKEN] > broken_before):
             status = REBUILD
             break
     return status, done, rows

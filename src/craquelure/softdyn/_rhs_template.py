@@ -29,6 +29,7 @@ import math
 import numpy as np
 from numba import njit
 
+from craquelure.codegen import param_indices
 from craquelure.softdyn.effects.hertz import interaction_radius2, sign
 from craquelure.softdyn.effects.lubrication_normal import zeta_normal
 from craquelure.softdyn.effects.lubrication_tangential import zeta_tangential
@@ -41,11 +42,8 @@ LITERAL_DEFLECTION = False
 
 # the parameter vector: names in order, declared once (the engine packs by name)
 PARAMS = ("R", "eta", "E", "k_n", "k_t", "c_n", "c_t", "inv_tau_B", "t_r")
-_index = PARAMS.index
-R_, ETA, E_, K_N, K_T, C_N, C_T, INV_TAU_B, T_R = (
-    _index("R"), _index("eta"), _index("E"), _index("k_n"), _index("k_t"), _index("c_n"),
-    _index("c_t"), _index("inv_tau_B"), _index("t_r"),
-)
+R_, ETA, E_, K_N, K_T, C_N, C_T, INV_TAU_B, T_R = param_indices(
+    PARAMS, "R", "eta", "E", "k_n", "k_t", "c_n", "c_t", "inv_tau_B", "t_r")
 
 
 @njit(cache=True)

@@ -178,16 +178,9 @@ def run(scene: Scene, out: Path, seed: int | None = 0, init: Path | None = None,
         raise CraquelureError("softdyn runs start from the scene's arrangement; --init is not "
                               "used")
     clock = WallClock()
-    out = Path(out)
     model = study(scene, batch)
-    try:
-        summary = runner.run(model, scene, seed or 0, t_end=len(model.points),
-                             desc=f"softdyn {scene.name}", out=out, resume=resume,
-                             every=checkpoint_every or 0, time_unit="points", clock=clock,
-                             minutes=runner.minutes_or_default(checkpoint_minutes),
-                             stop_after_checkpoints=stop_after_checkpoints)
-    except runner.Stopped:
-        return runner.checkpoint_path(out)
-    ds = model.result()
-    ds.attrs.update(attrs or {})
-    return runner.write_run(ds, out, scene, seed, summary, clock)
+    return runner.run_to_file(
+        model, scene, seed, out, lambda: model.result().assign_attrs(attrs or {}), clock,
+        checkpoint_minutes, t_end=len(model.points), desc=f"softdyn {scene.name}",
+        every=checkpoint_every or 0, time_unit="points", resume=resume,
+        stop_after_checkpoints=stop_after_checkpoints)

@@ -107,30 +107,15 @@ def batch_dataset(points: list[xr.Dataset]) -> xr.Dataset:
                      dim="point")
 
 
-SWEEP_ATTRS = {
-    "duration": {"units": "tau", "long_name": "T1 duration (CD force reaches phi F_v)"},
-    "finished": {"long_name": "1 if the T1 ended before outputs.t_end"},
-    "computed": {"long_name": "1 if the point is inside study.window and was run"},
-    "theta_end": {"units": "deg", "long_name": "angle AC-AB at the end"},
-    "T_P": {"units": "tau", "long_name": "Poiseuille prediction c_n ln(R/h0) (Eq. 33)"},
-    "T_H": {"units": "tau", "long_name": "Hertz prediction (c_n/2)(h*/h0)^2 (Eq. 34)"},
-    "T_sep": {"units": "tau", "long_name": "quadrature of the AB opening time (section 7)"},
-    "h0_over_h_star": {"long_name": "h0/h*, h* = R (F~/k_n)^(2/3)"},
-    "regime": {"long_name": "hertz (h0/h* <= 1/3), poiseuille (>= 3) or crossover"},
-    "n_rhs": {"long_name": "right-hand-side evaluations"},
-    "run_wall_time_s": {"units": "s"},
-}
-
-
 def aggregate_sweep(scene, points: list[xr.Dataset]) -> xr.Dataset:
-    """Sweep dataset with named dims (h0, force) from the point datasets."""
+    """Sweep dataset with named dims (h0, force) from the point datasets (long names and units
+    from :mod:`craquelure.cf`'s table on writing)."""
     h0, force, mask = sweep_grid(scene)
     k_n, c_n = scene.get("material.k_n"), scene.get("material.c_n")
     hs = np.array([theory.h_star(f, k_n) for f in force])
     shape = (h0.size, force.size)
-    ds = xr.Dataset(coords={"h0": ("h0", h0, {"units": "R"}),
-                            "force": ("force", force, {"long_name": "reduced force F~"})})
-    ds["h_star"] = ("force", hs, {"units": "R"})
+    ds = xr.Dataset(coords={"h0": h0, "force": force})
+    ds["h_star"] = ("force", hs)
     numeric = ["duration", "finished", "theta_end", "T_sep", "n_rhs", "n_steps",
                "run_wall_time_s"]
     for name in numeric:
@@ -152,9 +137,6 @@ def aggregate_sweep(scene, points: list[xr.Dataset]) -> xr.Dataset:
                if np.isnan(ds["finished"].values[i, j])]
     if missing:
         raise SceneError(f"sweep aggregate: no result for the grid points {missing}")
-    for name, attrs in SWEEP_ATTRS.items():
-        if name in ds:
-            ds[name].attrs.update(attrs)
     ds.attrs.update({"n_points": int(mask.sum()),
                      "n_finished": int(np.nansum(ds["finished"].values)),
                      "window_lo": scene.get("study.window")[0],
@@ -214,12 +196,7 @@ def phase_dataset(scene, points: list[xr.Dataset]) -> xr.Dataset:
                     coords={"fh_over_fv": ratios, "force": force})
     ds["predicted"] = (dims, np.repeat((ratios < 1 / SQRT3)[:, None], force.size, 1)
                        .astype(float))
-    ds["occurred"].attrs["long_name"] = "1 if theta reached theta_end before t_end"
-    ds["predicted"].attrs["long_name"] = "1 if F_h < F_v/sqrt3 (AB in tension, Eq. 27)"
-    ds["time"].attrs["units"] = "tau (AB load)"
-    ds["f_ab_end"].attrs["units"] = "F_v"
-    ds["f_v"].attrs["units"] = "E R^2"
-    ds["f_h"].attrs["units"] = "E R^2"
+    ds["time"].attrs["units"] = "tau (AB load)"  # the rest: craquelure.cf's table on writing
     ds.attrs.update({"theta_end_deg": scene.get("outputs.theta_end_deg"),
                      "t_end": scene.get("outputs.t_end"), "h0": scene.get("particles.h0")})
     return ds

@@ -19,6 +19,7 @@ Removed particles (``alive == 0``) have zero mass and zero rates.
 import numpy as np
 from numba import njit, prange
 
+from craquelure.codegen import param_indices
 from craquelure.periodic import minimum_image
 from craquelure.sph.effects.continuity import density_rate
 from craquelure.sph.effects.drying import drying_stress
@@ -45,12 +46,9 @@ NVAR = 8
 # the parameter vector: names in order, declared once (the engine packs by name)
 PARAMS = ("lame_lambda", "lame_mu", "eta", "drying_rate", "thickness", "xsph_epsilon", "support",
           "box_length", "drying_stress_cap")
-_index = PARAMS.index
-P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = (
-    _index("lame_lambda"), _index("lame_mu"), _index("eta"), _index("drying_rate"),
-    _index("thickness"), _index("xsph_epsilon"), _index("support"), _index("box_length"),
-    _index("drying_stress_cap"),
-)
+P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = param_indices(
+    PARAMS, "lame_lambda", "lame_mu", "eta", "drying_rate", "thickness", "xsph_epsilon", "support",
+    "box_length", "drying_stress_cap")
 
 
 @njit(parallel=True, cache=True)

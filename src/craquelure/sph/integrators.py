@@ -220,18 +220,14 @@ class StepController:
         """Drop the PI memory (after a removal the error history describes another problem)."""
         self.err_prev = 0.0
 
+    STATE = ("dt_next", "err_prev", "dt_prev", "rejected_last", "accepted", "rejected")
+
     def state(self) -> dict[str, float]:
-        return {"dt_next": self.dt_next, "err_prev": self.err_prev, "dt_prev": self.dt_prev,
-                "rejected_last": float(self.rejected_last), "accepted": float(self.accepted),
-                "rejected": float(self.rejected)}
+        return {name: float(getattr(self, name)) for name in self.STATE}
 
     def set_state(self, values: dict[str, float]) -> None:
-        self.dt_next = float(values["dt_next"])
-        self.err_prev = float(values["err_prev"])
-        self.dt_prev = float(values["dt_prev"])
-        self.rejected_last = bool(values["rejected_last"])
-        self.accepted = int(values["accepted"])
-        self.rejected = int(values["rejected"])
+        for name in self.STATE:  # each back to its own type (float, bool or int)
+            setattr(self, name, type(getattr(self, name))(values[name]))
 
 
 class Stepper:

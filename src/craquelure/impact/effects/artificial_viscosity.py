@@ -15,13 +15,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="artificial_viscosity",
-    flag="ARTIFICIAL_VISCOSITY",
-    models=("impact",),
-    description="Monaghan artificial viscosity (alpha_AV, beta_AV)",
-    requires={"impact": ("numerics.av_alpha", "numerics.av_beta")},
-)
+EFFECT = Effect.of("impact", "artificial_viscosity", "ARTIFICIAL_VISCOSITY",
+                   "Monaghan artificial viscosity (alpha_AV, beta_AV)",
+                   requires=("numerics.av_alpha", "numerics.av_beta"))
 
 
 @njit(inline="always", cache=True)

@@ -25,13 +25,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="elasticity",
-    flag="ELASTICITY",
-    models=("impact",),
-    description="hypo-elastic effective stress, Jaumann rate (K, G), plane strain or stress",
-    requires={"impact": ("material.bulk_modulus", "material.shear_modulus")},
-)
+EFFECT = Effect.of("impact", "elasticity", "ELASTICITY",
+                   "hypo-elastic effective stress, Jaumann rate (K, G), plane strain or stress",
+                   requires=("material.bulk_modulus", "material.shear_modulus"))
 
 
 @njit(inline="always", cache=True)

@@ -25,13 +25,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="plasticity",
-    flag="PLASTICITY",
-    models=("impact",),
-    description="Drucker-Prager radial return (f_c, f_bc = 1.16 f_c), zero dilatancy",
-    requires={"impact": ("material.f_c",)},
-)
+EFFECT = Effect.of("impact", "plasticity", "PLASTICITY",
+                   "Drucker-Prager radial return (f_c, f_bc = 1.16 f_c), zero dilatancy",
+                   requires=("material.f_c",))
 
 
 def dp_constants(f_c: float, f_bc_ratio: float) -> tuple[float, float]:

@@ -11,13 +11,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="bed",
-    flag="HAS_BED",
-    models=("lattice",),
-    description="elastic bed below the body: spring + damping vertically, drag friction",
-    requires={"lattice": ("bed.stiffness", "domain.bed_level")},
-)
+EFFECT = Effect.of("lattice", "bed", "HAS_BED",
+                   "elastic bed below the body: spring + damping vertically, drag friction",
+                   requires=("bed.stiffness", "domain.bed_level"))
 
 
 @njit(inline="always", cache=True)

@@ -14,13 +14,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="contact",
-    flag="HAS_CONTACT",
-    models=("lattice",),
-    description="Hertz-like repulsion k_c (d - r)^1.5 between unbonded particles, with friction",
-    requires={"lattice": ("contact.stiffness",)},
-)
+EFFECT = Effect.of("lattice", "contact", "HAS_CONTACT",
+                   "Hertz-like repulsion k_c (d - r)^1.5 between unbonded particles, with friction",
+                   requires=("contact.stiffness",))
 
 
 @njit(inline="always", cache=True)

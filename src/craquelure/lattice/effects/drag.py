@@ -7,13 +7,8 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="drag",
-    flag="HAS_DRAG",
-    models=("lattice",),
-    description="linear drag -c_d m v below the water line",
-    requires={"lattice": ("drag.rate",)},
-)
+EFFECT = Effect.of("lattice", "drag", "HAS_DRAG", "linear drag -c_d m v below the water line",
+                   requires=("drag.rate",))
 
 
 @njit(inline="always", cache=True)

@@ -10,13 +10,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="gravity",
-    flag="HAS_GRAVITY",
-    models=("lattice",),
-    description="uniform gravity m g, vertical or along a slope (material.slope_angle)",
-    requires={"lattice": ("material.g",)},
-)
+EFFECT = Effect.of("lattice", "gravity", "HAS_GRAVITY",
+                   "uniform gravity m g, vertical or along a slope (material.slope_angle)",
+                   requires=("material.g",))
 
 
 @njit(inline="always", cache=True)

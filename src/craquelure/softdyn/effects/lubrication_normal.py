@@ -17,13 +17,10 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="lubrication_normal",
-    flag=None,  # always compiled in or handled outside the kernel
-    models=("softdyn",),
-    description="Poiseuille squeeze film, zeta_n = c_n eta a^4 / h^3",
-    requires={"softdyn": ("material.viscosity", "material.c_n")},
-)
+# flag None: always compiled in or handled outside the kernel
+EFFECT = Effect.of("softdyn", "lubrication_normal", None,
+                   "Poiseuille squeeze film, zeta_n = c_n eta a^4 / h^3",
+                   requires=("material.viscosity", "material.c_n"))
 
 
 @njit(inline="always", cache=True)

@@ -7,12 +7,8 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="continuity",
-    flag="CONTINUITY",
-    models=("drying",),
-    description="density from the continuity equation d rho/dt = -rho tr L",
-)
+EFFECT = Effect.of("drying", "continuity", "CONTINUITY",
+                   "density from the continuity equation d rho/dt = -rho tr L")
 
 
 @njit(inline="always", cache=True)

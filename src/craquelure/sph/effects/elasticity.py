@@ -13,13 +13,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="elasticity",
-    flag="ELASTICITY",
-    models=("drying",),
-    description="hypo-elastic stress, Jaumann rate (lambda, mu)",
-    requires={"drying": ("material.lame_lambda", "material.lame_mu")},
-)
+EFFECT = Effect.of("drying", "elasticity", "ELASTICITY",
+                   "hypo-elastic stress, Jaumann rate (lambda, mu)",
+                   requires=("material.lame_lambda", "material.lame_mu"))
 
 
 @njit(inline="always", cache=True)

@@ -11,13 +11,10 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="fracture",
-    flag=None,  # acts between steps (engine), not in the rate kernel
-    models=("drying",),
-    description="remove particles whose mean stress tr(sigma)/2 exceeds sigma_Y",
-    requires={"drying": ("material.yield_stress",)},
-)
+# flag None: acts between steps (engine), not in the rate kernel
+EFFECT = Effect.of("drying", "fracture", None,
+                   "remove particles whose mean stress tr(sigma)/2 exceeds sigma_Y",
+                   requires=("material.yield_stress",))
 
 
 @njit(cache=True)

@@ -10,13 +10,8 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="substrate",
-    flag="SUBSTRATE",
-    models=("drying",),
-    description="thin-layer substrate spring -(mu/H^2) u",
-    requires={"drying": ("material.lame_mu", "material.thickness")},
-)
+EFFECT = Effect.of("drying", "substrate", "SUBSTRATE", "thin-layer substrate spring -(mu/H^2) u",
+                   requires=("material.lame_mu", "material.thickness"))
 
 
 @njit(inline="always", cache=True)

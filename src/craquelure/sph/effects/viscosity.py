@@ -5,13 +5,8 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="viscosity",
-    flag="VISCOSITY",
-    models=("drying",),
-    description="Voigt viscous stress sigma_vis = eta D",
-    requires={"drying": ("material.eta",)},
-)
+EFFECT = Effect.of("drying", "viscosity", "VISCOSITY", "Voigt viscous stress sigma_vis = eta D",
+                   requires=("material.eta",))
 
 
 @njit(inline="always", cache=True)

@@ -12,13 +12,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect(
-    name="xsph",
-    flag="XSPH",
-    models=("drying",),
-    description="XSPH velocity averaging of particle transport (epsilon)",
-    requires={"drying": ("numerics.xsph_epsilon",)},
-)
+EFFECT = Effect.of("drying", "xsph", "XSPH",
+                   "XSPH velocity averaging of particle transport (epsilon)",
+                   requires=("numerics.xsph_epsilon",))
 
 
 @njit(inline="always", cache=True)
