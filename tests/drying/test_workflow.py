@@ -123,7 +123,11 @@ def test_speed_inputs_and_ends_per_pi():
     assert groups["P0p022"][0] == "results/drying/medium_Pi0p022/fragments/seed1.nc"
     ends = [jobs.speed_end_over_t_star(SimpleNamespace(pi=p)) for p in ("0p022", "0p066",
                                                                       "0p22", "0p66")]
-    assert ends == [1.5, 2.0, 3.0, 4.0]
+    assert ends == [1.5, 2.0, 4.0, 5.0]
+    # each speed's snapshots stop at its own end, so later snapshots leave slower speeds alone
+    slow = jobs.speed_times_over_t_star(SimpleNamespace(pi="0p022"))
+    assert slow[-1] == 1.5 and slow == [t for t in sec["speed"]["times_over_t_star"] if t <= 1.5]
+    assert jobs.speed_times_over_t_star(SimpleNamespace(pi="0p66"))[-1] == 5.0
     assert jobs.speed_overrides() == "--set numerics.integrator=rkc2"
     one_end = workflow.Jobs(section("config.yaml"))
     assert one_end.speed_end_over_t_star(SimpleNamespace(pi="0p66")) == 2.0

@@ -112,7 +112,7 @@ rule drying_speed_scene:
     params:
         pi=DRYING_JOBS.speed_value,
         end_over_t_star=DRYING_JOBS.speed_end_over_t_star,
-        times_over_t_star=config["drying"]["speed"]["times_over_t_star"],
+        times_over_t_star=DRYING_JOBS.speed_times_over_t_star,
     log:
         "logs/drying_speed_scene/{scene}_Pi{pi}.log",
     threads: 1

@@ -79,6 +79,13 @@ class Jobs:
         by_label = {label(p): float(e) for p, e in zip(study["pis"], ends, strict=True)}
         return by_label[label(self.speed_value(wildcards))]
 
+    def speed_times_over_t_star(self, wildcards) -> list[float]:
+        """Snapshot times of the speed run at Pi in units of t*, up to its end: adding later
+        snapshots for the fast speeds leaves the slow speeds' runs as they are."""
+        end = self.speed_end_over_t_star(wildcards)
+        return [float(t) for t in self.section["speed"]["times_over_t_star"]
+                if t <= end * (1 + 1e-9)]
+
     def speed_overrides(self) -> str:
         """`--set` arguments of the study's own scene overrides (``speed.set``), applied after
         the speed settings."""
