@@ -18,7 +18,6 @@ consistency and the memory a run needs.
 
 from __future__ import annotations
 
-import copy
 import math
 from typing import Any
 
@@ -98,14 +97,6 @@ class SceneView(SceneAccess):
         self.data = data
 
     name = "scene"
-
-    def with_overrides(self, overrides):
-        from craquelure.scene import apply_override
-
-        data = copy.deepcopy(self.data)
-        for item in overrides:
-            apply_override(data, item)
-        return SceneView(data)
 
 
 def _steps_problem(key: str, t_end: float, dt: float) -> str | None:
@@ -247,7 +238,10 @@ def _softdyn_rules(data: dict) -> list[str]:
     window = _get(data, "study.window")
     if window and window[0] >= window[1]:
         out.append(f"study.window: {window!r} must be increasing")
-    out += _model_checks(data, _softdyn_setup)
+    try:
+        _softdyn_setup(SceneView(data))
+    except SceneError as exc:
+        out.append(str(exc))
     return out
 
 
@@ -266,14 +260,6 @@ def _softdyn_setup(view: SceneView) -> None:
         raise SceneError("study.fh_over_fv and study.reduced_force: a phase scan needs both")
     elif kind == "accuracy" and not (view.get("study.rtol", None) or view.get("study.dt", None)):
         raise SceneError("study.rtol / study.dt: an accuracy study needs at least one list")
-
-
-def _model_checks(data: dict, check) -> list[str]:
-    try:
-        check(SceneView(data))
-    except SceneError as exc:
-        return [str(exc)]
-    return []
 
 
 RULES = {"drying": _drying_rules, "impact": _impact_rules, "lattice": _lattice_rules,

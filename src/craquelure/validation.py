@@ -59,6 +59,14 @@ class Claim:
             raise ValueError(f"verdict: {self.verdict!r} is not allowed; allowed values: "
                              f"{', '.join(VERDICTS)}")
 
+    @classmethod
+    def judged(cls, model: str, claim: str, source: str, criterion: str, measured: str,
+               conditions: Mapping[str, bool], undecided: Mapping[str, str] | None = None,
+               partial: bool = True) -> Claim:
+        """A claim whose verdict and note :func:`verdict_of` computes from its conditions."""
+        return cls(model, claim, source, criterion, measured,
+                   *verdict_of(conditions, undecided, partial))
+
 
 def verdict_of(conditions: Mapping[str, bool], undecided: Mapping[str, str] | None = None,
                partial: bool = True) -> tuple[str, str]:

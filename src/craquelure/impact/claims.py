@@ -13,7 +13,7 @@ import json
 import math
 from pathlib import Path
 
-from craquelure.validation import VERDICTS, Claim, verdict_of
+from craquelure.validation import VERDICTS, Claim
 
 MODEL = "impact"
 # Spec check 9's energy-balance tolerance, applied to every run of the campaign.
@@ -143,15 +143,15 @@ def check12_claims(summary: dict) -> list[Claim]:
 
 def robustness_claim(summary: dict) -> Claim:
     err = float(summary["max_energy_balance_error"])
-    verdict, note = verdict_of({"all runs finished": bool(summary["all_runs_finished"]),
-                                f"energy balance error < {ENERGY_BALANCE_MAX:.0%}":
-                                err < ENERGY_BALANCE_MAX})
-    return Claim(MODEL, "every variant (zero-mass pre-cracks and kappa = 0.7 included) runs to "
-                 "the end time with no NaN and a closed energy balance",
-                 "issue #5 acceptance; impact spec check 9 tolerance",
-                 f"all runs finished; max energy-balance error < {ENERGY_BALANCE_MAX:.0%}",
-                 f"{summary['n_runs']} runs, all finished: {summary['all_runs_finished']}; max "
-                 f"energy-balance error {err:.2%}", verdict, note)
+    return Claim.judged(MODEL, "every variant (zero-mass pre-cracks and kappa = 0.7 included) "
+                        "runs to the end time with no NaN and a closed energy balance",
+                        "issue #5 acceptance; impact spec check 9 tolerance",
+                        f"all runs finished; max energy-balance error < {ENERGY_BALANCE_MAX:.0%}",
+                        f"{summary['n_runs']} runs, all finished: {summary['all_runs_finished']};"
+                        f" max energy-balance error {err:.2%}",
+                        {"all runs finished": bool(summary["all_runs_finished"]),
+                         f"energy balance error < {ENERGY_BALANCE_MAX:.0%}":
+                         err < ENERGY_BALANCE_MAX})
 
 
 def claims(sources: list[Path]) -> list[Claim]:

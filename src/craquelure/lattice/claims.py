@@ -12,7 +12,7 @@ import csv
 import json
 from pathlib import Path
 
-from craquelure.validation import Claim, verdict_of
+from craquelure.validation import Claim
 
 MODEL = "lattice"
 WEAK_SCALING_SPREAD = 0.30  # spec check 12
@@ -20,30 +20,29 @@ CALVING_MIN_FRAGMENTS = 20  # spec check 11: fewer cannot decide the exponent
 
 
 def glen_claims(s: dict) -> list[Claim]:
-    verdict, note = verdict_of({"viscosity slope -2 +- 0.2": s["check8_glen_slope_pass"],
-                                "frozen bonds: slope 0 +- 0.2": s["check8_newtonian_pass"]})
-    glen = Claim(MODEL, "melting-freezing of bonds gives Glen's flow law, strain rate ~ "
-                 "stress^3", "lattice spec section 7; check 8",
-                 "log-log slope of the viscosity versus the applied stress -2 +- 0.2; "
-                 "Newtonian (slope 0 +- 0.2) with the bond state frozen",
-                 f"viscosity slope {s['viscosity_slope']:.3f} (strain-rate exponent "
-                 f"{s['strain_rate_exponent']:.3f}); frozen {s['frozen_viscosity_slope']:.4f}",
-                 verdict, note)
-    verdict, note = verdict_of({"steady within 10 %": s["check9_steady_pass"]})
-    steady = Claim(MODEL, "with melting the creep rate under constant stress is steady",
-                   "lattice spec check 9",
-                   "strain rate in the second half of the run within 10 % of the first",
-                   f"largest deviation {s['max_steadiness_deviation']:.1%}", verdict, note)
+    glen = Claim.judged(
+        MODEL, "melting-freezing of bonds gives Glen's flow law, strain rate ~ stress^3",
+        "lattice spec section 7; check 8",
+        "log-log slope of the viscosity versus the applied stress -2 +- 0.2; Newtonian (slope 0 "
+        "+- 0.2) with the bond state frozen",
+        f"viscosity slope {s['viscosity_slope']:.3f} (strain-rate exponent "
+        f"{s['strain_rate_exponent']:.3f}); frozen {s['frozen_viscosity_slope']:.4f}",
+        {"viscosity slope -2 +- 0.2": s["check8_glen_slope_pass"],
+         "frozen bonds: slope 0 +- 0.2": s["check8_newtonian_pass"]})
+    steady = Claim.judged(
+        MODEL, "with melting the creep rate under constant stress is steady",
+        "lattice spec check 9", "strain rate in the second half of the run within 10 % of the "
+        "first", f"largest deviation {s['max_steadiness_deviation']:.1%}",
+        {"steady within 10 %": s["check9_steady_pass"]})
     return [glen, steady]
 
 
 def gravity_claim(s: dict) -> Claim:
-    verdict, note = verdict_of({"within 5 %": s["check10_pass"]})
-    return Claim(MODEL, "an elastic block settles under gravity as continuum elasticity "
-                 "predicts", "lattice spec check 10",
-                 "interior settlement within 5 % of rho_2 g H^2 / (2M)",
-                 f"{s['measured']:.4g} against {s['predicted']:.4g} "
-                 f"({s['relative_error']:+.2%})", verdict, note)
+    return Claim.judged(MODEL, "an elastic block settles under gravity as continuum elasticity "
+                        "predicts", "lattice spec check 10",
+                        "interior settlement within 5 % of rho_2 g H^2 / (2M)",
+                        f"{s['measured']:.4g} against {s['predicted']:.4g} "
+                        f"({s['relative_error']:+.2%})", {"within 5 %": s["check10_pass"]})
 
 
 def calving_claim(s: dict) -> Claim:
@@ -56,36 +55,34 @@ def calving_claim(s: dict) -> Claim:
         conditions = {}
         undecided[f"exponent from {s['fragments']} fragments"] = (
             f">= {CALVING_MIN_FRAGMENTS} fragments (spec check 11)")
-    verdict, note = verdict_of(conditions, undecided)
-    return Claim(MODEL, "calved fragment sizes follow n(s) ~ s^-3/2 with a cut-off "
-                 "(2D brittle fragmentation)", "lattice spec section 10 (calving); check 11",
-                 "exponent in [1.2, 1.9] by maximum likelihood and by the log-binned slope",
-                 f"{s['fragments']} fragments: tau = {s['ml_exponent']:.2f} (cut-off "
-                 f"{s['ml_cutoff']:.3g}), binned slope {s['slope']:.2f} over "
-                 f"{s['decades']:.2f} decades", verdict, note)
+    return Claim.judged(MODEL, "calved fragment sizes follow n(s) ~ s^-3/2 with a cut-off "
+                        "(2D brittle fragmentation)", "lattice spec section 10 (calving); check 11",
+                        "exponent in [1.2, 1.9] by maximum likelihood and by the log-binned slope",
+                        f"{s['fragments']} fragments: tau = {s['ml_exponent']:.2f} (cut-off "
+                        f"{s['ml_cutoff']:.3g}), binned slope {s['slope']:.2f} over "
+                        f"{s['decades']:.2f} decades", conditions, undecided)
 
 
 def fretting_claim(s: dict) -> Claim:
     cycles = s["cycles"]
     platelets = sum(c["platelets"] for c in cycles)
-    verdict, note = verdict_of({"cracks under the pad": s["broken"] > 0,
-                                "platelets detach": platelets > 0})
     per_cycle = ", ".join(f"{c['platelets']}" for c in cycles)
-    return Claim(MODEL, "fretting: cracks start at the contact edges and detach platelets "
-                 "within a few oscillations", "lattice spec section 10 (fretting)",
-                 "broken beams under the pad and at least one detached platelet",
-                 f"{s['broken']} broken beams; platelets per cycle: {per_cycle or 'none run'}",
-                 verdict, note)
+    return Claim.judged(MODEL, "fretting: cracks start at the contact edges and detach platelets "
+                        "within a few oscillations", "lattice spec section 10 (fretting)",
+                        "broken beams under the pad and at least one detached platelet",
+                        f"{s['broken']} broken beams; platelets per cycle: "
+                        f"{per_cycle or 'none run'}", {"cracks under the pad": s["broken"] > 0,
+                                                       "platelets detach": platelets > 0})
 
 
 def accuracy_claim(s: dict) -> Claim:
     orders = ", ".join(f"{v:.2f} (dt factor {k})" for k, v in s["convergence_order"].items())
-    verdict, note = verdict_of({"order -2 +- 0.2": s["order_two_pass"]})
-    return Claim(MODEL, "the lattice converges to the continuum at second order in the "
-                 "spacing", "accuracy-versus-cost study (column mode)",
-                 "convergence order of the mode period -2 +- 0.2 at every time step",
-                 f"order {orders}; deviation from the chain prediction <= "
-                 f"{s['max_deviation_from_chain_prediction']:.1%}", verdict, note)
+    return Claim.judged(MODEL, "the lattice converges to the continuum at second order in the "
+                        "spacing", "accuracy-versus-cost study (column mode)",
+                        "convergence order of the mode period -2 +- 0.2 at every time step",
+                        f"order {orders}; deviation from the chain prediction <= "
+                        f"{s['max_deviation_from_chain_prediction']:.1%}",
+                        {"order -2 +- 0.2": s["order_two_pass"]})
 
 
 def scaling_claim(path: Path) -> Claim:
@@ -93,15 +90,14 @@ def scaling_claim(path: Path) -> Claim:
         rows = list(csv.DictReader(fh, delimiter="\t"))
     per = [float(r["time_per_step_per_particle_s"]) for r in rows]
     spread = max(per) / min(per) - 1
-    verdict, note = verdict_of({f"spread <= {WEAK_SCALING_SPREAD:.0%}":
-                                spread <= WEAK_SCALING_SPREAD})
     sizes = ", ".join(r["particles"] for r in rows)
-    return Claim(MODEL, "cost per particle and step is independent of the system size",
-                 "lattice spec check 12 (weak scaling)",
-                 f"time per step per particle within {WEAK_SCALING_SPREAD:.0%} from the "
-                 f"smallest to the largest lattice",
-                 f"{min(per):.3g}-{max(per):.3g} s (spread {spread:.0%}) at {sizes} particles",
-                 verdict, note)
+    return Claim.judged(MODEL, "cost per particle and step is independent of the system size",
+                        "lattice spec check 12 (weak scaling)",
+                        f"time per step per particle within {WEAK_SCALING_SPREAD:.0%} from the "
+                        f"smallest to the largest lattice",
+                        f"{min(per):.3g}-{max(per):.3g} s (spread {spread:.0%}) at {sizes} "
+                        "particles", {f"spread <= {WEAK_SCALING_SPREAD:.0%}":
+                                      spread <= WEAK_SCALING_SPREAD})
 
 
 _BY_FOLDER = {"glen": glen_claims, "gravity_block": lambda s: [gravity_claim(s)],

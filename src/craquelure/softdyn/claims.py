@@ -21,24 +21,22 @@ def sweep_claims(n: dict) -> list[Claim]:
     """Fig. 5: T decreases with h0 at every force (check 12) and, in the Hertz regime, as
     (h*/h0)^2 (check 11: local slope in [-2.2, -1.5] next to h0/h* = 0.1)."""
     monotone, slopes, span = n["monotone"], n["slopes"], n["span_decades"]
-    verdict, note = verdict_of({"decreasing at every force": bool(monotone) and all(monotone),
-                                "span >= 2 decades": span >= 2.0})
-    out = [Claim(MODEL, "the T1 duration falls with the initial gap h0, steeply once the "
-                 "spheres touch elastically (h0 < h*)", "paper 2 Fig. 5; softdyn spec check 12",
-                 "T/tau decreasing in h0 at every reduced force; span >= 2 decades over the grid",
-                 f"{n['finished']} finished runs at {n['forces']} forces; decreasing at "
-                 f"{sum(monotone)}/{len(monotone)} forces; span {span:.2f} decades",
-                 verdict, note)]
+    out = [Claim.judged(
+        MODEL, "the T1 duration falls with the initial gap h0, steeply once the spheres touch "
+        "elastically (h0 < h*)", "paper 2 Fig. 5; softdyn spec check 12",
+        "T/tau decreasing in h0 at every reduced force; span >= 2 decades over the grid",
+        f"{n['finished']} finished runs at {n['forces']} forces; decreasing at "
+        f"{sum(monotone)}/{len(monotone)} forces; span {span:.2f} decades",
+        {"decreasing at every force": bool(monotone) and all(monotone),
+         "span >= 2 decades": span >= 2.0})]
     if slopes:
         inside = [-2.2 <= s <= -1.5 for _, s, _, _ in slopes]
-        verdict, note = verdict_of({"local slope in [-2.2, -1.5] at every force": all(inside)})
-        measured = "; ".join(f"F~ = {f:g}: {s:.2f} (h0/h* {a:.3g}-{b:.3g})"
-                             for f, s, a, b in slopes)
-        out.append(Claim(MODEL, "in the Hertz regime the T1 duration grows as (h*/h0)^2",
-                         "paper 2 Eq. 34; softdyn spec check 11",
-                         "d ln T / d ln h0 between the two grid points nearest below "
-                         "h0/h* = 0.1 in [-2.2, -1.5] (-> -2 as h0/h* -> 0)",
-                         measured, verdict, note))
+        out.append(Claim.judged(
+            MODEL, "in the Hertz regime the T1 duration grows as (h*/h0)^2",
+            "paper 2 Eq. 34; softdyn spec check 11", "d ln T / d ln h0 between the two grid "
+            "points nearest below h0/h* = 0.1 in [-2.2, -1.5] (-> -2 as h0/h* -> 0)",
+            "; ".join(f"F~ = {f:g}: {s:.2f} (h0/h* {a:.3g}-{b:.3g})" for f, s, a, b in slopes),
+            {"local slope in [-2.2, -1.5] at every force": all(inside)}))
     return out
 
 
@@ -68,14 +66,13 @@ def phase_claim(n: dict) -> Claim:
 
 def t1_claim(n: dict) -> Claim:
     final, rising = n["theta_final"], n["largest_rise"]
-    verdict, note = verdict_of({"final angle in [29, 33] deg": 29.0 <= final <= 33.0,
-                                "angle non-increasing": rising <= 1e-9})
-    return Claim(MODEL, "four spheres complete a T1: the rhombus angle goes from 60 to about "
-                 "30 degrees", "paper 2 Fig. 4; softdyn spec check 9",
-                 "theta non-increasing, final theta in [29, 33] deg",
-                 f"theta {n['theta_start']:.2f} -> {final:.2f} deg in "
-                 f"{n['duration']:.4g} tau (largest rise {rising:.1e} deg)",
-                 verdict, note)
+    return Claim.judged(MODEL, "four spheres complete a T1: the rhombus angle goes from 60 to "
+                        "about 30 degrees", "paper 2 Fig. 4; softdyn spec check 9",
+                        "theta non-increasing, final theta in [29, 33] deg",
+                        f"theta {n['theta_start']:.2f} -> {final:.2f} deg in "
+                        f"{n['duration']:.4g} tau (largest rise {rising:.1e} deg)",
+                        {"final angle in [29, 33] deg": 29.0 <= final <= 33.0,
+                         "angle non-increasing": rising <= 1e-9})
 
 
 def approach_claims(n: dict) -> list[Claim]:
@@ -83,42 +80,42 @@ def approach_claims(n: dict) -> list[Claim]:
     out = []
     if n["rate"] is not None:
         rate = n["rate"]
-        verdict, note = verdict_of({"rate within 1 %": abs(rate - 1) <= 0.01})
-        out.append(Claim(MODEL, "far apart (h >> h*), two spheres pressed together approach "
-                         "exponentially, h = h0 exp(-t / (c_n tau))",
-                         "paper 1 (Poiseuille limit); softdyn spec check 4",
-                         "fitted rate of ln h while h >= 100 h* within 1 % of 1/(c_n tau)",
-                         f"rate x c_n tau = {rate:.4f} over {n['rate_samples']} samples",
-                         verdict, note))
+        out.append(Claim.judged(MODEL, "far apart (h >> h*), two spheres pressed together "
+                                "approach exponentially, h = h0 exp(-t / (c_n tau))",
+                                "paper 1 (Poiseuille limit); softdyn spec check 4",
+                                "fitted rate of ln h while h >= 100 h* within 1 % of 1/(c_n tau)",
+                                f"rate x c_n tau = {rate:.4f} over {n['rate_samples']} samples",
+                                {"rate within 1 %": abs(rate - 1) <= 0.01}))
     if n["hertz_ratio"] is not None:
         ratio = n["hertz_ratio"]
-        verdict, note = verdict_of({"within 2 %": abs(ratio - 1) <= 0.02})
-        out.append(Claim(MODEL, "in elastic contact (h << h*) the gap closes as h^-2 - h0^-2 = "
-                         "2t / (c_n tau h*^2)", "paper 1 (Hertz limit); softdyn spec check 4",
-                         "d(h^-2)/dt while h <= h*/100 within 2 % of 2/(c_n tau h*^2)",
-                         f"measured / predicted = {ratio:.4f}", verdict, note))
+        out.append(Claim.judged(MODEL, "in elastic contact (h << h*) the gap closes as h^-2 - "
+                                "h0^-2 = 2t / (c_n tau h*^2)",
+                                "paper 1 (Hertz limit); softdyn spec check 4",
+                                "d(h^-2)/dt while h <= h*/100 within 2 % of 2/(c_n tau h*^2)",
+                                f"measured / predicted = {ratio:.4f}",
+                                {"within 2 %": abs(ratio - 1) <= 0.02}))
     return out
 
 
 def separation_claim(n: dict) -> Claim:
     h0, force = n["h0"], n["reduced_force"]
     predicted, duration = n["predicted"], n["duration"]
-    verdict, note = verdict_of({"within 2 %": abs(duration / predicted - 1) <= 0.02})
-    return Claim(MODEL, "two spheres pulled apart open from h0 to R in the time given by the "
-                 "lubrication + Hertz quadrature", "paper 1; softdyn spec check 5",
-                 "opening time within 2 % of the quadrature of spec section 7",
-                 f"{duration:.5g} tau against {predicted:.5g} tau ({duration / predicted - 1:+.2%}"
-                 f"), h0 = {h0:g} R, F~ = {force:g}", verdict, note)
+    return Claim.judged(MODEL, "two spheres pulled apart open from h0 to R in the time given by "
+                        "the lubrication + Hertz quadrature", "paper 1; softdyn spec check 5",
+                        "opening time within 2 % of the quadrature of spec section 7",
+                        f"{duration:.5g} tau against {predicted:.5g} tau "
+                        f"({duration / predicted - 1:+.2%}), h0 = {h0:g} R, F~ = {force:g}",
+                        {"within 2 %": abs(duration / predicted - 1) <= 0.02})
 
 
 def accuracy_claim(n: dict) -> Claim:
     order, state = n["duration_order"], n["state_order"]
-    verdict, note = verdict_of({"order 2 +- 0.2 on the duration": abs(order - 2) <= 0.2,
-                                "order 2 +- 0.2 on the state": abs(state - 2) <= 0.2})
-    return Claim(MODEL, "the fixed-step integrator converges to the adaptive reference at "
-                 "second order", "softdyn spec check 13; accuracy-versus-cost study",
-                 "observed order of Heun's method 2 +- 0.2 (T1 duration and state)",
-                 f"order {order:.2f} (duration), {state:.2f} (state)", verdict, note)
+    return Claim.judged(MODEL, "the fixed-step integrator converges to the adaptive reference at "
+                        "second order", "softdyn spec check 13; accuracy-versus-cost study",
+                        "observed order of Heun's method 2 +- 0.2 (T1 duration and state)",
+                        f"order {order:.2f} (duration), {state:.2f} (state)",
+                        {"order 2 +- 0.2 on the duration": abs(order - 2) <= 0.2,
+                         "order 2 +- 0.2 on the state": abs(state - 2) <= 0.2})
 
 
 BY_KIND = {"sweep": sweep_claims, "phase": lambda n: [phase_claim(n)],
