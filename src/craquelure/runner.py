@@ -129,17 +129,24 @@ _VALUE = (np.ndarray, np.number, float, int, bool)
 
 
 def attributes(obj, prefix: str = "", skip: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
-    """The array and number attributes of ``obj`` (an engine's evolving state, generically:
-    a field added later is checkpointed without further code), keys prefixed."""
-    return {prefix + name: value for name, value in vars(obj).items()
-            if isinstance(value, _VALUE) and name not in skip}
+    """The array, number and list attributes of ``obj`` (an engine's evolving state,
+    generically: a field added later is checkpointed without further code; a list of numbers
+    or of equal-shaped arrays becomes one array), keys prefixed."""
+    return {prefix + name: np.asarray(value) if isinstance(value, list) else value
+            for name, value in vars(obj).items()
+            if isinstance(value, (*_VALUE, list)) and name not in skip}
 
 
 def set_attributes(obj, state: dict[str, np.ndarray], prefix: str = "") -> None:
-    """Inverse of :func:`attributes` (numbers come back as Python numbers)."""
+    """Inverse of :func:`attributes` (numbers come back as Python numbers, lists as lists)."""
     for key, value in state.items():
         if key.startswith(prefix):
-            setattr(obj, key[len(prefix):], value.copy() if value.ndim else value.item())
+            name = key[len(prefix):]
+            if isinstance(getattr(obj, name, None), list):
+                value = list(value.copy()) if value.ndim > 1 else value.tolist()
+            else:
+                value = value.copy() if value.ndim else value.item()
+            setattr(obj, name, value)
 
 
 def dataset_bytes(ds) -> np.ndarray:

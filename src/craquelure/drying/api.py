@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure import runner
-from craquelure.drying.engine import NVAR, VX, VY, DryingEngine, X, Y
+from craquelure.drying.engine import VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.errors import CraquelureError, SceneError
 from craquelure.io import read_dataset
@@ -260,41 +260,27 @@ class DryingRun(runner.EngineRun):
         if self.engine.step_count % self.series_every != 0:
             self.rec.record_series(self.engine)
 
+    def parts(self) -> dict[str, object]:
+        """What evolves, by checkpoint prefix: the engine's arrays and numbers (with the
+        neighbour list and the current rate, so that resuming needs no rebuild), the
+        integrator's history, the step control's memory and the recorder's outputs."""
+        engine = self.engine
+        return {"engine_": engine, "stepper_": engine.stepper, "rec_": self.rec,
+                **({"control_": engine.controller} if engine.controller else {})}
+
     def state(self) -> dict[str, np.ndarray]:
-        engine, rec = self.engine, self.rec
-        history, rk4_left = engine.stepper.state()
-        out = {name: getattr(engine, name) for name in ENGINE_STATE}
-        out["history"] = np.stack(history) if history else np.zeros((0, NVAR, engine.n))
-        out["rk4_left"] = rk4_left
-        out["next_output"] = rec.next_output
-        out["snapshot_times"] = np.asarray(rec.snapshot_times, float)
-        out["series_times"] = np.asarray(rec.series_times, float)
-        out.update({f"snapshot_{k}": np.asarray(v) for k, v in rec.snapshots.items()})
-        out.update({f"series_{k}": np.asarray(v, float) for k, v in rec.series.items()})
-        for key, value in engine.step_control_state().items():
-            out[f"step_control_{key}"] = np.asarray(value, float)
+        out = {}
+        for prefix, part in self.parts().items():
+            out.update(runner.attributes(part, prefix))
+        for kind, values in (("snapshot", self.rec.snapshots), ("series", self.rec.series)):
+            out.update({f"{kind}_{k}": np.asarray(v) for k, v in values.items()})
         return out
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
-        engine, rec = self.engine, self.rec
-        runner.set_attributes(engine, {name: state[name] for name in ENGINE_STATE})
-        engine.alive = engine.alive.astype(np.bool_)
-        engine.stepper.set_state(list(state["history"]), int(state["rk4_left"]))
-        rec.next_output = int(state["next_output"])
-        rec.snapshot_times = state["snapshot_times"].tolist()
-        rec.series_times = state["series_times"].tolist()
-        rec.snapshots = {key: list(state[f"snapshot_{key}"]) for key in SNAPSHOT_VARS}
-        rec.series = {key: state[f"series_{key}"].tolist() for key in SERIES_VARS}
-        prefix = "step_control_"
-        engine.set_step_control_state({k[len(prefix):]: float(v) for k, v in state.items()
-                                       if k.startswith(prefix)})
-
-
-# everything of the engine that evolves (with the neighbour list and the current rate, so
-# that resuming needs no rebuild)
-ENGINE_STATE = ("state", "x0", "y0", "mass", "alive", "t", "step_count", "dt", "n_removed",
-                "evaluations", "neighbour_builds", "offsets", "index", "_built_x", "_built_y",
-                "f_current", "stress", "viscous_evaluations", "stage_evaluations")
+        for prefix, part in self.parts().items():
+            runner.set_attributes(part, state, prefix)
+        self.rec.snapshots = {key: list(state[f"snapshot_{key}"]) for key in SNAPSHOT_VARS}
+        self.rec.series = {key: state[f"series_{key}"].tolist() for key in SERIES_VARS}
 
 
 def _init_fingerprint(init: xr.Dataset) -> bytes:

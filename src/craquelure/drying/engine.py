@@ -392,20 +392,6 @@ class DryingEngine:
             return 1e-9 * max(1.0, abs(self.t))
         return 0.5 * self.dt
 
-    def step_control_state(self) -> dict[str, float]:
-        """Scalars a checkpoint needs to resume an adaptive run bit-identically."""
-        if self.controller is None:
-            return {}
-        return {**self.controller.state(), "spectral_radius": self.spectral_radius,
-                "dt_event": self.dt_event}
-
-    def set_step_control_state(self, values: dict[str, float]) -> None:
-        if self.controller is None:
-            return
-        self.controller.set_state(values)
-        self.spectral_radius = float(values["spectral_radius"])
-        self.dt_event = float(values["dt_event"])
-
     def remove_overstressed(self) -> int:
         doomed = particles_to_remove(self.mean_stress, self.alive, self.yield_stress)
         if doomed.size == 0:

@@ -220,15 +220,6 @@ class StepController:
         """Drop the PI memory (after a removal the error history describes another problem)."""
         self.err_prev = 0.0
 
-    STATE = ("dt_next", "err_prev", "dt_prev", "rejected_last", "accepted", "rejected")
-
-    def state(self) -> dict[str, float]:
-        return {name: float(getattr(self, name)) for name in self.STATE}
-
-    def set_state(self, values: dict[str, float]) -> None:
-        for name in self.STATE:  # each back to its own type (float, bool or int)
-            setattr(self, name, type(getattr(self, name))(values[name]))
-
 
 class Stepper:
     """One integrator with its history. ``step(y, f0, t, dt, f)`` advances one step;
@@ -264,10 +255,3 @@ class Stepper:
             self.rk4_left = max(0, self.rk4_left - 1)
             return rk4_step(y, f0, t, dt, f)
         return abm4_step(y, self.history, t, dt, f)
-
-    def state(self) -> tuple[list[np.ndarray], int]:
-        return list(self.history), self.rk4_left
-
-    def set_state(self, history: list[np.ndarray], rk4_left: int) -> None:
-        self.history = list(history)
-        self.rk4_left = int(rk4_left)
