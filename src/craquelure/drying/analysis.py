@@ -606,12 +606,6 @@ def _fits(times: np.ndarray, total: np.ndarray, count: np.ndarray, window: np.nd
     return out
 
 
-def _scaled_samples(campaign: xr.Dataset) -> dict[float, np.ndarray]:
-    x = campaign["fragment_scaled_area"].values
-    t = campaign["fragment_time"].values
-    return {float(tk): x[t == tk] for tk in campaign["time"].values}
-
-
 def _mean_pairwise_ks(samples: list[np.ndarray]) -> float | None:
     usable = [s for s in samples if s.size >= 2]
     if len(usable) < 2:
@@ -623,9 +617,10 @@ def _mean_pairwise_ks(samples: list[np.ndarray]) -> float | None:
 def _collapse(campaign: xr.Dataset, win: dict[str, Any]) -> dict[str, Any]:
     times = campaign["time"].values.astype(float)
     window = win["mask"]
-    scaled = _scaled_samples(campaign)
     raw_area = campaign["fragment_area"].values
     raw_time = campaign["fragment_time"].values
+    x_all = campaign["fragment_scaled_area"].values
+    scaled = {float(t): x_all[raw_time == t] for t in times}
     tk = win["collapse_times"]
     pooled = (np.concatenate([scaled[t] for t in times[window]]) if window.any()
               else np.zeros(0))
@@ -756,7 +751,8 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
         "mesh_spacing": float(attrs.get("mesh_spacing", float("nan"))),
         "time_units": (f"window mode {win['mode']}: {win['description']}; "
                        f"t* = sigma_Y/v_r = {tstar:.4g} (paper {paper_t_star():.4g}); "
-                       f"Pi = tau/t* = {_pi_text(pi['pi'])} with tau = eta/(2 mu) "
+                       f"Pi = tau/t* = {'n/a' if pi['pi'] is None else format(pi['pi'], '.3g')}"
+                       " with tau = eta/(2 mu) "
                        f"(paper {paper_pi():.3g})"),
         "t_star": tstar,
         "time_scale_vs_paper": scale,
@@ -814,10 +810,6 @@ def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: 
     boot = np.array([curve(w) for w in weights])
     out["lo"], out["hi"] = np.nanpercentile(boot, [2.5, 97.5], axis=0)
     return out
-
-
-def _pi_text(pi: float | None) -> str:
-    return "n/a" if pi is None else f"{pi:.3g}"
 
 
 def json_ready(value: Any) -> Any:

@@ -178,10 +178,6 @@ def fig_inverse_mean_area(campaign: xr.Dataset, summary: dict[str, Any], profile
     return fig
 
 
-def _window_times(campaign: xr.Dataset) -> np.ndarray:
-    return campaign["time"].values[window_of(campaign)["mask"]]
-
-
 def _ccdf_panel(ax, campaign: xr.Dataset, times: np.ndarray, scaled: bool) -> None:
     """CCDFs with 95 % bootstrap bands at (up to 7 of) ``times``."""
     if times.size > 7:
@@ -204,7 +200,7 @@ def _ccdf_panel(ax, campaign: xr.Dataset, times: np.ndarray, scaled: bool) -> No
 def fig_size_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
     """Fig. 4: CCDF of S at (up to 7) snapshot times of the window, 95 % bootstrap bands."""
     fig, ax = plt.subplots(figsize=(6.4, 5.2))
-    _ccdf_panel(ax, campaign, _window_times(campaign), scaled=False)
+    _ccdf_panel(ax, campaign, campaign["time"].values[window_of(campaign)["mask"]], scaled=False)
     ax.set_xlabel("S [length^2]")
     ax.set_ylabel("P(fragment area > S; t)")
     ax.set_title("Fragment-size distribution, complementary cumulative (cf. paper Fig. 4)",

@@ -198,10 +198,9 @@ def crack_indicator(scene: Scene, dmg: np.ndarray, kap: np.ndarray) -> np.ndarra
     return softening(kap, concrete(scene))
 
 
-def _field_vars(prefix: str, st: State, mat: Concrete) -> dict:
-    return {f"{prefix}x": st.x.copy(), f"{prefix}y": st.y.copy(),
-            f"{prefix}damage": st.dmg.copy(), f"{prefix}softening": softening(st.kap, mat),
-            f"{prefix}plastic_strain": st.epsp.copy()}
+def _field_vars(st: State, mat: Concrete) -> dict:
+    return {"x": st.x.copy(), "y": st.y.copy(), "damage": st.dmg.copy(),
+            "softening": softening(st.kap, mat), "plastic_strain": st.epsp.copy()}
 
 
 SERIES = ("time", "contact_force", "contact_force_penalty", "kinetic", "internal", "elastic",
@@ -254,7 +253,7 @@ class ImpactRun(runner.EngineRun):
         eng = self.engine
         if len(self.snapshots) < len(self.snap_times) and \
                 eng.t >= self.snap_times[len(self.snapshots)]:
-            self.snapshots.append((eng.t, _field_vars("", eng.state, eng.s.material)))
+            self.snapshots.append((eng.t, _field_vars(eng.state, eng.s.material)))
         if self._sample_due():
             self._sample()
             self.next_sample += self.every
@@ -281,7 +280,7 @@ class ImpactRun(runner.EngineRun):
         """The final health check and field snapshot."""
         self.engine.check()
         eng = self.engine
-        self.snapshots.append((eng.t, _field_vars("", eng.state, eng.s.material)))
+        self.snapshots.append((eng.t, _field_vars(eng.state, eng.s.material)))
 
     def state(self) -> dict[str, np.ndarray]:
         out = {**runner.attributes(self.engine, "engine_"),
@@ -356,7 +355,7 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
     for key, arr in series.items():
         if key != "time":
             data[f"series_{key}"] = ("time", arr)
-    for key in ("x", "y", "damage", "softening", "plastic_strain"):
+    for key in SNAPSHOT_FIELDS:
         data[f"snap_{key}"] = (("snapshot_time", "particle"),
                                np.stack([f[key] for _, f in snapshots]))
     ds = xr.Dataset(data, coords={"time": series["time"],

@@ -109,7 +109,7 @@ class StudyRun(runner.EngineRun):
     so a checkpoint holds the finished points and ``--resume`` skips them. Within a point the
     integrator's guards (:class:`~craquelure.softdyn.integrate.Guard`) run after every step."""
 
-    def __init__(self, scene: Scene, points: list, combine) -> None:
+    def __init__(self, points: list, combine) -> None:
         self.points, self.combine = points, combine
         self.results: list[xr.Dataset] = []
         self.n_particles = 1
@@ -147,21 +147,21 @@ def study(scene: Scene, batch: list[tuple[int, int]] | None = None) -> StudyRun:
     workflow job's batch file)."""
     kind = scene.get("study.kind")
     if batch is not None:
-        return StudyRun(scene, [partial(studies.run_sweep_point, scene, i, j) for i, j in batch],
+        return StudyRun([partial(studies.run_sweep_point, scene, i, j) for i, j in batch],
                         studies.batch_dataset)
     if kind == "single":
         def single():
             setup = build(scene)
             return series_dataset(setup, setup.run(desc=scene.name))
-        return StudyRun(scene, [single], lambda results: results[0])
+        return StudyRun([single], lambda results: results[0])
     if kind == "sweep":
-        return StudyRun(scene, [partial(studies.run_sweep_point, scene, i, j)
-                                for i, j in studies.sweep_points(scene)],
+        return StudyRun([partial(studies.run_sweep_point, scene, i, j)
+                         for i, j in studies.sweep_points(scene)],
                         partial(studies.aggregate_sweep, scene))
     if kind == "accuracy":
-        return StudyRun(scene, [partial(run_accuracy, scene)], lambda results: results[0])
-    return StudyRun(scene, [partial(studies.phase_point, scene, r, f)
-                            for r, f in studies.phase_points(scene)],
+        return StudyRun([partial(run_accuracy, scene)], lambda results: results[0])
+    return StudyRun([partial(studies.phase_point, scene, r, f)
+                     for r, f in studies.phase_points(scene)],
                     partial(studies.phase_dataset, scene))
 
 
