@@ -128,25 +128,36 @@ def runaway(energy: float, limit: float, what: str,
 _VALUE = (np.ndarray, np.number, float, int, bool)
 
 
-def attributes(obj, prefix: str = "", skip: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
-    """The array, number and list attributes of ``obj`` (an engine's evolving state,
-    generically: a field added later is checkpointed without further code; a list of numbers
-    or of equal-shaped arrays becomes one array), keys prefixed."""
-    return {prefix + name: np.asarray(value) if isinstance(value, list) else value
-            for name, value in vars(obj).items()
-            if isinstance(value, (*_VALUE, list)) and name not in skip}
+def attributes(obj, prefix: str = "") -> dict[str, np.ndarray]:
+    """The array, number and list attributes of ``obj`` and the lists in its dict attributes
+    (an engine's evolving state, generically: a field added later is checkpointed without
+    further code; a list of numbers or of equal-shaped arrays becomes one array), with keys
+    ``<prefix><name>`` and ``<prefix><name>.<key>``."""
+    out = {}
+    for name, value in vars(obj).items():
+        if isinstance(value, dict):
+            out.update({f"{prefix}{name}.{k}": np.asarray(v) for k, v in value.items()
+                        if isinstance(v, list)})
+        elif isinstance(value, (*_VALUE, list)):
+            out[prefix + name] = np.asarray(value) if isinstance(value, list) else value
+    return out
+
+
+def _restored(value: np.ndarray, like: object):
+    if isinstance(like, list):
+        return list(value.copy()) if value.ndim > 1 else value.tolist()
+    return value.copy() if value.ndim else value.item()
 
 
 def set_attributes(obj, state: dict[str, np.ndarray], prefix: str = "") -> None:
     """Inverse of :func:`attributes` (numbers come back as Python numbers, lists as lists)."""
     for key, value in state.items():
         if key.startswith(prefix):
-            name = key[len(prefix):]
-            if isinstance(getattr(obj, name, None), list):
-                value = list(value.copy()) if value.ndim > 1 else value.tolist()
+            name, _, item = key[len(prefix):].partition(".")
+            if item:
+                getattr(obj, name)[item] = _restored(value, [])
             else:
-                value = value.copy() if value.ndim else value.item()
-            setattr(obj, name, value)
+                setattr(obj, name, _restored(value, getattr(obj, name, None)))
 
 
 def dataset_bytes(ds) -> np.ndarray:

@@ -269,18 +269,12 @@ class DryingRun(runner.EngineRun):
                 **({"control_": engine.controller} if engine.controller else {})}
 
     def state(self) -> dict[str, np.ndarray]:
-        out = {}
-        for prefix, part in self.parts().items():
-            out.update(runner.attributes(part, prefix))
-        for kind, values in (("snapshot", self.rec.snapshots), ("series", self.rec.series)):
-            out.update({f"{kind}_{k}": np.asarray(v) for k, v in values.items()})
-        return out
+        return {key: value for prefix, part in self.parts().items()
+                for key, value in runner.attributes(part, prefix).items()}
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
         for prefix, part in self.parts().items():
             runner.set_attributes(part, state, prefix)
-        self.rec.snapshots = {key: list(state[f"snapshot_{key}"]) for key in SNAPSHOT_VARS}
-        self.rec.series = {key: state[f"series_{key}"].tolist() for key in SERIES_VARS}
 
 
 def _init_fingerprint(init: xr.Dataset) -> bytes:

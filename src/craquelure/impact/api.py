@@ -225,7 +225,7 @@ class ImpactRun(runner.EngineRun):
         self.every = float(scene.get("outputs.series_dt"))
         self.snap_times = sorted(t for t in scene.get("outputs.snapshot_times") if t < self.t_end)
         self.series: dict[str, list] = {k: [] for k in SERIES}
-        self.snapshots: list[tuple[float, dict]] = []
+        self.snapshots: dict[str, list] = {k: [] for k in ("time", *SNAPSHOT_FIELDS)}
         self.mass_total = float(self.engine.state.m.sum())
         self.cracked = scene.get("material.cracked_threshold")
         self.last_t = self.last_impulse = 0.0
@@ -251,9 +251,9 @@ class ImpactRun(runner.EngineRun):
 
     def sample(self) -> None:
         eng = self.engine
-        if len(self.snapshots) < len(self.snap_times) and \
-                eng.t >= self.snap_times[len(self.snapshots)]:
-            self.snapshots.append((eng.t, _field_vars(eng.state, eng.s.material)))
+        taken = len(self.snapshots["time"])
+        if taken < len(self.snap_times) and eng.t >= self.snap_times[taken]:
+            self._snapshot()
         if self._sample_due():
             self._sample()
             self.next_sample += self.every
@@ -276,33 +276,29 @@ class ImpactRun(runner.EngineRun):
         series["impulse"].append(eng.impulse)
         self.last_t, self.last_impulse = eng.t, eng.impulse
 
+    def _snapshot(self) -> None:
+        eng = self.engine
+        self.snapshots["time"].append(eng.t)
+        for key, value in _field_vars(eng.state, eng.s.material).items():
+            self.snapshots[key].append(value)
+
     def finish(self) -> None:
         """The final health check and field snapshot."""
         self.engine.check()
-        eng = self.engine
-        self.snapshots.append((eng.t, _field_vars(eng.state, eng.s.material)))
+        self._snapshot()
+
+    def parts(self) -> dict[str, object]:
+        """What evolves, by checkpoint prefix: the engine, its particles and this run's
+        series, snapshots and sampling clock."""
+        return {"engine_": self.engine, "particles_": self.engine.state, "model_": self}
 
     def state(self) -> dict[str, np.ndarray]:
-        out = {**runner.attributes(self.engine, "engine_"),
-               **runner.attributes(self.engine.state, "particles_"),
-               **{f"series_{k}": np.asarray(v, float) for k, v in self.series.items()},
-               "snapshot_time": np.array([t for t, _ in self.snapshots], float),
-               "last_t": self.last_t, "last_impulse": self.last_impulse,
-               "next_sample": self.next_sample}
-        for key in SNAPSHOT_FIELDS:
-            out[f"snapshot_{key}"] = np.array([f[key] for _, f in self.snapshots]).reshape(
-                len(self.snapshots), self.n_particles)
-        return out
+        return {key: value for prefix, part in self.parts().items()
+                for key, value in runner.attributes(part, prefix).items()}
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
-        runner.set_attributes(self.engine, state, "engine_")
-        runner.set_attributes(self.engine.state, state, "particles_")
-        self.series = {k: state[f"series_{k}"].tolist() for k in SERIES}
-        self.snapshots = [(float(t), {key: state[f"snapshot_{key}"][i].copy()
-                                      for key in SNAPSHOT_FIELDS})
-                          for i, t in enumerate(state["snapshot_time"])]
-        self.last_t, self.last_impulse = float(state["last_t"]), float(state["last_impulse"])
-        self.next_sample = float(state["next_sample"])
+        for prefix, part in self.parts().items():
+            runner.set_attributes(part, state, prefix)
 
     def result(self):
         return (self.specimen, self.engine, {k: np.asarray(v) for k, v in self.series.items()},
@@ -316,7 +312,7 @@ class ImpactRun(runner.EngineRun):
 
 def simulate(scene: Scene, seed: int, progress: bool = True):
     """Run a scene through the runner without output files; returns (specimen, engine, series
-    dict, snapshots list of (t, fields))."""
+    dict, snapshots: lists of the times and of each field by name)."""
     model = ImpactRun(scene, seed)
     runner.run(model, scene, seed, progress=progress, **model.options())
     model.finish()
@@ -356,10 +352,8 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         if key != "time":
             data[f"series_{key}"] = ("time", arr)
     for key in SNAPSHOT_FIELDS:
-        data[f"snap_{key}"] = (("snapshot_time", "particle"),
-                               np.stack([f[key] for _, f in snapshots]))
-    ds = xr.Dataset(data, coords={"time": series["time"],
-                                  "snapshot_time": [t for t, _ in snapshots]})
+        data[f"snap_{key}"] = (("snapshot_time", "particle"), np.stack(snapshots[key]))
+    ds = xr.Dataset(data, coords={"time": series["time"], "snapshot_time": snapshots["time"]})
     ds.attrs["dim"] = sp.dim
     ds["series_contact_force"].attrs.update(
         units="N/m" if sp.dim == 2 else "N",

@@ -117,14 +117,12 @@ class LatticeRun(runner.EngineRun):
             self.frames[name].append(self.engine.q[a].copy())
 
     def state(self) -> dict[str, np.ndarray]:
-        out = {f"engine_{k}": v for k, v in self.engine.state().items()}
-        out.update({f"frame_{k}": np.array(v) for k, v in self.frames.items()})
-        return out
+        return {**{f"engine_{k}": v for k, v in self.engine.state().items()},
+                **runner.attributes(self, "model_")}  # the frames so far
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
         self.engine.restore({k[7:]: v for k, v in state.items() if k.startswith("engine_")})
-        self.frames = {k[6:]: list(v) for k, v in state.items() if k.startswith("frame_")}
-        self.frames["time"] = [float(t) for t in self.frames["time"]]
+        runner.set_attributes(self, state, "model_")
 
     def result(self) -> dict[str, np.ndarray]:
         return {k: np.array(v) for k, v in self.frames.items()}
