@@ -34,17 +34,6 @@ from craquelure.errors import CraquelureError
 PREDICTED_EXPONENT = 2.0
 
 
-def _per_seed(fragments: Sequence[xr.Dataset], n_t: int) -> tuple[np.ndarray, np.ndarray]:
-    """Total fragment area and count per (seed, time)."""
-    total = np.zeros((len(fragments), n_t))
-    count = np.zeros((len(fragments), n_t))
-    for s, ds in enumerate(fragments):
-        k = ds["fragment_time_index"].values.astype(np.int64)
-        total[s] = np.bincount(k, weights=ds["fragment_area"].values, minlength=n_t)
-        count[s] = ds["n_fragments"].values
-    return total, count
-
-
 def thickness_sweep(fragments: Mapping[float, Sequence[xr.Dataset]]) -> xr.Dataset:
     """Sweep dataset from fragment datasets grouped by layer thickness H (dims ``thickness``,
     ``time``); the snapshot times must agree across all datasets (compared on the common
@@ -73,21 +62,18 @@ def thickness_sweep(fragments: Mapping[float, Sequence[xr.Dataset]]) -> xr.Datas
     n_seeds = np.zeros(n_h, np.int64)
     for i, h in enumerate(thicknesses):
         sets = by_thickness[h]
-        # Restrict every dataset to the common times (fragment_time_index re-mapped).
-        restricted = []
-        for ds in sets:
+        # Total fragment area and count per (seed, common time): fragment_time_index re-mapped.
+        total, count = np.zeros((len(sets), n_t)), np.zeros((len(sets), n_t))
+        for s, ds in enumerate(sets):
             own = np.round(ds["time"].values.astype(float), 9)
             keep = np.isin(own, times)
             remap = np.full(own.size, -1)
             remap[keep] = np.searchsorted(times, own[keep])
             f_idx = remap[ds["fragment_time_index"].values.astype(np.int64)]
             sel = f_idx >= 0
-            restricted.append(xr.Dataset({
-                "fragment_area": ("fragment", ds["fragment_area"].values[sel]),
-                "fragment_time_index": ("fragment", f_idx[sel]),
-                "n_fragments": ("time", ds["n_fragments"].values[keep]),
-            }))
-        total, count = _per_seed(restricted, n_t)
+            total[s] = np.bincount(f_idx[sel], weights=ds["fragment_area"].values[sel],
+                                   minlength=n_t)
+            count[s] = ds["n_fragments"].values[keep]
         mean[i], se[i] = pooled_mean(total, count)
         n_frag[i] = count.sum(axis=0)
         all_broken[i] = np.all(count >= 2, axis=0)
