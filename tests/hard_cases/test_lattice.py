@@ -18,11 +18,12 @@ import pytest
 import scipy.linalg
 
 from craquelure.errors import SimulationDiverged
-from craquelure.lattice import beam
 from craquelure.lattice.api import run as lattice_run
 from craquelure.lattice.build import make_engine
 from craquelure.lattice.engine import stable_step_estimate
 from craquelure.scene import load_scene
+
+from ..lattice import linear_beam
 
 # a 12 x 6 block, bottom row clamped, under gravity, no damping: a clean critical step
 BLOCK = ["domain.nx=12", "domain.ny=6", "material.g=1.0e-3", "numerics.bond_damping=0.0",
@@ -35,7 +36,7 @@ def critical_dt_factor(scene) -> float:
     stiffness of the free dofs (clamped dofs removed) scaled by the masses."""
     engine, _ = make_engine(scene, 0)
     s = engine.system
-    stiffness = beam.assemble_global(s.x, s.y, s.bi, s.bj, s.kn, s.ka, s.kb).toarray()
+    stiffness = linear_beam.assemble_global(s.x, s.y, s.bi, s.bj, s.kn, s.ka, s.kb).toarray()
     m = np.column_stack([s.mass, s.mass, s.inertia]).ravel()
     free = ~np.asarray(s.fix, bool).T.ravel()
     k = (stiffness / np.sqrt(np.outer(m, m)))[np.ix_(free, free)]

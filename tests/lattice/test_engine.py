@@ -11,6 +11,8 @@ from craquelure.lattice import beam
 from craquelure.lattice.engine import Engine, System, lattice_system, stable_step_estimate
 from craquelure.lattice.geometry import triangular_block
 
+from . import linear_beam
+
 
 def small_block(nx=8, ny=8, model="shear_beam"):
     x, y, _ = triangular_block(nx, ny)
@@ -20,7 +22,7 @@ def small_block(nx=8, ny=8, model="shear_beam"):
 
 def true_critical_step(s: System) -> float:
     """2/sqrt(lambda_max(M^-1 K)) from a dense eigen-solve at rest."""
-    K = beam.assemble_global(s.x, s.y, s.bi, s.bj, s.kn, s.ka, s.kb).toarray()  # noqa: N806
+    K = linear_beam.assemble_global(s.x, s.y, s.bi, s.bj, s.kn, s.ka, s.kb).toarray()  # noqa: N806
     m = np.column_stack([s.mass, s.mass, s.inertia]).ravel()
     w2 = scipy.linalg.eigvalsh(K / np.sqrt(np.outer(m, m)))[-1]
     return 2.0 / math.sqrt(w2)

@@ -9,11 +9,12 @@ import pytest
 from craquelure.sph.neighbours import (
     Box,
     bin_particles,
-    brute_force_pairs,
     cell_order,
     cells_per_side,
     neighbour_list,
 )
+
+from .reference import brute_force_pairs
 
 
 def csr_pairs(offsets: np.ndarray, index: np.ndarray) -> set[tuple[int, int]]:

@@ -178,18 +178,6 @@ def cell_order(x: np.ndarray, y: np.ndarray, radius: float, box: Box) -> np.ndar
     return np.argsort(cell, kind="stable")
 
 
-def brute_force_pairs(x, y, radius, box: Box) -> set[tuple[int, int]]:
-    """O(N^2) reference for tests: all ordered pairs (i, j), i != j, closer than radius."""
-    dx = x[:, None] - x[None, :]
-    dy = y[:, None] - y[None, :]
-    if box.periodic:
-        dx = minimum_image(dx, box.length_x)
-        dy = minimum_image(dy, box.length_y)
-    close = (dx * dx + dy * dy < radius * radius)
-    np.fill_diagonal(close, False)
-    return {(int(i), int(j)) for i, j in zip(*np.nonzero(close), strict=True)}
-
-
 def neighbour_list_points(points: np.ndarray, radius: float,
                           box_lengths: tuple[float, ...] | None = None
                           ) -> tuple[np.ndarray, np.ndarray]:
