@@ -29,10 +29,9 @@ from craquelure.io import read_dataset
 from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 from craquelure.scene_rules import drying_run_step, initial_state_problems
-from craquelure.sph.integrators import RKC_SPECTRAL_SAFETY, rkc_stages
+from craquelure.sph.integrators import REAL_AXIS_LIMIT, RKC_SPECTRAL_SAFETY, rkc_stages
 from craquelure.throughput import prediction_lines
 
-RK4_REAL_AXIS, ABM4_REAL_AXIS = 2.785, 1.285
 EVALS_PER_STEP = {"rk4": 4, "abm4": 2, "rk2": 2}
 
 __all__ = ["build_initial_state", "derived_numbers", "run", "workload"]
@@ -60,8 +59,7 @@ def stable_time_step(scene: Scene) -> float:
     integrator = scene.get("numerics.integrator")
     if integrator == "rkc2":
         return float(scene.get("numerics.step_control")["dt_max"])
-    axis = {"rk4": RK4_REAL_AXIS, "abm4": ABM4_REAL_AXIS, "rk2": 2.0}[integrator]
-    limits = [axis / radius] if radius > 0 else []
+    limits = [REAL_AXIS_LIMIT[integrator] / radius] if radius > 0 else []
     if scene.has("elasticity"):
         lam, mu = scene.get("material.lame_lambda"), scene.get("material.lame_mu")
         c_l = math.sqrt((lam + 2 * mu) / scene.get("material.rho0"))

@@ -58,11 +58,12 @@ MEDIAN_SPECIMEN = 0.5  # "the median specimen has P": P in at least half of the 
 ALTERNATIVES = {"P in 9 of 10 specimens": 0.9, "P in 1 of 10 specimens": 0.1}
 
 
+def _missing(v) -> bool:
+    return v is None or (isinstance(v, float) and math.isnan(v))
+
+
 def _vals(case: dict | None, q: str) -> list:
-    if not case:
-        return []
-    return [v for v in case["per_seed"].get(q, []) if v is not None and not (
-        isinstance(v, float) and math.isnan(v))]
+    return [v for v in case["per_seed"].get(q, []) if not _missing(v)] if case else []
 
 
 def median_with_interval(values, decide, seed: int = 12) -> dict:
@@ -166,10 +167,8 @@ def _same(cases, q) -> tuple[bool, dict]:
 
 def _flags(case: dict | None, q: str, test) -> list:
     """One flag per seed of ``case``: ``test(value)``, None where the value is missing."""
-    if not case:
-        return []
-    return [None if v is None or (isinstance(v, float) and math.isnan(v)) else bool(test(v))
-            for v in case["per_seed"].get(q, [])]
+    return [None if _missing(v) else bool(test(v))
+            for v in case["per_seed"].get(q, [])] if case else []
 
 
 def _paired(a: dict | None, b: dict | None, q: str) -> list:
@@ -178,11 +177,7 @@ def _paired(a: dict | None, b: dict | None, q: str) -> list:
         return []
     va = dict(zip(a["seeds"], a["per_seed"].get(q, []), strict=False))
     vb = dict(zip(b["seeds"], b["per_seed"].get(q, []), strict=False))
-
-    def ok(v):
-        return v is not None and not (isinstance(v, float) and math.isnan(v))
-
-    return [va[s] > vb[s] if ok(va[s]) and ok(vb[s]) else None
+    return [None if _missing(va[s]) or _missing(vb[s]) else va[s] > vb[s]
             for s in sorted(set(va) & set(vb))]
 
 
