@@ -25,19 +25,11 @@ from pathlib import Path
 from craquelure.errors import CraquelureError
 
 MANIFEST = "MANIFEST.sha256"
-CHUNK = 1 << 20
-
-
-def sha256_stream(stream) -> str:
-    digest = hashlib.sha256()
-    for block in iter(lambda: stream.read(CHUNK), b""):
-        digest.update(block)
-    return digest.hexdigest()
 
 
 def sha256_file(path: str | Path) -> str:
     with open(path, "rb") as fh:
-        return sha256_stream(fh)
+        return hashlib.file_digest(fh, "sha256").hexdigest()
 
 
 def manifest_text(digests: Mapping[str, str]) -> str:
@@ -123,7 +115,7 @@ def _archive_contents(path: Path) -> tuple[dict[str, str], str | None]:
             if name == MANIFEST:
                 manifest = stream.read().decode()
             else:
-                digests[name or top] = sha256_stream(stream)
+                digests[name or top] = hashlib.file_digest(stream, "sha256").hexdigest()
     return digests, manifest
 
 

@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure import runner
-from craquelure.errors import CraquelureError, SceneError
+from craquelure.errors import SceneError
 from craquelure.impact.effects.artificial_stress import auto_epsilon
 from craquelure.impact.effects.contact_bulk import bulk_stiffness, half_cell_scale
 from craquelure.impact.effects.contact_mass import DEFAULT_SCALE
@@ -323,8 +323,6 @@ def run(scene: Scene, out: Path, seed: int, init: Path | None = None,
         resume: bool = False, checkpoint_every: int | None = None,
         checkpoint_minutes: float | None = None,
         stop_after_checkpoints: int | None = None) -> Path:
-    if scene.model != "impact":
-        raise CraquelureError(f"scene {scene.name} is not an impact scene")
     clock = WallClock()
     model = ImpactRun(scene, seed)
     return runner.run_to_file(
