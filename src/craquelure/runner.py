@@ -348,15 +348,21 @@ def write_run(ds, out: Path, scene, seed: int | None, summary: Summary,
 
 
 def run_to_file(engine: EngineRun, scene, seed: int | None, out: Path, dataset,
-                clock: WallClock, minutes: float | None = None, **options) -> Path:
-    """A model's run: :func:`run` with checkpoints next to ``out`` (every ``minutes`` of wall
-    time, None: :data:`DEFAULT_CHECKPOINT_MINUTES`; ``options`` as for :func:`run`), then
+                clock: WallClock, *, checkpoint_every: int | None = None,
+                checkpoint_minutes: float | None = None, default_every: int = 0,
+                **options) -> Path:
+    """A model's run, with the options of ``craquelure run`` that every model's ``run`` passes
+    on (``resume``, ``checkpoint_every``, ``checkpoint_minutes``, ``stop_after_checkpoints``):
+    :func:`run` with checkpoints next to ``out`` every ``checkpoint_every`` advances (None: the
+    model's ``default_every``) and ``checkpoint_minutes`` of wall time (None:
+    :data:`DEFAULT_CHECKPOINT_MINUTES`; other ``options`` as for :func:`run`), then
     ``engine.finish()`` and :func:`write_run` of ``dataset()``; the checkpoint's path instead
     when ``stop_after_checkpoints`` ended the run early."""
     out = Path(out)
+    minutes = DEFAULT_CHECKPOINT_MINUTES if checkpoint_minutes is None else checkpoint_minutes
     try:
-        summary = run(engine, scene, seed or 0, out=out, clock=clock, minutes=(
-            DEFAULT_CHECKPOINT_MINUTES if minutes is None else float(minutes)), **options)
+        summary = run(engine, scene, seed or 0, out=out, clock=clock, minutes=float(minutes),
+                      every=checkpoint_every or default_every, **options)
     except Stopped:
         return checkpoint_path(out)
     engine.finish()

@@ -281,15 +281,10 @@ def _init_fingerprint(init: xr.Dataset) -> bytes:
                     for key in ("x", "y", "mass", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy"))
 
 
-def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
-        resume: bool = False, checkpoint_every: int | None = None,
-        checkpoint_minutes: float | None = None,
-        stop_after_checkpoints: int | None = None) -> Path:
+def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None, **checkpoints) -> Path:
     """Simulate ``scene`` and write the run dataset to ``out`` (through the runner;
-    checkpoints every ``numerics.checkpoint_every`` steps unless ``checkpoint_every`` is given).
-
-    ``stop_after_checkpoints`` ends early after that many checkpoints and returns the
-    checkpoint's path (tests of resume)."""
+    ``checkpoints``: the options of :func:`craquelure.runner.run_to_file`; checkpoints every
+    ``numerics.checkpoint_every`` steps unless ``checkpoint_every`` is given)."""
     clock = WallClock()
     if init is not None:
         init_ds = read_dataset(init, "drying initial state", model="drying",
@@ -303,6 +298,6 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     model = DryingRun(scene, engine_from_initial(scene, init_ds), Recorder(output_times(scene)))
     return runner.run_to_file(
         model, scene, seed, out, lambda: _dataset(model.engine, model.rec, finished=True), clock,
-        checkpoint_minutes, t_end=model.t_end, desc=f"drying {scene.name} seed {seed}",
-        resume=resume, every=checkpoint_every or model.rebuild_every, time_unit="eta/lambda",
-        extra_fingerprint=_init_fingerprint(init_ds), stop_after_checkpoints=stop_after_checkpoints)
+        t_end=model.t_end, desc=f"drying {scene.name} seed {seed}", time_unit="eta/lambda",
+        default_every=model.rebuild_every, extra_fingerprint=_init_fingerprint(init_ds),
+        **checkpoints)

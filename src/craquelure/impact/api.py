@@ -319,16 +319,14 @@ def simulate(scene: Scene, seed: int, progress: bool = True):
     return model.result()
 
 
-def run(scene: Scene, out: Path, seed: int, init: Path | None = None,
-        resume: bool = False, checkpoint_every: int | None = None,
-        checkpoint_minutes: float | None = None,
-        stop_after_checkpoints: int | None = None) -> Path:
+def run(scene: Scene, out: Path, seed: int, init: Path | None = None, **checkpoints) -> Path:
+    """Simulate ``scene`` and write the run dataset to ``out`` (through the runner;
+    ``checkpoints``: the options of :func:`craquelure.runner.run_to_file`)."""
     clock = WallClock()
     model = ImpactRun(scene, seed)
     return runner.run_to_file(
         model, scene, seed, out, lambda: run_dataset(scene, seed, *model.result()), clock,
-        checkpoint_minutes, resume=resume, every=checkpoint_every or 0,
-        stop_after_checkpoints=stop_after_checkpoints, **model.options())
+        **model.options(), **checkpoints)
 
 
 def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:

@@ -156,14 +156,11 @@ def to_dataset(scene: Scene, engine: Engine, labels: dict, frames: dict) -> xr.D
     return ds
 
 
-def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
-        resume: bool = False, checkpoint_every: int | None = None,
-        checkpoint_minutes: float | None = None,
-        stop_after_checkpoints: int | None = None) -> Path:
+def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None, **checkpoints) -> Path:
     """``craquelure run lattice/<scene> --out RUN.nc [--resume]`` (through the runner;
-    checkpoints every ``numerics.checkpoint_every`` frames). The initial state is built from
-    the scene and seed (``--init`` is refused). Returns the checkpoint path instead when
-    stopped early by ``stop_after_checkpoints``."""
+    ``checkpoints``: the options of :func:`craquelure.runner.run_to_file`; checkpoints every
+    ``numerics.checkpoint_every`` frames). The initial state is built from the scene and seed
+    (``--init`` is refused)."""
     if init is not None:
         raise CraquelureError("lattice runs build their initial state from the scene and seed: "
                               "run without --init")
@@ -172,6 +169,5 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None,
     model = LatticeRun(scene, engine)
     return runner.run_to_file(
         model, scene, seed, out, lambda: to_dataset(scene, engine, labels, model.result()), clock,
-        checkpoint_minutes, t_end=model.t_end, desc=f"lattice {scene.name}",
-        every=checkpoint_every or model.rebuild_every, resume=resume,
-        stop_after_checkpoints=stop_after_checkpoints)
+        t_end=model.t_end, desc=f"lattice {scene.name}", default_every=model.rebuild_every,
+        **checkpoints)

@@ -166,14 +166,12 @@ def study(scene: Scene, batch: list[tuple[int, int]] | None = None) -> StudyRun:
 
 
 def run(scene: Scene, out: Path, seed: int | None = 0, init: Path | None = None,
-        resume: bool = False, checkpoint_every: int | None = None,
-        checkpoint_minutes: float | None = None,
-        stop_after_checkpoints: int | None = None,
-        batch: list[tuple[int, int]] | None = None, attrs: dict | None = None) -> Path:
-    """Run the scene's study (or one sweep ``batch``) through the runner (checkpoints every
-    ``checkpoint_every`` points, default every few minutes of wall time). The runs are
-    deterministic: ``seed`` is only recorded (``None``: not at all); ``attrs`` are added to the
-    dataset."""
+        batch: list[tuple[int, int]] | None = None, attrs: dict | None = None,
+        **checkpoints) -> Path:
+    """Run the scene's study (or one sweep ``batch``) through the runner (``checkpoints``: the
+    options of :func:`craquelure.runner.run_to_file`; every ``checkpoint_every`` points, default
+    every few minutes of wall time). The runs are deterministic: ``seed`` is only recorded
+    (``None``: not at all); ``attrs`` are added to the dataset."""
     if init is not None:
         raise CraquelureError("softdyn runs start from the scene's arrangement; --init is not "
                               "used")
@@ -181,6 +179,5 @@ def run(scene: Scene, out: Path, seed: int | None = 0, init: Path | None = None,
     model = study(scene, batch)
     return runner.run_to_file(
         model, scene, seed, out, lambda: model.result().assign_attrs(attrs or {}), clock,
-        checkpoint_minutes, t_end=len(model.points), desc=f"softdyn {scene.name}",
-        every=checkpoint_every or 0, time_unit="points", resume=resume,
-        stop_after_checkpoints=stop_after_checkpoints)
+        t_end=len(model.points), desc=f"softdyn {scene.name}", time_unit="points",
+        **checkpoints)
