@@ -24,7 +24,8 @@ about perimeter x :math:`d^*`. :func:`edge_depth` computes :math:`d^*` by quadra
 Fragments (spec section 9): a fragment is a 4-connected component of paste pixels of the
 periodic image. scikit-image labels the components of the image as a plain rectangle
 (``skimage.measure.label``, ``connectivity=1``), then the labels of facing edge pixels (column
-0 with column n-1, row 0 with row n-1) are joined with a union-find, so a fragment cut by one
+0 with column n-1, row 0 with row n-1) are joined (connected components of the graph of
+facing labels, ``scipy.sparse.csgraph``), so a fragment cut by one
 edge, or by both (a blob around a corner), counts once. Pixels touching only diagonally are
 separate fragments (4-connectivity), across the edges as well. The area of a fragment is its
 pixel count times :math:`\Delta x^2`; no minimum size is applied [D, spec section 9] (the
@@ -38,6 +39,8 @@ from functools import cache
 import numpy as np
 import xarray as xr
 from scipy import integrate, optimize
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from skimage.measure import label as sk_label
 
 from craquelure.sph.field import mesh_field, mesh_spacing
@@ -101,29 +104,19 @@ def edge_depth(phi0: float = DEFAULT_PHI0, kernel: str = "quintic", h: float = 1
     return h * optimize.brentq(lambda d: phi(d) - phi0, 0.0, 1.0, xtol=1e-12)
 
 
-def _find(parent: np.ndarray, a: int) -> int:
-    root = a
-    while parent[root] != root:
-        root = parent[root]
-    while parent[a] != root:  # path compression
-        parent[a], a = root, parent[a]
-    return root
-
-
 def _union_edge_labels(labels: np.ndarray, n: int) -> np.ndarray:
-    """Union-find over labels that face each other across the periodic edges; returns the
-    map old label -> root label (0 stays 0)."""
-    parent = np.arange(n + 1)
+    """The labels that face each other across the periodic edges, joined: the map old label
+    -> root label, the smallest label of its group (0 stays 0)."""
     pairs = np.concatenate([
         np.stack([labels[:, 0], labels[:, -1]], axis=1),
         np.stack([labels[0, :], labels[-1, :]], axis=1),
     ])
     pairs = pairs[(pairs[:, 0] > 0) & (pairs[:, 1] > 0) & (pairs[:, 0] != pairs[:, 1])]
-    for a, b in np.unique(pairs, axis=0):
-        ra, rb = _find(parent, int(a)), _find(parent, int(b))
-        if ra != rb:
-            parent[max(ra, rb)] = min(ra, rb)
-    return np.array([_find(parent, i) for i in range(n + 1)])
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n + 1, n + 1))
+    _, group = connected_components(graph, directed=False)
+    root = np.full(group.max() + 1, n + 1)
+    np.minimum.at(root, group, np.arange(n + 1))
+    return root[group]
 
 
 def label_periodic(image: np.ndarray) -> tuple[np.ndarray, int]:

@@ -81,9 +81,7 @@ def main_cracks(x0, y0, damage, plastic, spacing, radius, cracked=0.9, crushed=0
 def centre_line_crossings(x0, y0, damage, plastic, spacing, centre_y, cracked=0.9,
                           crushed=0.0035) -> tuple[int, str]:
     """(number of cracked runs along the grid row nearest y = centre_y, their mean x in mm)."""
-    row = np.abs(y0 - centre_y) <= np.abs(y0 - centre_y).min() + 0.01 * spacing
-    row &= y0 <= centre_y + 0.01 * spacing  # one row when the centre falls between two rows
-    idx = np.flatnonzero(row)
+    idx = np.flatnonzero(_centre_row(y0, centre_y, spacing))
     idx = idx[np.argsort(x0[idx])]
     hit = (damage[idx] >= cracked) & (plastic[idx] < crushed)
     runs, start = [], None
@@ -195,7 +193,7 @@ def _near(points_a, points_b, radius) -> np.ndarray:
 
 def _centre_row(y0, centre_y, spacing):
     row = np.abs(y0 - centre_y) <= np.abs(y0 - centre_y).min() + 0.01 * spacing
-    return row & (y0 <= centre_y + 0.01 * spacing)
+    return row & (y0 <= centre_y + 0.01 * spacing)  # one row when the centre is between two
 
 
 def _runs(xs: np.ndarray, spacing: float) -> list[float]:
