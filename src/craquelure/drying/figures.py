@@ -23,20 +23,12 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import matplotlib
+import matplotlib.ticker
+import numpy as np
+import xarray as xr
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import matplotlib.ticker  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-
-from craquelure.drying.analysis import (  # noqa: E402
-    ccdf_bands,
-    drying_number,
-    paper_t_star,
-    window_of,
-)
+from craquelure.drying.analysis import ccdf_bands, drying_number, paper_t_star, window_of
+from craquelure.plotting import plt, save
 
 FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
 
@@ -92,13 +84,8 @@ def _caption(fig, lines: list[str]) -> None:
 
 def save_figure(fig, png: str | Path) -> tuple[Path, Path]:
     """Write ``png`` and the PDF next to it (same stem)."""
-    png = Path(png)
-    png.parent.mkdir(parents=True, exist_ok=True)
-    pdf = png.with_suffix(".pdf")
-    fig.savefig(png, dpi=150)
-    fig.savefig(pdf)
-    plt.close(fig)
-    return png, pdf
+    png = save(fig, png, dpi=150, tight=False, pdf=True)
+    return png, png.with_suffix(".pdf")
 
 
 def _positive(values: np.ndarray) -> np.ndarray:

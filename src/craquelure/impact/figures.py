@@ -6,20 +6,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from craquelure.impact.analysis import run_fact, run_metrics, run_scene  # noqa: E402
-from craquelure.io import open_dataset  # noqa: E402
-
-
-def _save(fig, out: Path) -> None:
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+from craquelure.impact.analysis import run_fact, run_metrics, run_scene
+from craquelure.io import open_dataset
+from craquelure.plotting import plt, save
 
 
 def _disc(ax, ds, values, snapshot=-1, cmap="gray_r", vmin=0.0, vmax=1.0, reference=False):
@@ -64,7 +55,7 @@ def figure_masses(run: Path, out: Path, label: str) -> None:
     fig.colorbar(sc, ax=b, label="mass per metre [g/m]")
     b.set_title("mass map (Fig. 6)")
     fig.suptitle(label, fontsize=9)
-    _save(fig, out)
+    save(fig, out)
 
 
 def figure_damage_grid(runs, out: Path, title: str, label: str) -> None:
@@ -76,7 +67,7 @@ def figure_damage_grid(runs, out: Path, title: str, label: str) -> None:
         _disc(ax, ds, _failed(ds))
         ax.set_title(_title(ds), fontsize=7)
     fig.suptitle(f"{title}\n{label}", fontsize=9)
-    _save(fig, out)
+    save(fig, out)
 
 
 def figure_precracks(runs, out: Path, label: str) -> None:
@@ -94,7 +85,7 @@ def figure_precracks(runs, out: Path, label: str) -> None:
         axes[1, c].set_title(f"failure; {100 * float(fr):.0f} % cracked near the line",
                              fontsize=7)
     fig.suptitle(f"pre-cracks as zero-mass lines (Figs. 11-13)\n{label}", fontsize=9)
-    _save(fig, out)
+    save(fig, out)
 
 
 def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
@@ -116,7 +107,7 @@ def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
     ax.set_ylabel("contact force [MN/m]")
     ax.legend(fontsize=7)
     ax.set_title(f"{label}\npenalty scale factor a = {', '.join(sorted(scales))}", fontsize=8)
-    _save(fig, out)
+    save(fig, out)
 
 
 def figure_accuracy(rows: list[dict], floors: dict, out: Path, label: str) -> None:
@@ -138,4 +129,4 @@ def figure_accuracy(rows: list[dict], floors: dict, out: Path, label: str) -> No
     ax.set_title(f"P-wave mode frequency error vs cost; reference: exact omega = k c_p, "
                  f"dashed: lattice floor 1 - g(kappa)\n{label}", fontsize=7)
     ax.legend(fontsize=7)
-    _save(fig, out)
+    save(fig, out)

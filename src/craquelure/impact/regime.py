@@ -108,7 +108,7 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     """One row of panels per dimension (2D above 3D), one panel per contact scale a: f_t (x)
     against impact speed (y), marker = class, number = main cracks (centre-row crossings in
     brackets; * if the class changed after the last snapshot). Returns the panels' titles."""
-    import matplotlib.pyplot as plt
+    from craquelure.plotting import plt, save
 
     maps = regime_maps(rows)
     dims = list(maps)
@@ -147,7 +147,5 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     fig.suptitle("homogeneous disc: main cracks from the contact zone (centre-row crossings; "
                  "* class changed after the last snapshot); 3D on its mid-thickness layer\n"
                  f"{label}", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    save(fig, out)
     return titles

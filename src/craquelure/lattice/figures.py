@@ -4,21 +4,16 @@ states the profile, scene and sizes; nothing here fits or judges."""
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from craquelure.lattice import fragments  # noqa: E402
+from craquelure.lattice import fragments
+from craquelure.plotting import plt, save
 
 
 def _save(fig, out, title=None, **title_kw) -> None:
     if title is not None:
         fig.suptitle(title, **title_kw)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    save(fig, out)
 
 
 def _broken_midpoints(ds, frame=0):

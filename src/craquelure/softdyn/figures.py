@@ -5,22 +5,10 @@ versus wall time."""
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-
-def _save(fig, path) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+from craquelure.plotting import plt, save
 
 
 def fig4(ds, path, profile: str, scene: str):
@@ -44,7 +32,7 @@ def fig4(ds, path, profile: str, scene: str):
     fig.suptitle(f"T1 in time ({profile} profile, scene {scene}): h0 = {ds.attrs['h0']:g} R, "
                  f"F~ = {ds.attrs['reduced_force']:g}, T = {ds.attrs['duration']:.4g} tau",
                  fontsize=9)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def fig5(ds, path, profile: str, scene: str):
@@ -72,7 +60,7 @@ def fig5(ds, path, profile: str, scene: str):
     fig.suptitle(f"T1 duration ({profile} profile, scene {scene}): "
                  f"{int(ds.attrs['n_points'])} runs, {int(ds.attrs['n_finished'])} finished",
                  fontsize=9)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def fig3(ds, path, profile: str, scene: str):
@@ -93,7 +81,7 @@ def fig3(ds, path, profile: str, scene: str):
     ax.set_title(f"T1 occurrence ({profile} profile, scene {scene}), h0 = {ds.attrs['h0']:g} R,"
                  f"\ntheta <= {ds.attrs['theta_end_deg']:g} deg within {ds.attrs['t_end']:g} "
                  f"tau", fontsize=9)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def two_sphere(ds, path, profile: str, scene: str):
@@ -107,7 +95,7 @@ def two_sphere(ds, path, profile: str, scene: str):
     ax.legend(fontsize=8)
     ax.set_title(f"two spheres ({profile} profile, scene {scene}): h0 = {ds.attrs['h0']:g} R, "
                  f"F~ = {ds.attrs['reduced_force']:g}", fontsize=9)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def accuracy(ds, path, profile: str, scene: str):
@@ -140,4 +128,4 @@ def accuracy(ds, path, profile: str, scene: str):
         f"{ds.attrs['reference_duration']:.4f} tau)\nreference: {ds.attrs['reference']}; "
         f"heun order (3 finest dt): duration {order:.2f}, state "
         f"{ds.attrs.get('heun_state_order', math.nan):.2f}", fontsize=9)
-    return _save(fig, path)
+    return save(fig, path)

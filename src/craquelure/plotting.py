@@ -1,0 +1,26 @@
+"""Figure output shared by the models' figures modules: matplotlib's non-interactive Agg
+backend (figures are written by jobs, never shown) and one way to write a figure."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def save(fig, path: str | Path, *, dpi: int = 120, tight: bool = True,
+         pdf: bool = False) -> Path:
+    """Write ``fig`` to ``path`` (its folder created; ``tight``: tight layout first; ``pdf``:
+    also a PDF beside it with the same stem) and close it."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if tight:
+        fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    if pdf:
+        fig.savefig(path.with_suffix(".pdf"))
+    plt.close(fig)
+    return path
