@@ -30,9 +30,9 @@ def test_effect_declarations(model):
         pytest.skip(f"model {model} declares no effects yet")
     schema = model_schema(model)
     for name, effect in effects.items():
-        assert effect.name == name and model in effect.models
+        assert effect.name == name and effect.model == model
         assert effect.description and "\n" not in effect.description
-        for dotted in effect.required_paths(model):
+        for dotted in effect.requires:
             node = schema_node(schema, dotted)
             # The parameter exists in the schema (a typo here would make the effect
             # impossible to use). Without a schema default, a scene listing the effect must
@@ -43,7 +43,7 @@ def test_effect_declarations(model):
 
 
 def test_get_effect_lists_known_effects():
-    assert get_effect("drying", "viscosity").required_paths("drying") == ("material.eta",)
+    assert get_effect("drying", "viscosity").requires == ("material.eta",)
     with pytest.raises(SceneError, match="known effects: continuity, drying, elasticity"):
         get_effect("drying", "gravity")
 
@@ -54,10 +54,10 @@ def test_broken_effect_module_is_not_silently_ignored(tmp_path, monkeypatch):
     (pkg / "__init__.py").write_text("")
     (pkg / "good.py").write_text(textwrap.dedent("""
         from craquelure.registry import Effect
-        EFFECT = Effect(name="good", models=("drying",), description="fine")
+        EFFECT = Effect(model="drying", name="good", flag=None, description="fine")
     """))
     monkeypatch.syspath_prepend(str(tmp_path))
-    monkeypatch.setitem(registry.EFFECT_PACKAGES, "drying", ("fake_effects_pkg",))
+    monkeypatch.setitem(registry.EFFECT_PACKAGES, "drying", "fake_effects_pkg")
     registry._effects_in_package.cache_clear()
     try:
         assert list(known_effects("drying")) == ["good"]
@@ -66,7 +66,7 @@ def test_broken_effect_module_is_not_silently_ignored(tmp_path, monkeypatch):
         with pytest.raises(ModuleNotFoundError, match="no_such_module_xyz"):
             known_effects("drying")
         # A model whose effects package does not exist yet simply has none.
-        monkeypatch.setitem(registry.EFFECT_PACKAGES, "drying", ("fake_effects_pkg.absent",))
+        monkeypatch.setitem(registry.EFFECT_PACKAGES, "drying", "fake_effects_pkg.absent")
         assert known_effects("drying") == {}
     finally:
         registry._effects_in_package.cache_clear()
@@ -75,6 +75,6 @@ def test_broken_effect_module_is_not_silently_ignored(tmp_path, monkeypatch):
 
 
 def test_effect_is_frozen():
-    effect = Effect(name="x", models=("drying",), description="d")
+    effect = Effect(model="drying", name="x", flag=None, description="d")
     with pytest.raises(AttributeError):
         effect.name = "y"

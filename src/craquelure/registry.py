@@ -1,7 +1,7 @@
 """Registry of physical effects.
 
 Every effect is one small module (``craquelure/<engine>/effects/<name>.py``) that declares
-``EFFECT = Effect.of(...)``: its model, name, kernel flag, a one-line description and the scene
+``EFFECT = Effect(...)``: its model, name, kernel flag, a one-line description and the scene
 parameters it needs (dotted paths). Scene validation reads the registry, so an unknown effect or a
 missing parameter is rejected before anything runs, and the engine compiles only the effects a
 scene lists.
@@ -11,47 +11,33 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cache
 
 
 @dataclass(frozen=True)
 class Effect:
-    """Declaration of one physical effect.
+    """Declaration of one physical effect of one model.
 
-    ``requires`` maps a model name to the dotted scene paths the effect needs in that model
-    (e.g. ``{"drying": ("material.eta",)}``); ``conflicts`` names effects it cannot run with.
-    ``flag`` is the compile-time constant of the engine's kernel template that switches the
-    effect on (:func:`craquelure.codegen.effect_flags`); ``None`` for an effect that is always
-    compiled in or acts outside the kernel.
+    ``requires`` are the dotted scene paths the effect needs (e.g. ``("material.eta",)``);
+    ``conflicts`` names effects it cannot run with. ``flag`` is the compile-time constant of
+    the engine's kernel template that switches the effect on
+    (:func:`craquelure.codegen.effect_flags`); ``None`` for an effect that is always compiled
+    in or acts outside the kernel.
     """
 
+    model: str
     name: str
-    models: tuple[str, ...]
+    flag: str | None
     description: str
-    requires: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    requires: tuple[str, ...] = ()
     conflicts: tuple[str, ...] = ()
-    flag: str | None = None
-
-    def required_paths(self, model: str) -> tuple[str, ...]:
-        return tuple(self.requires.get(model, ()))
-
-    @classmethod
-    def of(cls, model: str, name: str, flag: str | None, description: str,
-           requires: tuple[str, ...] = (), conflicts: tuple[str, ...] = ()) -> Effect:
-        """The declaration of an effect of one model (every effect so far): ``requires`` are
-        its dotted scene paths in that model."""
-        return cls(name, (model,), description, {model: tuple(requires)} if requires else {},
-                   tuple(conflicts), flag)
 
 
-# Each model lists the packages whose modules declare its effects.
-EFFECT_PACKAGES: dict[str, tuple[str, ...]] = {
-    "drying": ("craquelure.sph.effects",),
-    "impact": ("craquelure.impact.effects",),
-    "lattice": ("craquelure.lattice.effects",),
-    "softdyn": ("craquelure.softdyn.effects",),
-}
+# The package whose modules declare each model's effects.
+EFFECT_PACKAGES = {"drying": "craquelure.sph.effects", "impact": "craquelure.impact.effects",
+                   "lattice": "craquelure.lattice.effects",
+                   "softdyn": "craquelure.softdyn.effects"}
 
 
 @cache
@@ -77,12 +63,9 @@ def _effects_in_package(package: str) -> dict[str, Effect]:
 
 def known_effects(model: str) -> dict[str, Effect]:
     """All effects available to ``model``, by name (sorted)."""
-    effects: dict[str, Effect] = {}
-    for package in EFFECT_PACKAGES.get(model, ()):
-        for name, effect in _effects_in_package(package).items():
-            if model in effect.models:
-                effects[name] = effect
-    return dict(sorted(effects.items()))
+    package = EFFECT_PACKAGES.get(model)
+    effects = _effects_in_package(package) if package else {}
+    return dict(sorted((name, e) for name, e in effects.items() if e.model == model))
 
 
 def get_effect(model: str, name: str) -> Effect:

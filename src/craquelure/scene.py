@@ -295,7 +295,7 @@ def _check_effects(data: dict[str, Any]) -> None:
     problems = []
     for name in listed:
         effect = known[name]
-        for dotted in effect.required_paths(model):
+        for dotted in effect.requires:
             if scene_rules.SceneView(data).get(dotted, None) is None:
                 problems.append(f"effect {name!r} needs {dotted}, which the scene does not set")
         for other in effect.conflicts:

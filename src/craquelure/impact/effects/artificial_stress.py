@@ -52,9 +52,9 @@ from craquelure.impact.effects.damage import (
 )
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "artificial_stress", "ARTIFICIAL_STRESS",
-                   "Monaghan artificial stress (epsilon_AS, n) against tensile instability",
-                   requires=("numerics.as_epsilon",))
+EFFECT = Effect("impact", "artificial_stress", "ARTIFICIAL_STRESS",
+                "Monaghan artificial stress (epsilon_AS, n) against tensile instability",
+                requires=("numerics.as_epsilon",))
 
 
 # (h(0)/Delta, eps_AS minimising the linearised tensile growth); see the table above.

@@ -15,9 +15,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "artificial_viscosity", "ARTIFICIAL_VISCOSITY",
-                   "Monaghan artificial viscosity (alpha_AV, beta_AV)",
-                   requires=("numerics.av_alpha", "numerics.av_beta"))
+EFFECT = Effect("impact", "artificial_viscosity", "ARTIFICIAL_VISCOSITY",
+                "Monaghan artificial viscosity (alpha_AV, beta_AV)",
+                requires=("numerics.av_alpha", "numerics.av_beta"))
 
 
 @njit(inline="always", cache=True)

@@ -64,9 +64,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "cap_plasticity", "CAP_PLASTICITY", "CSCM-like curved compression "
-                   "meridian (Murray 2007 fits), Willam-Warnke Lode dependence, compaction cap",
-                   requires=("material.f_c",), conflicts=("plasticity",))
+EFFECT = Effect("impact", "cap_plasticity", "CAP_PLASTICITY", "CSCM-like curved compression "
+                "meridian (Murray 2007 fits), Willam-Warnke Lode dependence, compaction cap",
+                requires=("material.f_c",), conflicts=("plasticity",))
 
 MPA = 1e6
 

@@ -30,9 +30,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "compressive_damage", "COMPRESSIVE_DAMAGE", "ductile damage: shear "
-                   "surface x (1 - D_c), D_c linear in plastic strain, G_fc = 100 G_F (needs "
-                   "cap_plasticity)", requires=("material.f_c", "material.G_F"))
+EFFECT = Effect("impact", "compressive_damage", "COMPRESSIVE_DAMAGE", "ductile damage: shear "
+                "surface x (1 - D_c), D_c linear in plastic strain, G_fc = 100 G_F (needs "
+                "cap_plasticity)", requires=("material.f_c", "material.G_F"))
 
 DC_MAX = 0.99
 

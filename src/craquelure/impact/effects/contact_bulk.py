@@ -54,10 +54,10 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "contact_bulk", "CONTACT_BULK",
-                   "rigid-base penalty contact, k = a K A / l_max, kinematic fallback for m -> 0",
-                   requires=("numerics.contact_a", "material.bulk_modulus",
-                             "material.shear_modulus"), conflicts=("contact_mass",))
+EFFECT = Effect("impact", "contact_bulk", "CONTACT_BULK",
+                "rigid-base penalty contact, k = a K A / l_max, kinematic fallback for m -> 0",
+                requires=("numerics.contact_a", "material.bulk_modulus",
+                          "material.shear_modulus"), conflicts=("contact_mass",))
 
 
 def bulk_stiffness(a: float, bulk: float, spacing: float, dim: int = 2) -> float:

@@ -14,9 +14,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "contact_mass", "CONTACT_MASS",
-                   "rigid-base penalty contact, k_i = a m_i / dt^2 (fails for zero masses)",
-                   requires=("numerics.contact_a",), conflicts=("contact_bulk",))
+EFFECT = Effect("impact", "contact_mass", "CONTACT_MASS",
+                "rigid-base penalty contact, k_i = a m_i / dt^2 (fails for zero masses)",
+                requires=("numerics.contact_a",), conflicts=("contact_bulk",))
 
 # LS-DYNA's SOFSCL default (spec section 5), the value of ``contact_a: auto`` for this formula
 DEFAULT_SCALE = 0.1

@@ -40,9 +40,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "damage", "DAMAGE",
-                   "Rankine tensile damage, crack band, linear softening (f_t, G_F)",
-                   requires=("material.f_t", "material.G_F"))
+EFFECT = Effect("impact", "damage", "DAMAGE",
+                "Rankine tensile damage, crack band, linear softening (f_t, G_F)",
+                requires=("material.f_t", "material.G_F"))
 
 
 def crack_band_width(spacing: float, h0: float) -> float:

@@ -25,9 +25,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "elasticity", "ELASTICITY",
-                   "hypo-elastic effective stress, Jaumann rate (K, G), plane strain or stress",
-                   requires=("material.bulk_modulus", "material.shear_modulus"))
+EFFECT = Effect("impact", "elasticity", "ELASTICITY",
+                "hypo-elastic effective stress, Jaumann rate (K, G), plane strain or stress",
+                requires=("material.bulk_modulus", "material.shear_modulus"))
 
 
 @njit(inline="always", cache=True)

@@ -25,9 +25,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "plasticity", "PLASTICITY",
-                   "Drucker-Prager radial return (f_c, f_bc = 1.16 f_c), zero dilatancy",
-                   requires=("material.f_c",))
+EFFECT = Effect("impact", "plasticity", "PLASTICITY",
+                "Drucker-Prager radial return (f_c, f_bc = 1.16 f_c), zero dilatancy",
+                requires=("material.f_c",))
 
 
 def dp_constants(f_c: float, f_bc_ratio: float) -> tuple[float, float]:

@@ -37,9 +37,9 @@ from numba import njit
 from craquelure.impact.effects.damage import principal
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "rate_effects", "RATE_EFFECTS", "CSCM-form dynamic increase of "
-                   "tensile and compressive strength (opt-in; needs cap_plasticity and damage)",
-                   requires=("material.f_c", "material.f_t"))
+EFFECT = Effect("impact", "rate_effects", "RATE_EFFECTS", "CSCM-form dynamic increase of "
+                "tensile and compressive strength (opt-in; needs cap_plasticity and damage)",
+                requires=("material.f_c", "material.f_t"))
 
 
 def rate_constants(f_c: float) -> dict[str, float]:

@@ -17,9 +17,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("impact", "variable_smoothing_length", "VARIABLE_SMOOTHING_LENGTH",
-                   "Benz smoothing-length evolution dh/dt = (h/d) tr L, clamped",
-                   requires=("numerics.h_min", "numerics.h_max"))
+EFFECT = Effect("impact", "variable_smoothing_length", "VARIABLE_SMOOTHING_LENGTH",
+                "Benz smoothing-length evolution dh/dt = (h/d) tr L, clamped",
+                requires=("numerics.h_min", "numerics.h_max"))
 
 
 @njit(inline="always", cache=True)

@@ -23,9 +23,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("lattice", "beams", "HAS_BEAMS",
-                   "elastic beams (Euler-Bernoulli or shear-beam) with bond damping",
-                   requires=("material.bond_model",))
+EFFECT = Effect("lattice", "beams", "HAS_BEAMS",
+                "elastic beams (Euler-Bernoulli or shear-beam) with bond damping",
+                requires=("material.bond_model",))
 
 
 @njit(inline="always", cache=True)

@@ -11,9 +11,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("lattice", "bed", "HAS_BED",
-                   "elastic bed below the body: spring + damping vertically, drag friction",
-                   requires=("bed.stiffness", "domain.bed_level"))
+EFFECT = Effect("lattice", "bed", "HAS_BED",
+                "elastic bed below the body: spring + damping vertically, drag friction",
+                requires=("bed.stiffness", "domain.bed_level"))
 
 
 @njit(inline="always", cache=True)

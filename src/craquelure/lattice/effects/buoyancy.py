@@ -10,9 +10,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("lattice", "buoyancy", "HAS_BUOYANCY",
-                   "buoyancy rho_w g m/rho_i on particles below the water line",
-                   requires=("material.g", "material.rho_w", "material.rho", "domain.water_level"))
+EFFECT = Effect("lattice", "buoyancy", "HAS_BUOYANCY",
+                "buoyancy rho_w g m/rho_i on particles below the water line",
+                requires=("material.g", "material.rho_w", "material.rho", "domain.water_level"))
 
 
 @njit(inline="always", cache=True)

@@ -14,9 +14,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("lattice", "contact", "HAS_CONTACT",
-                   "Hertz-like repulsion k_c (d - r)^1.5 between unbonded particles, with friction",
-                   requires=("contact.stiffness",))
+EFFECT = Effect("lattice", "contact", "HAS_CONTACT",
+                "Hertz-like repulsion k_c (d - r)^1.5 between unbonded particles, with friction",
+                requires=("contact.stiffness",))
 
 
 @njit(inline="always", cache=True)

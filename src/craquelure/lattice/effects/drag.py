@@ -7,8 +7,8 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("lattice", "drag", "HAS_DRAG", "linear drag -c_d m v below the water line",
-                   requires=("drag.rate",))
+EFFECT = Effect("lattice", "drag", "HAS_DRAG", "linear drag -c_d m v below the water line",
+                requires=("drag.rate",))
 
 
 @njit(inline="always", cache=True)

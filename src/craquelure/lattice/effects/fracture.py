@@ -22,9 +22,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("lattice", "fracture", "HAS_FRACTURE",
-                   "remove beams on the elliptical (sigma/sigma0)^2 + (tau/tau0)^2 >= 1 criterion",
-                   requires=("material.sigma0", "material.tau0"))
+EFFECT = Effect("lattice", "fracture", "HAS_FRACTURE",
+                "remove beams on the elliptical (sigma/sigma0)^2 + (tau/tau0)^2 >= 1 criterion",
+                requires=("material.sigma0", "material.tau0"))
 
 
 @njit(inline="always", cache=True)

@@ -10,9 +10,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("lattice", "gravity", "HAS_GRAVITY",
-                   "uniform gravity m g, vertical or along a slope (material.slope_angle)",
-                   requires=("material.g",))
+EFFECT = Effect("lattice", "gravity", "HAS_GRAVITY",
+                "uniform gravity m g, vertical or along a slope (material.slope_angle)",
+                requires=("material.g",))
 
 
 @njit(inline="always", cache=True)

@@ -19,9 +19,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("lattice", "melting", "HAS_MELTING",
-                   "random melting of beams at rate 2 A E_b^2 U/a^2, re-forming stress-free",
-                   requires=("melting.rate_factor",))
+EFFECT = Effect("lattice", "melting", "HAS_MELTING",
+                "random melting of beams at rate 2 A E_b^2 U/a^2, re-forming stress-free",
+                requires=("melting.rate_factor",))
 
 
 @njit(inline="always", cache=True)

@@ -28,9 +28,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("softdyn", "hertz", "HAS_HERTZ",
-                   "elastic surfaces f = E a (k_n s n + k_t q), a^2 = R (h + |s|)",
-                   requires=("material.young", "material.k_n", "material.k_t"))
+EFFECT = Effect("softdyn", "hertz", "HAS_HERTZ",
+                "elastic surfaces f = E a (k_n s n + k_t q), a^2 = R (h + |s|)",
+                requires=("material.young", "material.k_n", "material.k_t"))
 
 
 @njit(inline="always", cache=True)

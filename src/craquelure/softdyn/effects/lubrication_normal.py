@@ -18,9 +18,9 @@ from numba import njit
 from craquelure.registry import Effect
 
 # flag None: always compiled in or handled outside the kernel
-EFFECT = Effect.of("softdyn", "lubrication_normal", None,
-                   "Poiseuille squeeze film, zeta_n = c_n eta a^4 / h^3",
-                   requires=("material.viscosity", "material.c_n"))
+EFFECT = Effect("softdyn", "lubrication_normal", None,
+                "Poiseuille squeeze film, zeta_n = c_n eta a^4 / h^3",
+                requires=("material.viscosity", "material.c_n"))
 
 
 @njit(inline="always", cache=True)

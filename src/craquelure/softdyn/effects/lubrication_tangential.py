@@ -15,9 +15,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("softdyn", "lubrication_tangential", "HAS_TANGENTIAL",
-                   "Couette sliding film, zeta_t = c_t eta a^2 / h",
-                   requires=("material.viscosity", "material.c_t"))
+EFFECT = Effect("softdyn", "lubrication_tangential", "HAS_TANGENTIAL",
+                "Couette sliding film, zeta_t = c_t eta a^2 / h",
+                requires=("material.viscosity", "material.c_t"))
 
 
 @njit(inline="always", cache=True)

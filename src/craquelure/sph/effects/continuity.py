@@ -7,8 +7,8 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("drying", "continuity", "CONTINUITY",
-                   "density from the continuity equation d rho/dt = -rho tr L")
+EFFECT = Effect("drying", "continuity", "CONTINUITY",
+                "density from the continuity equation d rho/dt = -rho tr L")
 
 
 @njit(inline="always", cache=True)

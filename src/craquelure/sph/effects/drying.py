@@ -7,8 +7,8 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("drying", "drying", "DRYING", "isotropic drying stress sigma_dry = v_r t 1",
-                   requires=("material.drying_rate",))
+EFFECT = Effect("drying", "drying", "DRYING", "isotropic drying stress sigma_dry = v_r t 1",
+                requires=("material.drying_rate",))
 
 
 @njit(inline="always", cache=True)

@@ -13,9 +13,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("drying", "elasticity", "ELASTICITY",
-                   "hypo-elastic stress, Jaumann rate (lambda, mu)",
-                   requires=("material.lame_lambda", "material.lame_mu"))
+EFFECT = Effect("drying", "elasticity", "ELASTICITY",
+                "hypo-elastic stress, Jaumann rate (lambda, mu)",
+                requires=("material.lame_lambda", "material.lame_mu"))
 
 
 @njit(inline="always", cache=True)

@@ -12,9 +12,9 @@ from numba import njit
 from craquelure.registry import Effect
 
 # flag None: acts between steps (engine), not in the rate kernel
-EFFECT = Effect.of("drying", "fracture", None,
-                   "remove particles whose mean stress tr(sigma)/2 exceeds sigma_Y",
-                   requires=("material.yield_stress",))
+EFFECT = Effect("drying", "fracture", None,
+                "remove particles whose mean stress tr(sigma)/2 exceeds sigma_Y",
+                requires=("material.yield_stress",))
 
 
 @njit(cache=True)

@@ -19,8 +19,8 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("drying", "gradient_correction", "GRADIENT_CORRECTION",
-                   "kernel-gradient correction of the velocity gradient (exact at free edges)")
+EFFECT = Effect("drying", "gradient_correction", "GRADIENT_CORRECTION",
+                "kernel-gradient correction of the velocity gradient (exact at free edges)")
 
 MIN_DETERMINANT = 1e-3
 

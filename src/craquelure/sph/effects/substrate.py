@@ -10,8 +10,8 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("drying", "substrate", "SUBSTRATE", "thin-layer substrate spring -(mu/H^2) u",
-                   requires=("material.lame_mu", "material.thickness"))
+EFFECT = Effect("drying", "substrate", "SUBSTRATE", "thin-layer substrate spring -(mu/H^2) u",
+                requires=("material.lame_mu", "material.thickness"))
 
 
 @njit(inline="always", cache=True)

@@ -5,8 +5,8 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("drying", "viscosity", "VISCOSITY", "Voigt viscous stress sigma_vis = eta D",
-                   requires=("material.eta",))
+EFFECT = Effect("drying", "viscosity", "VISCOSITY", "Voigt viscous stress sigma_vis = eta D",
+                requires=("material.eta",))
 
 
 @njit(inline="always", cache=True)

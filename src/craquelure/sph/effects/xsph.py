@@ -12,9 +12,9 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect.of("drying", "xsph", "XSPH",
-                   "XSPH velocity averaging of particle transport (epsilon)",
-                   requires=("numerics.xsph_epsilon",))
+EFFECT = Effect("drying", "xsph", "XSPH",
+                "XSPH velocity averaging of particle transport (epsilon)",
+                requires=("numerics.xsph_epsilon",))
 
 
 @njit(inline="always", cache=True)
