@@ -255,9 +255,8 @@ def _softdyn_setup(view: SceneView) -> None:
     build(view).stop_function()
     if kind == "sweep":
         studies.sweep_grid(view)
-    elif kind == "phase" and not (view.get("study.fh_over_fv", None)
-                                  and view.get("study.reduced_force", None)):
-        raise SceneError("study.fh_over_fv and study.reduced_force: a phase scan needs both")
+    elif kind == "phase":
+        studies.phase_points(view)
     elif kind == "accuracy" and not (view.get("study.rtol", None) or view.get("study.dt", None)):
         raise SceneError("study.rtol / study.dt: an accuracy study needs at least one list")
 

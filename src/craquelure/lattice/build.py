@@ -30,11 +30,8 @@ def beam_constants(scene: Scene) -> beam.BeamConstants:
     L = scene.get("particles.spacing")  # noqa: N806
     model = scene.get("material.bond_model", "euler_bernoulli")
     E = scene.get("material.youngs_modulus", None)  # noqa: N806
-    if E is not None:
-        nu = scene.get("material.poisson_ratio", None)
-        if nu is None:
-            raise SceneError("material.youngs_modulus needs material.poisson_ratio")
-        kn, ks = beam.stiffness_from_moduli(E, nu)
+    if E is not None:  # with material.poisson_ratio (scene rules)
+        kn, ks = beam.stiffness_from_moduli(E, scene.get("material.poisson_ratio"))
         if model == "shear_beam":
             return beam.shear_beam(kn, ks, L)
         w = L * math.sqrt(ks / kn)
@@ -55,9 +52,7 @@ def build_system(scene: Scene, seed: int) -> tuple[System, dict[str, np.ndarray]
     col = np.arange(x.size) % nx
     body = np.zeros(x.size, np.int64)
     pad = scene.get("domain.pad", None)
-    if pad is not None:
-        if periodic:
-            raise SceneError("domain.pad cannot be used with domain.periodic_x")
+    if pad is not None:  # never with domain.periodic_x (scene rules)
         px, py = half_disc(pad["radius"], 0.0, 0.0, L)
         px = px + 0.5 * (x.min() + x.max())
         py = py - py.min() + y.max() + L + pad["gap"]
