@@ -9,21 +9,22 @@ import threading
 import time
 
 import pytest
+from threadpoolctl import threadpool_info
 
 from craquelure.impact.engine import kernels_for
-from craquelure.threads import library_pools, set_threads, thread_cpu
+from craquelure.threads import set_threads, thread_cpu
 
 
 def test_engine_kernels_hold_the_blas_pools_to_one_thread():
     kernels_for(("elasticity",))  # every engine's code generator goes through codegen
-    blas = [p for p in library_pools() if p["user_api"] == "blas"]
+    blas = [p for p in threadpool_info() if p["user_api"] == "blas"]
     assert blas, "numpy's BLAS should be loaded"
     assert all(p["num_threads"] == 1 for p in blas)
 
 
 def test_set_threads_sets_numba_and_keeps_blas_single():
     assert set_threads(1) == 1
-    assert all(p["num_threads"] == 1 for p in library_pools() if p["user_api"] == "blas")
+    assert all(p["num_threads"] == 1 for p in threadpool_info() if p["user_api"] == "blas")
 
 
 def test_importing_the_package_makes_openmp_workers_wait_passively():

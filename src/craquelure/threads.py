@@ -44,13 +44,6 @@ def single_threaded_libraries() -> None:
     _LIMITER = threadpool_limits(limits=1, user_api="blas")
 
 
-def library_pools() -> list[dict]:
-    """threadpoolctl's description of the loaded thread pools (for benchmarks and tests)."""
-    from threadpoolctl import threadpool_info
-
-    return threadpool_info()
-
-
 def set_threads(n: int | None) -> int:
     """Run with ``n`` numba threads (None: numba's default) and single-threaded libraries;
     returns the number of numba threads in use."""
