@@ -149,12 +149,8 @@ def build_specimen(scene: Scene, seed: int) -> Specimen:
     mass = w * (total / w.sum())
     name = scene.get("particles.precrack")
     crack = np.zeros(n, bool)
-    if name != "none":
-        layouts = scene.get("precracks")
-        if name not in layouts:
-            raise SceneError(f"particles.precrack: {name!r} is not allowed; allowed values: "
-                             f"none, {', '.join(layouts)}")
-        crack = precrack_mask(x, y, layouts[name], radius, dx)
+    if name != "none":  # a layout under precracks (scene rules)
+        crack = precrack_mask(x, y, scene.get("precracks")[name], radius, dx)
         mass[crack] = 0.0
     return Specimen(x=x, y=y + centre_y, mass=mass, spacing=dx, radius=radius,
                     centre_y=centre_y, precrack=crack, z=z)

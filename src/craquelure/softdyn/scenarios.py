@@ -60,14 +60,12 @@ class Setup:
         if kind == "none":
             return None
         sysm = self.system
+        if kind in ("cd_force", "angle") and self.arrangement != "t1":
+            raise SceneError(f"outputs.stop: {kind!r} needs particles.arrangement: t1")
         if kind == "cd_force":
-            if self.arrangement != "t1":
-                raise SceneError("outputs.stop: 'cd_force' needs particles.arrangement: t1")
             target = self.scene.get("outputs.phi") * (self.f_v - self.f_h / SQRT3)
             return lambda t, y: self.pair_normal_force(t, y, 5) / target - 1.0
         if kind == "angle":
-            if self.arrangement != "t1":
-                raise SceneError("outputs.stop: 'angle' needs particles.arrangement: t1")
             theta_end = math.radians(self.scene.get("outputs.theta_end_deg"))
             return lambda t, y: theta_end - t1_angle(sysm.unpack(y)[0])
         gap_end = self.scene.get("outputs.gap_end", None)
