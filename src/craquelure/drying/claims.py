@@ -21,11 +21,6 @@ MODEL = "drying"
 THICKNESS_SIGMAS = 2.0
 
 
-def _num(value, spec: str) -> str:
-    """A summary number, or n/a where the statistic could not be computed (None)."""
-    return "n/a" if value is None else format(value, spec)
-
-
 def _caveat(summary: dict) -> str:
     pi = summary.get("pi")
     pace = ("" if pi is None else f", Pi = tau/t* = {pi:.3g} (paper "

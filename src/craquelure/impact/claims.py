@@ -22,9 +22,7 @@ DIMENSIONS = ("3D", "2D")  # check 12's rows: the source's 3D runs beside the 2D
 
 
 def _number(value) -> str:
-    if isinstance(value, bool) or value is None:
-        return str(value)
-    if isinstance(value, int):
+    if isinstance(value, bool | int) or value is None:
         return str(value)
     if isinstance(value, float):
         return f"{value:.3g}" if math.isfinite(value) else str(value)
