@@ -37,12 +37,6 @@ class Flags:
     hertz: bool = True
     literal: bool = False
 
-    @classmethod
-    def from_effects(cls, effects, literal: bool = False) -> Flags:
-        flags = effect_flags("softdyn", effects)
-        return cls(tangential=flags["HAS_TANGENTIAL"], hertz=flags["HAS_HERTZ"],
-                   literal=literal)
-
     def template_flags(self) -> dict[str, bool]:
         return {"HAS_TANGENTIAL": self.tangential, "HAS_HERTZ": self.hertz,
                 "LITERAL_DEFLECTION": self.literal}
@@ -63,7 +57,8 @@ def flags_for(scene) -> Flags:
     if literal and not (scene.has("hertz") and scene.has("lubrication_tangential")):
         raise SceneError("numerics.deflection_rule: 'literal' only differs from 'corotating' "
                          "with both 'hertz' and 'lubrication_tangential'")
-    return Flags.from_effects(scene.effects, literal=literal)
+    flags = effect_flags("softdyn", scene.effects)
+    return Flags(tangential=flags["HAS_TANGENTIAL"], hertz=flags["HAS_HERTZ"], literal=literal)
 
 
 @dataclass
