@@ -43,11 +43,6 @@ class ModelMetadata:
     reduced_unit_system: str | None = None  # None: SI
     variables: dict[str, tuple[str, str | None]] = field(default_factory=dict)
 
-    def for_dataset(self, ds: xr.Dataset) -> dict[str, tuple[str, str | None]]:
-        """The variable table for ``ds``: 3D datasets of a per-thickness model get
-        :func:`per_body` names and units."""
-        return per_body(self.variables) if ds.attrs.get("dim") == 3 else self.variables
-
 
 # per unit thickness (2D) -> whole body (3D)
 _BODY_UNITS = {"kg m-1": "kg", "J m-1": "J", "N m-1": "N", "kg s-1": "kg m s-1",
@@ -347,7 +342,8 @@ def apply(ds: xr.Dataset, argv: list[str] | None = None) -> xr.Dataset:
     attrs["references"] = meta.references
     if meta.reduced_unit_system:
         attrs["reduced_unit_system"] = meta.reduced_unit_system
-    table = meta.for_dataset(ds)
+    # 3D datasets of a per-thickness model: per_body names and units
+    table = per_body(meta.variables) if attrs.get("dim") == 3 else meta.variables
     for name, var in ds.variables.items():
         long_name, units = table.get(str(name), (None, None))
         if long_name and not var.attrs.get("long_name"):

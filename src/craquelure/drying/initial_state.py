@@ -11,6 +11,7 @@ rho = rho0, elastic stress components i.i.d. U(-a sigma_Y, a sigma_Y).
 from __future__ import annotations
 
 import math
+from dataclasses import asdict
 
 import numpy as np
 import xarray as xr
@@ -62,7 +63,7 @@ def build_initial_state(scene: Scene, seed: int, check: bool = True) -> xr.Datas
             shepard_spacing=solve["shepard_spacing"] * h,
             check=check and not scene.get("particles.excluded_bands"),
             method=solve["method"])
-        attrs.update(report.as_attrs())
+        attrs.update(asdict(report))
     else:
         # Sites are placed over the whole box and excluded bands removed afterwards, so each
         # particle stands for L^2 / particles.n of area whatever was excluded.

@@ -6,10 +6,6 @@ from __future__ import annotations
 SCENE_DIR = "config/scenes/lattice"
 
 
-def set_args(items) -> str:
-    return " ".join(f"--set {item}" for item in items)
-
-
 class Jobs:
     """Config-bound helpers for the Snakemake rules (input functions take ``wildcards``)."""
 
@@ -21,7 +17,7 @@ class Jobs:
         return f"{SCENE_DIR}/{self.cfg['glen']['scene']}.yaml"
 
     def run_set(self, wildcards) -> str:
-        return set_args(self.cfg["runs"][wildcards.scene])
+        return " ".join(f"--set {item}" for item in self.cfg["runs"][wildcards.scene])
 
     def glen_points(self, kind: str) -> list[str]:
         n = len(self.cfg["glen"]["stresses" if kind == "glen" else "frozen_stresses"])

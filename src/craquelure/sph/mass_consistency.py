@@ -35,7 +35,7 @@ solve is for (spec section 7).
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
@@ -80,9 +80,6 @@ class MassSolveReport:
     shepard_spacing: float
     neighbours_mean: float
     masses_at_floor: int = 0  # clamped_cg: masses held at the floor 0.1 m_bar
-
-    def as_attrs(self) -> dict[str, float | int | str]:
-        return asdict(self)
 
 
 @njit(parallel=True, cache=True)
