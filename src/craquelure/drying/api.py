@@ -183,10 +183,8 @@ class Recorder:
 
     def next_stop(self, t_end: float) -> float:
         """The next output time (adaptive steps end exactly on it), else t_end."""
-        return float(self.times[self.next_output]) if not self.done() else t_end
-
-    def done(self) -> bool:
-        return self.next_output >= self.times.size
+        return float(self.times[self.next_output]) if self.next_output < self.times.size \
+            else t_end
 
 
 def _dataset(engine: DryingEngine, rec: Recorder, finished: bool) -> xr.Dataset:

@@ -323,10 +323,6 @@ class DryingEngine:
         rows = np.abs(estimate[:, self.alive]) / self.error_scale[:, None]
         return float(rows.max(initial=0.0)) if np.isfinite(rows).all() else math.inf
 
-    def update_spectral_radius(self) -> float:
-        self.spectral_radius = RKC_SPECTRAL_SAFETY * self.viscous_spectral_radius()
-        return self.spectral_radius
-
     def _removal_step_limit(self, before: np.ndarray, dt: float) -> float:
         """Largest next step for which no particle's linearly predicted mean stress passes
         sigma_Y by more than removal_tolerance sigma_Y."""
@@ -345,7 +341,7 @@ class DryingEngine:
     def _rkc_step(self) -> int:
         ctrl = self.controller
         if self.step_count % self.spectral_every == 0:
-            self.update_spectral_radius()
+            self.spectral_radius = RKC_SPECTRAL_SAFETY * self.viscous_spectral_radius()
         while True:
             dt = min(ctrl.dt_next, self.dt_event) if self.adapt else self.dt
             remaining = self.stop_at - self.t

@@ -139,9 +139,6 @@ class System:
     def unpack(self, y):
         return self.k.unpack(np.ascontiguousarray(y, dtype=np.float64), self.x0, self.n_pairs)
 
-    def atol_vector(self, atol_length: float) -> np.ndarray:
-        return np.full(self.state_size, atol_length * self.radius)
-
     # ---- right-hand side -------------------------------------------------------------
     def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
         self.n_rhs += 1

@@ -182,7 +182,7 @@ def _root(stop, interp, t0: float, t1: float) -> float:
 
 
 def _adaptive(system, cls, t_end, rtol, atol, event, rec, guard, max_steps, progress, unit):
-    atol_v = system.atol_vector(atol)
+    atol_v = np.full(system.state_size, atol * system.radius)  # atol in units of R
     t, y = 0.0, system.initial_state()
     event.start(t, y)
     breaks = [tb for tb in (system.ramp_time,) if 0.0 < tb < t_end] + [t_end]
