@@ -148,10 +148,6 @@ def _stats(values):
             "iqr": float(q3 - q1), "n": int(vals.size)}
 
 
-def dim_label(dim) -> str:
-    return f"{int(dim or 2)}D"
-
-
 def _cases(runs: list[dict]) -> dict:
     cases: dict[str, list] = defaultdict(list)
     for m in runs:
@@ -171,11 +167,6 @@ def _cases(runs: list[dict]) -> dict:
     return out
 
 
-def _n_heterogeneous(cases: dict) -> int:
-    return max((len(c["seeds"]) for k, c in cases.items()
-                if not k.startswith("homogeneous/")), default=0)
-
-
 def summarise(paths, profile: str, scene: str, distribution: str,
               fixed_across_kappa: dict | None = None) -> dict:
     """summary.json of a campaign: cases and check-12 findings per dimension ("3D" then
@@ -184,14 +175,15 @@ def summarise(paths, profile: str, scene: str, distribution: str,
     runs = [read_metrics(Path(p)) for p in paths]
     by_dim: dict[str, list] = defaultdict(list)
     for m in runs:
-        by_dim[dim_label(m.get("dim"))].append(m)
+        by_dim[f"{int(m.get('dim') or 2)}D"].append(m)  # "2D" or "3D"
     dims = [d for d in ("3D", "2D") if d in by_dim]
     out_cases, findings, reported, seeds_by_dim = {}, [], {}, {}
     for dim in dims:
         cases = _cases(by_dim[dim])
         found, reported[dim] = check12.evaluate(cases, distribution, dim, fixed_across_kappa)
         findings += found
-        seeds_by_dim[dim] = _n_heterogeneous(cases)
+        seeds_by_dim[dim] = max((len(c["seeds"]) for k, c in cases.items()
+                                 if not k.startswith("homogeneous/")), default=0)
         out_cases.update({("" if dim == "2D" else f"{dim}/") + k: {**c, "dim": dim}
                           for k, c in cases.items()})
     total_wall = sum(m["wall_time_s"] or 0 for m in runs)
