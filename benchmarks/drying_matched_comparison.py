@@ -169,9 +169,10 @@ def main(argv: list[str] | None = None) -> None:
     overrides = [f"domain.box_length={args.box_length!r}",
                  f"particles.n={int(round(400 * args.box_length**2))}",
                  f"outputs.t_end={args.t_end!r}"]
-    scene = load_scene(scenes_dir() / "drying" / "paper_speed.yaml", overrides)
-    times = [t for t in scene.get("outputs.times") if t <= args.t_end]
-    scene = scene.with_overrides([f"outputs.times={times}"])
+    path = scenes_dir() / "drying" / "paper_speed.yaml"
+    # the snapshots up to --t-end, set together with it (a scene never holds times after t_end)
+    times = [t for t in load_scene(path).get("outputs.times") if t <= args.t_end]
+    scene = load_scene(path, [*overrides, f"outputs.times={times}"])
     args.out_dir.mkdir(parents=True, exist_ok=True)
     cpu = {name: 0.0 for name in args.integrators}
     if not args.analyse_only:
