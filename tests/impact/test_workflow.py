@@ -37,6 +37,27 @@ def test_paper_profile_has_eight_or_more_seeds_for_every_3d_variant():
     assert cfg["precrack_heterogeneous"] and cfg["precracks"] == ["pf1", "pf2", "pf3"]
 
 
+def test_check12_overlay_keeps_the_judged_3d_runs_only():
+    """config/paper_check12.yaml (over paper.yaml) drops the pre-crack layouts at kappa = 0.7 and
+    1.5 in 3D: 3 kappas x (1 + 10 seeds) unnotched + 3 layouts x (1 + 10 seeds) at kappa = 1 =
+    66 runs, each one of the paper profile's own; the 2D campaign is unchanged."""
+    paper = section("paper.yaml")
+    overlay = yaml.safe_load((project_root() / "config" / "paper_check12.yaml").read_text())
+    merged = {**paper, "three_d": {**paper["three_d"], **overlay["impact"]["three_d"]}}
+    runs = workflow.campaign_runs_3d(merged)
+    assert len(runs) == len(set(runs)) == 66
+    assert set(runs) < set(workflow.campaign_runs_3d(paper))
+    layouts = {r.split("/")[3].split("_")[1] for r in runs if "/kappa1.0/" not in r}
+    assert layouts == {"none"}
+    assert workflow.campaign_runs(merged) == workflow.campaign_runs(paper)
+
+
+def test_precrack_kappas_outside_kappas_is_rejected():
+    sec = {**section("config.yaml"), "precrack_kappas": [2.0]}
+    with pytest.raises(ValueError, match="precrack_kappas .* one of the kappas"):
+        workflow.campaign_runs(sec)
+
+
 def test_no_three_d_without_dim_3():
     sec = {**section("config.yaml"), "dims": [2]}
     assert workflow.three_d(sec) is None and workflow.campaign_runs_3d(sec) == []

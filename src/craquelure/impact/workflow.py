@@ -18,12 +18,18 @@ def run_path(scene: str, masses: str, precrack: str, kappa: float, seed: int) ->
 def campaign_runs(section: dict) -> list[str]:
     """The homogeneous disc (seed 0) for each kappa and pre-crack; the heterogeneous specimens
     (seeds) for each kappa of ``heterogeneous_kappas`` (default: every kappa), and with
-    pre-cracks too if ``precrack_heterogeneous``."""
+    pre-cracks too if ``precrack_heterogeneous``. Pre-crack layouts run at the kappas of
+    ``precrack_kappas`` only (default: every kappa; check 12 judges them at kappa = 1)."""
     scene = section["scene"]
     hetero_kappas = section.get("heterogeneous_kappas", section["kappas"])
+    precrack_kappas = section.get("precrack_kappas", section["kappas"])
+    if not set(precrack_kappas) <= set(section["kappas"]):
+        raise ValueError(f"impact precrack_kappas {list(precrack_kappas)}: each must be one of "
+                         f"the kappas {list(section['kappas'])}")
     runs = []
     for kappa in section["kappas"]:
-        for precrack in ["none", *section["precracks"]]:
+        layouts = section["precracks"] if kappa in precrack_kappas else []
+        for precrack in ["none", *layouts]:
             runs.append(run_path(scene, "homogeneous", precrack, kappa, 0))
             if kappa in hetero_kappas and (precrack == "none"
                                            or section.get("precrack_heterogeneous", False)):
