@@ -148,3 +148,13 @@ def test_findings_carry_their_dimension():
              "uniform/none/kappa1": heterogeneous(8, 3, 0.3)}
     findings, reported = check12.evaluate(cases, "uniform", "3D")
     assert {f["dim"] for f in findings} == {"3D"} and reported["dim"] == "3D"
+
+
+def test_reported_peak_contact_force_carries_the_unit_of_its_dimension():
+    """A plane slice's contact force is per unit thickness (N/m), the 3D disc's a force (N)."""
+    cases = {"homogeneous/none/kappa1": homogeneous()}
+    assert check12.evaluate(cases, "uniform", "2D")[1][
+        "peak_contact_force_homogeneous_N_per_m"]["1"] == 5e6
+    reported = check12.evaluate(cases, "uniform", "3D")[1]
+    assert reported["peak_contact_force_homogeneous_N"]["1"] == 5e6
+    assert "peak_contact_force_homogeneous_N_per_m" not in reported

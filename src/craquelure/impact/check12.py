@@ -327,6 +327,8 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
                                "contact_force_peak") or [None])[0] for k in (0.7, 1.0, 1.5)}
     phi = {f"{k:g}": median_with_interval(_vals(het[k], "cracked_fraction"), lambda m: True)
            for k in (1.0, 1.5) if het[k]}
-    reported = {"dim": dim, "peak_contact_force_homogeneous_N_per_m": force,
+    # the contact force of a plane slice is per unit thickness, the 3D disc's a force
+    unit = "N" if dim == "3D" else "N_per_m"
+    reported = {"dim": dim, f"peak_contact_force_homogeneous_{unit}": force,
                 "phi_c_heterogeneous_kappa_1_and_1.5": phi}
     return out, reported
