@@ -16,7 +16,7 @@ import numba
 import numpy as np
 
 from craquelure.drying.binarise import label_periodic
-from craquelure.sph.field import mesh_field
+from craquelure.drying.field import mesh_field
 
 H = 0.2
 SNAPSHOTS_PER_RUN = 22

@@ -34,11 +34,11 @@ import xarray as xr
 from craquelure.drying.analysis import analyse_run
 from craquelure.drying.api import run
 from craquelure.drying.initial_state import build_initial_state
+from craquelure.drying.mass_consistency import MassBounds, MassSolveReport, check_mass_report
 from craquelure.errors import CraquelureError
 from craquelure.io import open_dataset, write_dataset
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import load_scene, scenes_dir
-from craquelure.sph.mass_consistency import MassBounds, MassSolveReport, check_mass_report
 
 N_BOOT = 2000
 RNG_SEED = 20261201

@@ -22,9 +22,9 @@ import numba
 import numpy as np
 from numba import njit, prange
 
+from craquelure.drying.positions import random_sequential_addition
 from craquelure.sph.kernels import QUINTIC, kernel_w
 from craquelure.sph.neighbours import Box, cell_order, neighbour_list
-from craquelure.sph.positions import random_sequential_addition
 
 H = 0.2
 

@@ -142,7 +142,7 @@ def pysph_run(env: Path, root: Path, dx: float, steps: int, threads: int,
 
 def pysph_neighbours(dx: float) -> float:
     """Mean number of particles within the cubic spline's support 2h = 3Δ (self excluded)."""
-    from craquelure.impact.specimen import rings
+    from craquelure.impact.initial_state import rings
 
     x, y, _ = rings(0.03, 0.04, 0.041, dx)
     return _mean_within(x, y, 3.0 * dx)
@@ -226,7 +226,7 @@ def lammps_run(env: Path, root: Path, n: int, spacing: float, steps: int, ranks:
 def ours_engine(dx: float, threads: int):
     from craquelure.impact.api import initial_state, settings
     from craquelure.impact.engine import Engine
-    from craquelure.impact.specimen import build_specimen
+    from craquelure.impact.initial_state import build_specimen
 
     set_threads(threads)
     scene = load_scene("impact/rings", [f"particles.spacing={dx!r}"])

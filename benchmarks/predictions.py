@@ -98,7 +98,7 @@ def drying_probe(n: int):
 def impact_probe(cells: int):
     from craquelure.impact.api import initial_state, settings, workload
     from craquelure.impact.engine import Engine
-    from craquelure.impact.specimen import build_specimen
+    from craquelure.impact.initial_state import build_specimen
 
     scene = load_scene("impact/default", [f"particles.diameter_cells={cells}"])
     sp = build_specimen(scene, 0)
@@ -175,7 +175,7 @@ def lattice_effect_costs(size: int, t_beams: float, steps: int) -> dict[str, flo
 
 def fit_softdyn() -> dict:
     from craquelure.softdyn.api import workload
-    from craquelure.softdyn.scenarios import build
+    from craquelure.softdyn.initial_state import build
 
     scene = load_scene("softdyn/t1_single_ci")
     set_threads(1)

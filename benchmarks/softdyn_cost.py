@@ -29,7 +29,7 @@ import numpy as np
 from craquelure.scene import load_scene
 from craquelure.softdyn.accuracy import run_accuracy
 from craquelure.softdyn.engine import Flags, System
-from craquelure.softdyn.scenarios import build
+from craquelure.softdyn.initial_state import build
 
 H0 = 1e-2
 

@@ -18,9 +18,9 @@ import numpy as np
 import yaml
 
 from craquelure.drying.engine import DryingEngine
+from craquelure.drying.positions import random_sequential_addition
 from craquelure.scene import load_scene_text
 from craquelure.sph.neighbours import Box, cell_order
-from craquelure.sph.positions import random_sequential_addition
 
 EFFECT_SETS = {
     "drying (all 7)": ["elasticity", "viscosity", "drying", "substrate", "fracture", "xsph",

@@ -64,7 +64,7 @@ def drying(n: int):
 def impact(n: int):
     from craquelure.impact.api import initial_state, settings
     from craquelure.impact.engine import Engine
-    from craquelure.impact.specimen import build_specimen
+    from craquelure.impact.initial_state import build_specimen
 
     # the rings at the spacing that gives about n particles (17 592 at 5e-4 m)
     spacing = 5e-4 if abs(n - 17592) <= 100 else 5e-4 * math.sqrt(17592 / n)
@@ -88,7 +88,7 @@ def lattice(n: int, parallel: bool | None = None):
 
 
 def softdyn(_n: int):
-    from craquelure.softdyn.scenarios import build
+    from craquelure.softdyn.initial_state import build
 
     setup = build(load_scene("softdyn/t1_single"))
     sysm = setup.system

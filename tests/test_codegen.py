@@ -71,12 +71,12 @@ def test_flags_must_match_the_template(tmp_path, monkeypatch):
 
 
 TEMPLATES = {
-    "drying": ("craquelure.sph.drying_rate", {"KERNEL": 0}),
-    "impact": ("craquelure.impact.kernels_template", {"PERIODIC": False, "PLANE_STRESS": False,
+    "drying": ("craquelure.drying.kernel_template", {"KERNEL": 0}),
+    "impact": ("craquelure.impact.kernel_template", {"PERIODIC": False, "PLANE_STRESS": False,
                                                       "DIM": 2}),
     "lattice": ("craquelure.lattice.kernel_template", {
         "PERIODIC_X": False, "NODE_AVERAGED": False, "BENDING": False, "PARALLEL": False}),
-    "softdyn": ("craquelure.softdyn._rhs_template", {"LITERAL_DEFLECTION": False}),
+    "softdyn": ("craquelure.softdyn.kernel_template", {"LITERAL_DEFLECTION": False}),
 }
 
 
@@ -170,8 +170,8 @@ def _pack_drying(values):
 
 @pytest.mark.parametrize(("template", "pack"), [
     ("craquelure.lattice.kernel_template", _pack_lattice),
-    ("craquelure.softdyn._rhs_template", _pack_softdyn),
-    ("craquelure.sph.drying_rate", _pack_drying),
+    ("craquelure.softdyn.kernel_template", _pack_softdyn),
+    ("craquelure.drying.kernel_template", _pack_drying),
 ], ids=["lattice", "softdyn", "drying"])
 def test_every_parameter_has_one_index_and_packing_puts_it_there(template, pack):
     """Parameters declared once: the template's index constants and the engine's packing by

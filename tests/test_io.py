@@ -15,9 +15,9 @@ import xarray as xr
 
 from craquelure import cli
 from craquelure import io as cio
+from craquelure.drying.mass_consistency import kernel_matrix
 from craquelure.io import open_dataset, write_dataset, write_text_atomic
 from craquelure.scene import load_scene
-from craquelure.sph.mass_consistency import kernel_matrix
 
 
 def sample_dataset(n: int = 20000) -> xr.Dataset:

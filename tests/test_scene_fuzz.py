@@ -255,7 +255,7 @@ def short_version(scene):
         return scene.with_overrides([f"outputs.t_end={t!r}", f"outputs.times=[{t!r}]"])
     if model == "impact":
         from craquelure.impact.api import settings as impact_settings
-        from craquelure.impact.specimen import initial_smoothing_length
+        from craquelure.impact.initial_state import initial_smoothing_length
 
         s = impact_settings(scene)
         dt = min(s.dt_max, s.cfl * initial_smoothing_length(scene)

@@ -35,7 +35,7 @@ class Effect:
 
 
 # The package whose modules declare each model's effects.
-EFFECT_PACKAGES = {"drying": "craquelure.sph.effects", "impact": "craquelure.impact.effects",
+EFFECT_PACKAGES = {"drying": "craquelure.drying.effects", "impact": "craquelure.impact.effects",
                    "lattice": "craquelure.lattice.effects",
                    "softdyn": "craquelure.softdyn.effects"}
 

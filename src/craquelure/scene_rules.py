@@ -116,7 +116,7 @@ def drying_run_step(data: dict) -> float:
     spec's estimate 6.7 eta/(rho0 h^2) of the viscous spectral radius. rkc2 with adapt_dt:
     ``step_control.dt_max``, the step between removal events."""
     from craquelure.drying.api import viscous_spectral_radius
-    from craquelure.sph.integrators import REAL_AXIS_LIMIT
+    from craquelure.drying.integrators import REAL_AXIS_LIMIT
 
     dt = float(_get(data, "numerics.dt"))
     if not _get(data, "numerics.adapt_dt", True):
@@ -200,7 +200,7 @@ def _impact_rules(data: dict) -> list[str]:
 def lattice_step_estimate(data: dict) -> float:
     """A lower bound of the lattice step dt_factor 2/omega_est (lattice spec section 5) from
     the scene alone: six bonds of the stiffest constant on the lightest disc."""
-    from craquelure.lattice.build import beam_constants
+    from craquelure.lattice.initial_state import beam_constants
 
     c = beam_constants(SceneView(data))
     spacing = float(_get(data, "particles.spacing", 1.0))
@@ -249,7 +249,7 @@ def _softdyn_setup(view: SceneView) -> None:
     """What Soft Dynamics checks while building a run (effects, stop rule, loads, study
     lists), done here so that ``check`` refuses what ``run`` would."""
     from craquelure.softdyn import studies
-    from craquelure.softdyn.scenarios import build
+    from craquelure.softdyn.initial_state import build
 
     kind = view.get("study.kind")
     build(view).stop_function()

@@ -9,8 +9,8 @@ import pytest
 import yaml
 
 from craquelure.drying.engine import DryingEngine
+from craquelure.drying.positions import square_lattice
 from craquelure.scene import load_scene_text
-from craquelure.sph.positions import square_lattice
 
 BASE = {
     "model": "drying",

@@ -13,7 +13,7 @@ from craquelure.drying.binarise import (
     phi_field,
     snapshot_image,
 )
-from craquelure.sph.field import mesh_field
+from craquelure.drying.field import mesh_field
 
 from .synthetic_run import lattice_run
 

@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
+from craquelure.drying.effects.elasticity import jaumann_rate
 from craquelure.drying.engine import SXX, SXY, SYY, VX, VY, X, Y, compile_rate
+from craquelure.drying.integrators import rkc_stages
 from craquelure.errors import SimulationDiverged
-from craquelure.sph.effects.elasticity import jaumann_rate
-from craquelure.sph.integrators import rkc_stages
 
 
 def _quarter_period(engine, projection, t_max):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from craquelure.drying.initial_state import build_initial_state
-from craquelure.sph.mass_consistency import MassSolveError
+from craquelure.drying.mass_consistency import MassSolveError
 
 
 def _min_distance(ds, length):

@@ -19,8 +19,8 @@ import scipy.linalg
 
 from craquelure.errors import SimulationDiverged
 from craquelure.lattice.api import run as lattice_run
-from craquelure.lattice.build import make_engine
 from craquelure.lattice.engine import stable_step_estimate
+from craquelure.lattice.initial_state import make_engine
 from craquelure.scene import load_scene
 
 from ..lattice import linear_beam

@@ -10,7 +10,7 @@ import pytest
 
 from craquelure.scene import load_scene
 from craquelure.softdyn import theory
-from craquelure.softdyn.scenarios import build, predictions
+from craquelure.softdyn.initial_state import build, predictions
 
 BASE = load_scene("softdyn/t1_single_ci")
 H_STAR = theory.h_star(BASE.get("loads.reduced_force"), BASE.get("material.k_n", 1.0))

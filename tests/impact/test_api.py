@@ -16,7 +16,7 @@ from craquelure.impact.api import (
     settings,
     simulate,
 )
-from craquelure.impact.specimen import build_specimen
+from craquelure.impact.initial_state import build_specimen
 from craquelure.io import open_dataset
 from craquelure.scene import load_scene, project_root
 

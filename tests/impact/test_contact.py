@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from craquelure.impact.api import simulate
-from craquelure.impact.specimen import build_specimen
+from craquelure.impact.initial_state import build_specimen
 from craquelure.scene import load_scene
 
 ELASTIC = "[elasticity, artificial_viscosity, {contact}]"

@@ -10,8 +10,8 @@ import pytest
 from craquelure.impact.api import initial_state, settings
 from craquelure.impact.effects.artificial_stress import auto_epsilon
 from craquelure.impact.engine import Engine, Settings, State
+from craquelure.impact.initial_state import build_specimen
 from craquelure.impact.material import standard_concrete
-from craquelure.impact.specimen import build_specimen
 from craquelure.scene import load_scene
 
 NO_CONTACT = ("[elasticity, plasticity, damage, artificial_viscosity, artificial_stress, "

@@ -10,8 +10,8 @@ import pytest
 
 from craquelure.impact.api import initial_state, settings, simulate
 from craquelure.impact.engine import Engine, Settings, State
+from craquelure.impact.initial_state import build_specimen
 from craquelure.impact.material import standard_concrete
-from craquelure.impact.specimen import build_specimen
 from craquelure.scene import load_scene
 from craquelure.sph.kernels import CUBIC, kernel_dwdr_array
 from tests.impact.test_api import states_by_threads

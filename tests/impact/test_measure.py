@@ -2,8 +2,8 @@
 
 import numpy as np
 
+from craquelure.impact.initial_state import grid
 from craquelure.impact.measure import centre_line_crossings, main_cracks
-from craquelure.impact.specimen import grid
 
 DX = 0.004
 

@@ -5,7 +5,7 @@ import pytest
 
 from craquelure.impact.api import initial_state, settings
 from craquelure.impact.engine import Engine
-from craquelure.impact.specimen import build_specimen, rings
+from craquelure.impact.initial_state import build_specimen, rings
 from craquelure.scene import load_scene
 
 

@@ -9,7 +9,7 @@ import pytest
 from craquelure.impact import analysis, api
 from craquelure.impact.api import initial_state, settings
 from craquelure.impact.engine import Engine
-from craquelure.impact.specimen import build_specimen
+from craquelure.impact.initial_state import build_specimen
 from craquelure.scene import load_scene
 
 TINY = np.finfo(float).tiny

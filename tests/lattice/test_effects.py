@@ -8,7 +8,6 @@ import pytest
 
 from craquelure import codegen
 from craquelure.lattice import fragments
-from craquelure.lattice.build import make_engine
 from craquelure.lattice.engine import (
     KERNEL_TEMPLATE,
     Engine,
@@ -17,6 +16,7 @@ from craquelure.lattice.engine import (
     lattice_system,
 )
 from craquelure.lattice.geometry import INTACT, REMOVED, triangular_block
+from craquelure.lattice.initial_state import make_engine
 from craquelure.scene import load_scene
 
 

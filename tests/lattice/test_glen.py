@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from craquelure.lattice import beam, glen
-from craquelure.lattice.build import beam_constants, block_height, make_engine
+from craquelure.lattice.initial_state import beam_constants, block_height, make_engine
 from craquelure.scene import load_scene
 
 SMALL = ["domain.nx=12", "domain.ny=10"]

@@ -6,7 +6,7 @@ import math
 import pytest
 
 from craquelure.lattice import settlement
-from craquelure.lattice.build import make_engine
+from craquelure.lattice.initial_state import make_engine
 from craquelure.scene import load_scene
 
 

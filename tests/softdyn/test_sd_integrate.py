@@ -5,7 +5,7 @@ import pytest
 
 from craquelure.errors import CraquelureError, SimulationDiverged
 from craquelure.scene import load_scene
-from craquelure.softdyn.scenarios import build
+from craquelure.softdyn.initial_state import build
 
 # Short T1 on the Poiseuille side: h0 = 0.1 R, F~ = 1e-2, T ~ 28 tau.
 CASE = ["particles.h0=0.1", "loads.reduced_force=1.0e-2", "outputs.run_past_stop=false"]

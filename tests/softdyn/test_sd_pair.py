@@ -7,7 +7,7 @@ import pytest
 
 from craquelure.scene import load_scene
 from craquelure.softdyn import theory
-from craquelure.softdyn.scenarios import build, series_dataset
+from craquelure.softdyn.initial_state import build, series_dataset
 
 C_N = 1.5 * math.pi
 

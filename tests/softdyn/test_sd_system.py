@@ -10,7 +10,7 @@ from craquelure import codegen
 from craquelure.errors import SceneError
 from craquelure.scene import load_scene, load_scene_text
 from craquelure.softdyn.engine import Flags, System, kernels
-from craquelure.softdyn.scenarios import build
+from craquelure.softdyn.initial_state import build
 
 C_N, C_T = 1.5 * math.pi, math.pi
 
@@ -219,7 +219,7 @@ def test_steady_sliding_speed_is_t_over_zeta_t():
 def test_effects_are_compiled_in_or_out():
     """Effects on demand: each effect set gets its own generated kernel with the absent effects
     as compile-time False, and the state only holds what the effects need."""
-    src, _ = codegen.generate("craquelure.softdyn._rhs_template",
+    src, _ = codegen.generate("craquelure.softdyn.kernel_template",
                               Flags(tangential=False, hertz=True, literal=False).template_flags())
     assert "\nHAS_TANGENTIAL = False\n" in src and "\nHAS_HERTZ = True\n" in src
     mod = kernels(Flags(tangential=False, hertz=True, literal=False))

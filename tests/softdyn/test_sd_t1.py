@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from craquelure.scene import load_scene
-from craquelure.softdyn.scenarios import build, series_dataset
+from craquelure.softdyn.initial_state import build, series_dataset
 
 SQRT3 = math.sqrt(3.0)
 

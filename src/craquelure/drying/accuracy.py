@@ -17,7 +17,7 @@ is stored too: about 4 for ``rk4`` and ``abm4`` and 2 for ``rk2`` while the erro
 round-off.
 
 The error-controlled Runge-Kutta-Chebyshev scheme ``rkc2`` (not bound by the viscous limit,
-:mod:`craquelure.sph.integrators`) is run at each of ``rkc_tolerances`` (its own dim
+:mod:`craquelure.drying.integrators`) is run at each of ``rkc_tolerances`` (its own dim
 ``tolerance``: its steps are chosen by the controller, not from the dt grid) with the same
 error measure, wall time and evaluation count, so both families sit on one error-versus-cost
 plot.

@@ -100,12 +100,12 @@ from craquelure.drying.binarise import (
     fragment_areas,
     snapshot_image,
 )
+from craquelure.drying.field import mesh_spacing
 from craquelure.errors import CraquelureError, SceneError
 from craquelure.io import DatasetError, open_dataset, read_dataset, write_dataset, write_text_atomic
 from craquelure.progress import Progress
 from craquelure.provenance import WallClock, git_commit, provenance_attrs
 from craquelure.scene import Scene, stored_scene
-from craquelure.sph.field import mesh_spacing
 
 # Paper (Table I, spec section 1) and its time windows (spec sections 10 and 13).
 PAPER_YIELD_STRESS = 5.0e-3

@@ -24,12 +24,12 @@ import xarray as xr
 from craquelure import runner
 from craquelure.drying.engine import VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
+from craquelure.drying.integrators import REAL_AXIS_LIMIT, RKC_SPECTRAL_SAFETY, rkc_stages
 from craquelure.errors import CraquelureError, SceneError
 from craquelure.io import read_dataset
 from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 from craquelure.scene_rules import drying_run_step, initial_state_problems
-from craquelure.sph.integrators import REAL_AXIS_LIMIT, RKC_SPECTRAL_SAFETY, rkc_stages
 from craquelure.throughput import prediction_lines
 
 EVALS_PER_STEP = {"rk4": 4, "abm4": 2, "rk2": 2}

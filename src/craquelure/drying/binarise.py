@@ -7,7 +7,7 @@ The paste indicator is the SPH Shepard field on a periodic square mesh of spacin
 
 summed over the particles still alive, and a mesh point is paste (pixel 1) where
 :math:`\phi \ge \phi_0` (paper: :math:`\phi_0 = 0.8`, :math:`\Delta x = 0.01 h`), crack (0)
-otherwise. :math:`\phi` is computed by :func:`craquelure.sph.field.mesh_field` (neighbour
+otherwise. :math:`\phi` is computed by :func:`craquelure.drying.field.mesh_field` (neighbour
 search: O(mesh x neighbours)), i.e. by the direct sum, not by the FFT deposition the spec also
 allows [D: exact, and fast enough at the sizes we run].
 
@@ -43,7 +43,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from skimage.measure import label as sk_label
 
-from craquelure.sph.field import mesh_field, mesh_spacing
+from craquelure.drying.field import mesh_field, mesh_spacing
 from craquelure.sph.kernels import w as kernel_w
 
 DEFAULT_PHI0 = 0.8

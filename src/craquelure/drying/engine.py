@@ -11,7 +11,7 @@ integrator loop (drying spec sections 2-8). No file I/O here (see :mod:`craquelu
 - Time step, fixed-step integrators (abm4, rk4, rk2): the scene's dt; at the start and every
   ``spectral_check_every`` steps the viscous spectral radius is re-estimated by power iteration
   and dt is halved while it exceeds 0.6 of the integrator's real-axis limit (spec section 8).
-- Time step, ``rkc2`` (:mod:`craquelure.sph.integrators`): the stage count follows
+- Time step, ``rkc2`` (:mod:`craquelure.drying.integrators`): the stage count follows
   1.2 x the viscous spectral radius (power iteration every ``step_control.spectral_radius_every``
   steps), so the step is not bound by the viscous limit. With ``adapt_dt`` the step is
   error-controlled: the local error estimate is scaled per state row so that 1 means
@@ -37,12 +37,9 @@ import math
 import numpy as np
 
 from craquelure.codegen import effect_flags, pack_parameters, specialise
-from craquelure.errors import SimulationDiverged
-from craquelure.runner import Divergence, diverged, non_finite, runaway
-from craquelure.scene import Scene
-from craquelure.sph import drying_rate as template
-from craquelure.sph.effects.fracture import particles_to_remove
-from craquelure.sph.integrators import (
+from craquelure.drying import kernel_template as template
+from craquelure.drying.effects.fracture import particles_to_remove
+from craquelure.drying.integrators import (
     REAL_AXIS_LIMIT,
     RKC_SPECTRAL_SAFETY,
     StepController,
@@ -50,6 +47,9 @@ from craquelure.sph.integrators import (
     rkc2_error,
     rkc_stages,
 )
+from craquelure.errors import SimulationDiverged
+from craquelure.runner import Divergence, diverged, non_finite, runaway
+from craquelure.scene import Scene
 from craquelure.sph.kernels import kernel_kind
 from craquelure.sph.neighbours import Box, neighbour_list
 

@@ -16,10 +16,10 @@ from dataclasses import asdict
 import numpy as np
 import xarray as xr
 
+from craquelure.drying.mass_consistency import MassBounds, consistent_masses
+from craquelure.drying.positions import random_sequential_addition, square_lattice
 from craquelure.scene import Scene
-from craquelure.sph.mass_consistency import MassBounds, consistent_masses
 from craquelure.sph.neighbours import Box, cell_order
-from craquelure.sph.positions import random_sequential_addition, square_lattice
 
 
 def initial_positions(scene: Scene, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:

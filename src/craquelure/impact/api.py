@@ -25,8 +25,8 @@ from craquelure.impact.effects.contact_bulk import bulk_stiffness, half_cell_sca
 from craquelure.impact.effects.contact_mass import DEFAULT_SCALE
 from craquelure.impact.effects.damage import crack_band_width
 from craquelure.impact.engine import Engine, Settings, State
+from craquelure.impact.initial_state import Specimen, build_specimen, initial_smoothing_length
 from craquelure.impact.material import Concrete
-from craquelure.impact.specimen import Specimen, build_specimen, initial_smoothing_length
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 from craquelure.throughput import prediction_lines

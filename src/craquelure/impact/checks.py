@@ -21,7 +21,7 @@ import numpy as np
 
 from craquelure.impact.api import initial_state, settings, softening
 from craquelure.impact.engine import Engine
-from craquelure.impact.specimen import build_specimen
+from craquelure.impact.initial_state import build_specimen
 from craquelure.scene import load_scene
 
 BAR_EFFECTS = "[elasticity, plasticity, damage, artificial_viscosity, variable_smoothing_length]"

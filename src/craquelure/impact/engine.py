@@ -1,7 +1,7 @@
 """SPH engine of the impact model: effect-specialised kernels, kick-drift-kick leapfrog,
 diagnostics (spec section 3).
 
-Specialisation: :func:`kernels_for` compiles :mod:`.kernels_template` for the scene's effect set
+Specialisation: :func:`kernels_for` compiles :mod:`.kernel_template` for the scene's effect set
 with :func:`craquelure.codegen.specialise` (flags from the effect registry; numba folds the
 branches of absent effects away).
 
@@ -34,7 +34,7 @@ from numba import njit
 
 from craquelure.codegen import effect_flags, pack_parameters, specialise
 from craquelure.errors import SimulationDiverged
-from craquelure.impact import kernels_template
+from craquelure.impact import kernel_template
 from craquelure.impact.effects.contact_bulk import bulk_stiffness
 from craquelure.impact.material import Concrete
 from craquelure.runner import Divergence, diverged, non_finite, runaway
@@ -50,7 +50,7 @@ def kernels_for(effects, periodic: bool = False, plane_stress: bool = False, dim
     flags["PERIODIC"] = bool(periodic)
     flags["PLANE_STRESS"] = bool(plane_stress)
     flags["DIM"] = int(dim)
-    return specialise(kernels_template.__name__, flags, "impact")
+    return specialise(kernel_template.__name__, flags, "impact")
 
 
 @njit(cache=True)

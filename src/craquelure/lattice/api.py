@@ -26,8 +26,13 @@ import xarray as xr
 from craquelure import runner
 from craquelure.errors import CraquelureError
 from craquelure.lattice import beam
-from craquelure.lattice.build import beam_constants, build_system, engine_params, make_engine
 from craquelure.lattice.engine import PARALLEL_MIN_BONDS, Engine
+from craquelure.lattice.initial_state import (
+    beam_constants,
+    build_system,
+    engine_params,
+    make_engine,
+)
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
 from craquelure.throughput import prediction_lines

@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from craquelure.lattice import beam
-from craquelure.lattice.build import beam_constants, block_height
+from craquelure.lattice.initial_state import beam_constants, block_height
 from craquelure.scene import Scene
 
 RELAXATIONS = 5.0
@@ -65,7 +65,7 @@ def viscosity(tau: float, gamma_dot: float) -> float:
 
 def measure(scene: Scene, tau: float, seed: int = 0) -> dict[str, float]:
     """Run one stress of the sweep in memory and return tau, rates and mu."""
-    from craquelure.lattice.build import make_engine
+    from craquelure.lattice.initial_state import make_engine
 
     sc = scene.with_overrides(overrides(scene, tau))
     engine, _ = make_engine(sc, seed)

@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure.errors import SceneError, SimulationDiverged
-from craquelure.softdyn.scenarios import build
+from craquelure.softdyn.initial_state import build
 
 
 def _run(scene, overrides: list[str], probe_tau: float):

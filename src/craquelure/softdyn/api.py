@@ -22,7 +22,7 @@ from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 from craquelure.softdyn import studies, theory
 from craquelure.softdyn.accuracy import run_accuracy
-from craquelure.softdyn.scenarios import build, predictions, series_dataset
+from craquelure.softdyn.initial_state import build, predictions, series_dataset
 from craquelure.throughput import prediction_lines
 
 

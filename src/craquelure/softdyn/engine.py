@@ -2,7 +2,7 @@
 right-hand side, with the diagnostics the runs and tests need.
 
 Units are the scene's (radius R, viscosity eta, Young modulus E); the force unit F and the Stokes
-time tau = eta R^2 / F are chosen by the scenario (:mod:`craquelure.softdyn.scenarios`).
+time tau = eta R^2 / F are chosen by the scenario (:mod:`craquelure.softdyn.initial_state`).
 
 Velocity solve: ``linear_solver: dense`` runs the whole right-hand side in one numba function
 (N d <= 128 with ``auto``); ``sparse`` computes the per-pair blocks in numba and solves the
@@ -22,7 +22,7 @@ import scipy.sparse.linalg as spla
 
 from craquelure.codegen import effect_flags, pack_parameters, specialise
 from craquelure.errors import SceneError
-from craquelure.softdyn import _rhs_template as template
+from craquelure.softdyn import kernel_template as template
 
 # benchmarks/softdyn_cost.py: at N = 64 (128 unknowns) a RHS takes 0.17 ms dense, 0.59 ms sparse;
 # at N = 256, 11 ms dense, 2.3 ms sparse

@@ -21,7 +21,7 @@ import xarray as xr
 
 from craquelure.errors import SceneError
 from craquelure.softdyn import theory
-from craquelure.softdyn.scenarios import SQRT3, build, t1_angle
+from craquelure.softdyn.initial_state import SQRT3, build, t1_angle
 
 
 def sweep_grid(scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

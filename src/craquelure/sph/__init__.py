@@ -1,2 +1,1 @@
-"""SPH core shared by the drying-paste and concrete-impact models: kernels, neighbour search,
-mesh fields, the mass-consistency solve, the effects and the engine."""
+"""SPH core shared by several models: kernels and neighbour search."""

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from craquelure.sph.integrators import (
+from craquelure.drying.integrators import (
     StepController,
     Stepper,
     rkc2_error,

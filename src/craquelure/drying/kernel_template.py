@@ -20,14 +20,14 @@ import numpy as np
 from numba import njit, prange
 
 from craquelure.codegen import param_indices
+from craquelure.drying.effects.continuity import density_rate
+from craquelure.drying.effects.drying import drying_stress
+from craquelure.drying.effects.elasticity import jaumann_rate
+from craquelure.drying.effects.gradient_correction import corrected_gradient
+from craquelure.drying.effects.substrate import substrate_acceleration
+from craquelure.drying.effects.viscosity import viscous_stress
+from craquelure.drying.effects.xsph import xsph_pair
 from craquelure.periodic import minimum_image
-from craquelure.sph.effects.continuity import density_rate
-from craquelure.sph.effects.drying import drying_stress
-from craquelure.sph.effects.elasticity import jaumann_rate
-from craquelure.sph.effects.gradient_correction import corrected_gradient
-from craquelure.sph.effects.substrate import substrate_acceleration
-from craquelure.sph.effects.viscosity import viscous_stress
-from craquelure.sph.effects.xsph import xsph_pair
 from craquelure.sph.kernels import kernel_dwdr, kernel_w_dwdr
 
 # BEGIN FLAGS

@@ -36,7 +36,7 @@ Stabilised explicit scheme for the real viscous spectrum, not bound by the visco
   :math:`R_s(z) = a_s + b_s T_s(w_0 + w_1 z)`, second order, with a real-axis stability
   interval :math:`[-\beta(s), 0]`,
   :math:`\beta(s) \approx \tfrac23 (s^2-1)(1 - \tfrac{2}{15}\epsilon) \approx 0.653\,s^2`
-  (measured: 6.18, 9.85, 22.9, 64.7, 261 for s = 3, 4, 6, 10, 20; tests/sph). The stage
+  (measured: 6.18, 9.85, 22.9, 64.7, 261 for s = 3, 4, 6, 10, 20; tests/drying). The stage
   count is the smallest that covers the spectrum:
   :math:`s = 1 + \lfloor\sqrt{1 + 1.54\,\Delta t\,\rho}\rfloor` (:math:`\ge 2`), with
   :math:`\rho` the (safety-scaled) spectral radius of the stiff part, so a step costs

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from craquelure.drying.positions import PackingError, random_sequential_addition, square_lattice
 from craquelure.sph.neighbours import Box
-from craquelure.sph.positions import PackingError, random_sequential_addition, square_lattice
 
-from .reference import brute_force_pairs
+from ..sph.reference import brute_force_pairs
 
 
 def min_image_distances(x, y, length):

@@ -8,7 +8,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from craquelure.errors import SceneError
-from craquelure.impact.specimen import build_specimen, draw_weights
+from craquelure.impact.initial_state import build_specimen, draw_weights
 from craquelure.scene import load_scene
 from craquelure.sph.kernels import CUBIC, kernel_w_array
 

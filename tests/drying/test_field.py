@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from craquelure.sph.field import mesh_field, mesh_spacing
+from craquelure.drying.field import mesh_field, mesh_spacing
+from craquelure.drying.positions import square_lattice
 from craquelure.sph.kernels import w
-from craquelure.sph.positions import square_lattice
 
 
 @pytest.mark.parametrize("kernel", ["quintic", "wendland_c2"])

@@ -7,7 +7,7 @@ import pytest
 from scipy import integrate, stats
 
 from craquelure.impact.api import initial_state
-from craquelure.impact.specimen import build_specimen, grid, initial_smoothing_length
+from craquelure.impact.initial_state import build_specimen, grid, initial_smoothing_length
 from craquelure.scene import load_scene
 from craquelure.sph.kernels import CUBIC, kernel_w_array, w
 

@@ -42,9 +42,9 @@ import scipy.sparse as sp
 from numba import njit, prange
 from scipy.sparse.linalg import cg
 
+from craquelure.drying.field import mesh_field
 from craquelure.errors import CraquelureError
 from craquelure.periodic import minimum_image
-from craquelure.sph.field import mesh_field
 from craquelure.sph.kernels import kernel_kind, kernel_w
 from craquelure.sph.neighbours import Box, neighbour_list
 

@@ -8,16 +8,16 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from craquelure.sph.field import mesh_field
-from craquelure.sph.kernels import dwdr, w
-from craquelure.sph.mass_consistency import (
+from craquelure.drying.field import mesh_field
+from craquelure.drying.mass_consistency import (
     MassBounds,
     MassSolveError,
     consistent_masses,
     kernel_matrix,
 )
+from craquelure.drying.positions import random_sequential_addition, square_lattice
+from craquelure.sph.kernels import dwdr, w
 from craquelure.sph.neighbours import Box, neighbour_list
-from craquelure.sph.positions import random_sequential_addition, square_lattice
 
 H, RHO0 = 0.2, 1.0
 
@@ -200,7 +200,7 @@ def test_guarded_stop_just_above_rtol_is_accepted_when_the_result_meets_the_boun
     """[D] The minimum-mass guard may keep an iterate just above rtol (3.15e-3 on the Table I
     configuration of seed 1): accepted up to guarded_rtol while the masses, density error,
     total mass and Shepard field meet check 3; a stop by rtol is still held to 3e-3."""
-    from craquelure.sph.mass_consistency import MassBounds, MassSolveReport, check_mass_report
+    from craquelure.drying.mass_consistency import MassBounds, MassSolveReport, check_mass_report
 
     good = dict(cg_iterations=9, cg_residual=3.15e-3, stopped_by="min_mass", mass_mean=1.0,
                 mass_min=0.2, mass_max=2.0, density_error_max=0.03, total_mass_error=1e-4,
