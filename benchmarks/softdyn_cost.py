@@ -28,7 +28,7 @@ import numpy as np
 
 from craquelure.scene import load_scene
 from craquelure.softdyn.accuracy import run_accuracy
-from craquelure.softdyn.engine import Flags, System
+from craquelure.softdyn.engine import Engine, Flags
 from craquelure.softdyn.initial_state import build
 
 H0 = 1e-2
@@ -47,12 +47,12 @@ def patch(n: int) -> tuple[np.ndarray, np.ndarray]:
     return x, np.stack([i, j], axis=1)
 
 
-def system(n: int, solver: str) -> System:
+def system(n: int, solver: str) -> Engine:
     x, pairs = patch(n)
     rng = np.random.default_rng(1)
     F = rng.normal(size=x.shape) * 1e-3
     F -= F.mean(axis=0)
-    return System(x0=x, pairs=pairs, F0=F, radius=1.0, viscosity=1.0, young=1.0, k_n=1.0,
+    return Engine(x0=x, pairs=pairs, F0=F, radius=1.0, viscosity=1.0, young=1.0, k_n=1.0,
                   k_t=1.0, c_n=1.5 * math.pi, c_t=math.pi, tau_baumgarte=1e-2,
                   ramp_time=0.0, flags=Flags(), linear_solver=solver)
 

@@ -16,6 +16,7 @@ import xarray as xr
 
 from craquelure import cf
 from craquelure.io import open_dataset, write_dataset
+from craquelure.models import MODELS
 
 
 def parses(units: str) -> bool:
@@ -26,9 +27,9 @@ def parses(units: str) -> bool:
     return True
 
 
-@pytest.mark.parametrize("model", sorted(cf.MODELS))
+@pytest.mark.parametrize("model", MODELS)
 def test_every_table_unit_becomes_udunits(model):
-    meta = cf.MODELS[model]
+    meta = cf.model_metadata(model)
     assert meta.title and meta.references
     for name, (long_name, units) in meta.variables.items():
         assert long_name, name
@@ -46,11 +47,11 @@ def test_reduced_model_scale_names_are_not_read_as_si():
     # "R" (sphere radius) parses in UDUNITS as roentgen and "tau" does not parse at all:
     # reduced units must never be passed through as if they were SI.
     assert parses("R") and cf_units.Unit("R") != cf_units.Unit("m")
-    assert cf._units(cf.SOFTDYN, "R") == ("1", "R")
-    assert cf._units(cf.SOFTDYN, "tau") == ("1", "tau")
-    assert cf._units(cf.SOFTDYN, "s") == ("s", None)  # wall time stays SI
-    assert cf._units(cf.SOFTDYN, "deg") == ("degree", None)
-    assert cf._units(cf.IMPACT, "N/m") == ("N m-1", None)
+    assert cf._units(cf.model_metadata("softdyn"), "R") == ("1", "R")
+    assert cf._units(cf.model_metadata("softdyn"), "tau") == ("1", "tau")
+    assert cf._units(cf.model_metadata("softdyn"), "s") == ("s", None)  # wall time stays SI
+    assert cf._units(cf.model_metadata("softdyn"), "deg") == ("degree", None)
+    assert cf._units(cf.model_metadata("impact"), "N/m") == ("N m-1", None)
 
 
 def run_like(model: str) -> xr.Dataset:

@@ -143,8 +143,8 @@ def _pack_lattice(values):
 
 
 def _pack_softdyn(values):
-    from craquelure.softdyn.engine import Flags, System
-    system = System(
+    from craquelure.softdyn.engine import Engine, Flags
+    system = Engine(
         x0=np.array([[0.0, 0.0], [2.0, 0.0]]), pairs=np.array([[0, 1]]), F0=np.zeros((2, 2)),
         radius=values["R"], viscosity=values["eta"], young=values["E"], k_n=values["k_n"],
         k_t=values["k_t"], c_n=values["c_n"], c_t=values["c_t"],

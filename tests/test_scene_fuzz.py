@@ -31,15 +31,13 @@ from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
 from craquelure.commands.check import derived_numbers, format_number
+from craquelure.drying.rules import run_step as drying_run_step
 from craquelure.errors import CraquelureError, SceneError
+from craquelure.lattice.rules import step_estimate as lattice_step_estimate
 from craquelure.models import model_api, stage
 from craquelure.registry import known_effects
 from craquelure.scene import list_scenes, load_scene, load_scene_text, model_schema
-from craquelure.scene_rules import (
-    drying_run_step,
-    lattice_step_estimate,
-    memory_estimate,
-)
+from craquelure.scene_rules import memory_estimate
 
 SCENES = [name for name, _ in list_scenes()]
 # small scenes for the short runs (every model, a few seconds each)

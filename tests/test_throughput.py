@@ -6,10 +6,9 @@ import numpy as np
 import pytest
 
 from craquelure.impact.api import listed_neighbours
-from craquelure.models import model_api
+from craquelure.models import MODELS, model_api
 from craquelure.scene import load_scene
 from craquelure.throughput import (
-    ENGINES,
     CostModel,
     cost_model,
     predicted_parts,
@@ -39,7 +38,7 @@ def test_cost_model_terms_and_thread_speedup():
 
 
 def test_every_engine_has_a_measured_model():
-    for engine in ENGINES:
+    for engine in MODELS:
         m = cost_model(engine)
         assert m.overhead_s > 0 and m.speedup_2 >= 1.0
         assert m.per_unit_s + m.per_particle_s + m.per_pair_s > 0

@@ -1,4 +1,11 @@
-"""Model dispatch: ``craquelure.<model>.api`` modules implement the stages for one model.
+"""The one list of models, and the only way the core reaches a model.
+
+Every model is a package ``craquelure.<model>`` with the same files in the same roles:
+``api`` (the stages), ``rules`` (scene rules a schema cannot state and the memory estimate),
+``metadata`` (CF metadata of its variables), ``effects/`` (one module per physical effect),
+``kernel_template``, ``initial_state``, ``engine``, ``analysis``, ``figures``, ``claims`` and
+``workflow``. The core never imports a model: it names one from :data:`MODELS` and loads the
+module of a role with :func:`model_module`.
 
 An API module may define (each optional, the CLI says so when one is missing):
 ``build_initial_state(scene, seed) -> xarray.Dataset``,
@@ -15,15 +22,21 @@ import importlib
 from types import ModuleType
 
 from craquelure.errors import CraquelureError
-from craquelure.scene import MODELS
+
+MODELS = ("drying", "impact", "lattice", "softdyn")
 
 
-def model_api(model: str) -> ModuleType:
+def model_module(model: str, role: str) -> ModuleType:
+    """The module ``craquelure.<model>.<role>`` of a model in :data:`MODELS`."""
     if model not in MODELS:
         raise CraquelureError(f"model: {model!r} is not allowed; allowed values: "
                               f"{', '.join(MODELS)}")
+    return importlib.import_module(f"craquelure.{model}.{role}")
+
+
+def model_api(model: str) -> ModuleType:
     try:
-        return importlib.import_module(f"craquelure.{model}.api")
+        return model_module(model, "api")
     except ModuleNotFoundError as exc:
         if exc.name == f"craquelure.{model}.api" or exc.name == f"craquelure.{model}":
             raise CraquelureError(f"model {model!r} has no implementation yet") from exc

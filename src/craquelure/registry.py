@@ -14,6 +14,8 @@ import pkgutil
 from dataclasses import dataclass
 from functools import cache
 
+from craquelure.models import MODELS
+
 
 @dataclass(frozen=True)
 class Effect:
@@ -34,10 +36,8 @@ class Effect:
     conflicts: tuple[str, ...] = ()
 
 
-# The package whose modules declare each model's effects.
-EFFECT_PACKAGES = {"drying": "craquelure.drying.effects", "impact": "craquelure.impact.effects",
-                   "lattice": "craquelure.lattice.effects",
-                   "softdyn": "craquelure.softdyn.effects"}
+# The package whose modules declare each model's effects: ``craquelure.<model>.effects``.
+EFFECT_PACKAGES = {model: f"craquelure.{model}.effects" for model in MODELS}
 
 
 @cache

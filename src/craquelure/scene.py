@@ -24,9 +24,8 @@ import yaml
 
 from craquelure import scene_rules
 from craquelure.errors import SceneError
+from craquelure.models import MODELS
 from craquelure.registry import known_effects
-
-MODELS = ("drying", "impact", "lattice", "softdyn")
 
 
 class _SceneLoader(yaml.SafeLoader):

@@ -27,7 +27,6 @@ from pathlib import Path
 import yaml
 
 TABLE = Path(__file__).with_name("throughput.yaml")
-ENGINES = ("drying", "impact", "lattice", "softdyn")
 
 
 @dataclass(frozen=True)

@@ -34,9 +34,9 @@ from importlib import import_module
 from pathlib import Path
 
 from craquelure.io import write_text_atomic
+from craquelure.models import MODELS
 from craquelure.provenance import git_commit, library_versions
 
-MODELS = ("drying", "impact", "lattice", "softdyn")
 VERDICTS = ("reproduced", "partly", "not reproduced", "inconclusive")
 POWER_NEEDED = 0.8  # power (or confirmation rate) a sample needs to decide a claim
 DECISION_LEVEL = 0.95  # confidence of the intervals that decide fractions of samples

@@ -11,7 +11,7 @@ from craquelure.lattice import fragments
 from craquelure.lattice.engine import (
     KERNEL_TEMPLATE,
     Engine,
-    System,
+    LatticeState,
     kernel_flags,
     lattice_system,
 )
@@ -23,7 +23,7 @@ from craquelure.scene import load_scene
 def particles(x, y, vx=None):
     n = len(x)
     m = math.pi / 4
-    return System(x=np.asarray(x, float), y=np.asarray(y, float), mass=np.full(n, m),
+    return LatticeState(x=np.asarray(x, float), y=np.asarray(y, float), mass=np.full(n, m),
                   inertia=np.full(n, m / 8), diameter=np.ones(n), bi=np.zeros(0, np.int64),
                   bj=np.zeros(0, np.int64), kn=np.zeros(0), ka=np.zeros(0), kb=np.zeros(0))
 

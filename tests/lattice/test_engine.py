@@ -8,7 +8,7 @@ import scipy.linalg
 
 from craquelure.errors import SimulationDiverged
 from craquelure.lattice import beam
-from craquelure.lattice.engine import Engine, System, lattice_system, stable_step_estimate
+from craquelure.lattice.engine import Engine, LatticeState, lattice_system, stable_step_estimate
 from craquelure.lattice.geometry import triangular_block
 
 from . import linear_beam
@@ -20,7 +20,7 @@ def small_block(nx=8, ny=8, model="shear_beam"):
     return lattice_system(x, y, kn=c.kn, ka=c.a, kb=c.b), c
 
 
-def true_critical_step(s: System) -> float:
+def true_critical_step(s: LatticeState) -> float:
     """2/sqrt(lambda_max(M^-1 K)) from a dense eigen-solve at rest."""
     K = linear_beam.assemble_global(s.x, s.y, s.bi, s.bj, s.kn, s.ka, s.kb).toarray()  # noqa: N806
     m = np.column_stack([s.mass, s.mass, s.inertia]).ravel()

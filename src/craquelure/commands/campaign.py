@@ -21,16 +21,17 @@ def add_arguments(parser) -> None:
 def main(args) -> int:
     from pathlib import Path
 
-    from craquelure.drying.analysis import WINDOW_MODES, campaign_from_files
+    from craquelure.models import model_module
 
+    analysis = model_module("drying", "analysis")  # campaigns of drying fragment datasets
     missing = [p for p in args.fragments if not Path(p).is_file()]
     if missing:
         raise CraquelureError(f"fragment datasets not found: {', '.join(missing)}")
     if args.bins < 2:
         raise CraquelureError(f"--bins {args.bins} is not allowed; must be >= 2")
-    if args.window not in WINDOW_MODES:
+    if args.window not in analysis.WINDOW_MODES:
         raise CraquelureError(f"--window {args.window} is not allowed; allowed values: "
-                              f"{', '.join(WINDOW_MODES)}")
-    out = campaign_from_files(args.fragments, args.out, args.bins, args.window)
+                              f"{', '.join(analysis.WINDOW_MODES)}")
+    out = analysis.campaign_from_files(args.fragments, args.out, args.bins, args.window)
     print(f"wrote {out}")
     return 0

@@ -22,10 +22,11 @@ def add_arguments(parser) -> None:
 def main(args) -> int:
     from pathlib import Path
 
-    from craquelure.drying.analysis import fragments_from_run_file
+    from craquelure.models import model_module
 
+    analysis = model_module("drying", "analysis")  # the fragments of drying runs
     if not Path(args.run).is_file():
         raise CraquelureError(f"run dataset {args.run!r} not found")
-    out = fragments_from_run_file(args.run, args.out, args.phi0, args.spacing)
+    out = analysis.fragments_from_run_file(args.run, args.out, args.phi0, args.spacing)
     print(f"wrote {out}")
     return 0

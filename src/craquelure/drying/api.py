@@ -25,11 +25,11 @@ from craquelure import runner
 from craquelure.drying.engine import VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.drying.integrators import REAL_AXIS_LIMIT, RKC_SPECTRAL_SAFETY, rkc_stages
+from craquelure.drying.rules import initial_state_problems, run_step, viscous_spectral_radius
 from craquelure.errors import CraquelureError, SceneError
 from craquelure.io import read_dataset
 from craquelure.provenance import WallClock
 from craquelure.scene import Scene
-from craquelure.scene_rules import drying_run_step, initial_state_problems
 from craquelure.throughput import prediction_lines
 
 EVALS_PER_STEP = {"rk4": 4, "abm4": 2, "rk2": 2}
@@ -44,12 +44,6 @@ def evaluations_per_step(scene: Scene, dt: float) -> int:
     if integrator == "rkc2":
         return rkc_stages(dt, RKC_SPECTRAL_SAFETY * viscous_spectral_radius(scene))
     return EVALS_PER_STEP[integrator]
-
-
-def viscous_spectral_radius(scene: Scene) -> float:
-    """Estimate 6.7 eta/(rho0 h^2) of the viscous operator (drying spec section 8)."""
-    eta = scene.get("material.eta", 0.0) if scene.has("viscosity") else 0.0
-    return 6.7 * eta / (scene.get("material.rho0") * scene.get("numerics.h") ** 2)
 
 
 def stable_time_step(scene: Scene) -> float:
@@ -89,7 +83,7 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
 def _run_steps(scene: Scene) -> tuple[float, int, int]:
     """The step the run takes (numerics.adapt_dt halves it), the step count and the rate
     evaluations per step."""
-    dt = drying_run_step(scene.data)
+    dt = run_step(scene.data)
     return dt, math.ceil(scene.get("outputs.t_end") / dt), evaluations_per_step(scene, dt)
 
 

@@ -1,6 +1,6 @@
 """The lattice engine: a struct-of-arrays system and the time loop around the generated kernel.
 
-:class:`System` holds particles (positions x, y, rotation theta at t and t - dt, mass, moment
+:class:`LatticeState` holds particles (positions x, y, rotation theta at t and t - dt, mass, moment
 of inertia, diameter, fixed / driven dof masks, loads) and bonds (end indices, rest state
 L0, rest chord direction (cos, sin alpha0), theta refs, stiffnesses k_n, a, b, state,
 unbreakable flag). :class:`Engine` compiles the kernel for the effect set, advances in
@@ -50,7 +50,7 @@ def kernel_flags(effects, periodic_x: bool = False, node_averaged: bool = False,
 
 
 @dataclass
-class System:
+class LatticeState:
     x: np.ndarray
     y: np.ndarray
     mass: np.ndarray
@@ -162,7 +162,7 @@ def unbonded_pairs(off, idx, poff, pidx, bi, bj, state):
     return ci[:m].copy(), cj[:m].copy()
 
 
-def stable_step_estimate(system: System) -> float:
+def stable_step_estimate(system: LatticeState) -> float:
     """2/omega_est with the spec's quick estimate (safe by 1.16-1.37 for the triangular
     lattice)."""
     ks = 2.0 * (system.ka + system.kb) / system.L**2
@@ -188,9 +188,9 @@ def default_params(**values) -> np.ndarray:
 
 @dataclass
 class Engine:
-    """Time integration of a :class:`System` with a given effect set (kernel flags)."""
+    """Time integration of a :class:`LatticeState` with a given effect set (kernel flags)."""
 
-    system: System
+    system: LatticeState
     effects: tuple[str, ...]
     params: dict
     seed: int = 0
@@ -412,7 +412,7 @@ class Engine:
 
 
 def lattice_system(x, y, L=1.0, kn=1.0, ka=0.1, kb=0.0, rho=1.0, period_x=0.0,  # noqa: N803
-                   body=None) -> System:
+                   body=None) -> LatticeState:
     """Discs of diameter L (mass rho pi L^2/4, J = m L^2/8) bonded to neighbours closer than
     1.1 L with uniform stiffnesses."""
     n = x.size
@@ -420,6 +420,6 @@ def lattice_system(x, y, L=1.0, kn=1.0, ka=0.1, kb=0.0, rho=1.0, period_x=0.0,  
     bi, bj = find_bonds(x, y, body, L, period_x)
     m = rho * math.pi * L * L / 4.0
     nb = bi.size
-    return System(x=x, y=y, mass=np.full(n, m), inertia=np.full(n, m * L * L / 8.0),
+    return LatticeState(x=x, y=y, mass=np.full(n, m), inertia=np.full(n, m * L * L / 8.0),
                   diameter=np.full(n, L), bi=bi, bj=bj, kn=np.full(nb, kn),
                   ka=np.full(nb, ka), kb=np.full(nb, kb), period_x=period_x, L=L)

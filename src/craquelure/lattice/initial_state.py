@@ -21,7 +21,7 @@ import numpy as np
 
 from craquelure.errors import SceneError
 from craquelure.lattice import beam
-from craquelure.lattice.engine import Engine, System, lattice_system, stable_step_estimate
+from craquelure.lattice.engine import Engine, LatticeState, lattice_system, stable_step_estimate
 from craquelure.lattice.geometry import REMOVED, ROW, half_disc, remove_fraction, triangular_block
 from craquelure.scene import Scene
 
@@ -42,7 +42,7 @@ def beam_constants(scene: Scene) -> beam.BeamConstants:
     return beam.euler_bernoulli(scene.get("material.E_b"), scene.get("material.width") * L, L)
 
 
-def build_system(scene: Scene, seed: int) -> tuple[System, dict[str, np.ndarray]]:
+def build_system(scene: Scene, seed: int) -> tuple[LatticeState, dict[str, np.ndarray]]:
     """The particle/bond system of a scene and per-particle labels (body, row, col)."""
     L = scene.get("particles.spacing")  # noqa: N806
     nx, ny = scene.get("domain.nx"), scene.get("domain.ny")
@@ -85,7 +85,7 @@ def build_system(scene: Scene, seed: int) -> tuple[System, dict[str, np.ndarray]
     return system, {"body": body, "row": row, "col": col}
 
 
-def time_step(scene: Scene, system: System) -> float:
+def time_step(scene: Scene, system: LatticeState) -> float:
     dt_beam = stable_step_estimate(system)
     w2 = (2.0 / dt_beam) ** 2 if math.isfinite(dt_beam) else 0.0
     m = float(system.mass.min())
@@ -98,7 +98,7 @@ def time_step(scene: Scene, system: System) -> float:
     return scene.get("numerics.dt_factor") * 2.0 / math.sqrt(w2)
 
 
-def engine_params(scene: Scene, system: System) -> dict[str, float]:
+def engine_params(scene: Scene, system: LatticeState) -> dict[str, float]:
     c = beam_constants(scene)
     m = float(system.mass[0])
     g = scene.get

@@ -62,8 +62,9 @@ def flags_for(scene) -> Flags:
 
 
 @dataclass
-class System:
-    """Particles (N, d), pairs (P), nominal loads F0 (N, d) and parameters."""
+class Engine:
+    """The Soft Dynamics engine: particles (N, d), pairs (P), nominal loads F0 (N, d) and
+    parameters; it solves the velocity system of the pair forces."""
 
     x0: np.ndarray
     pairs: np.ndarray

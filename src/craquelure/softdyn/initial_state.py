@@ -30,7 +30,7 @@ import xarray as xr
 
 from craquelure.errors import SceneError
 from craquelure.softdyn import theory
-from craquelure.softdyn.engine import System, flags_for
+from craquelure.softdyn.engine import Engine, flags_for
 from craquelure.softdyn.integrate import Result, integrate
 
 SQRT3 = math.sqrt(3.0)
@@ -44,7 +44,7 @@ class Setup:
     """A system with its scales: force unit F, time unit tau, F_v (T1) and the stop function."""
 
     scene: object
-    system: System
+    system: Engine
     force: float          # F = F~ E R^2
     tau: float            # eta R^2 / F
     f_v: float            # T1: vertical load; pair: F
@@ -159,7 +159,7 @@ def build(scene) -> Setup:
     if dim == 3:
         x0 = np.hstack([x0, np.zeros((x0.shape[0], 1))])
         F0 = np.hstack([F0, np.zeros((F0.shape[0], 1))])
-    system = System(
+    system = Engine(
         x0=x0, pairs=pairs, F0=F0, radius=radius, viscosity=eta, young=young, k_n=k_n,
         k_t=k_t, c_n=c_n, c_t=c_t, tau_baumgarte=scene.get("numerics.baumgarte_time") * tau,
         ramp_time=scene.get("loads.ramp_time") * tau, flags=flags,

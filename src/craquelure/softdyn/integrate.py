@@ -1,4 +1,4 @@
-"""Time integration of a :class:`~craquelure.softdyn.engine.System` (spec section 8).
+"""Time integration of a :class:`~craquelure.softdyn.engine.Engine` (spec section 8).
 
 * ``LSODA``, ``BDF``, ``Radau``: SciPy's adaptive stiff solvers, driven step by step (their
   ``OdeSolver.step`` interface) so that every accepted step is checked: a step that ends with a

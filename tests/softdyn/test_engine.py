@@ -9,7 +9,7 @@ import pytest
 from craquelure import codegen
 from craquelure.errors import SceneError
 from craquelure.scene import load_scene, load_scene_text
-from craquelure.softdyn.engine import Flags, System, kernels
+from craquelure.softdyn.engine import Engine, Flags, kernels
 from craquelure.softdyn.initial_state import build
 
 C_N, C_T = 1.5 * math.pi, math.pi
@@ -265,8 +265,8 @@ def test_sparse_path_matches_dense(effects):
     x, pairs, F = hex_cluster(4, 5, 0.01, rng)
     common = dict(x0=x, pairs=pairs, F0=F, radius=1.0, viscosity=1.0, young=1.0, k_n=1.0,
                   k_t=1.0, c_n=C_N, c_t=C_T, tau_baumgarte=10.0, ramp_time=100.0, flags=effects)
-    dense = System(**common, linear_solver="dense")
-    sparse = System(**common, linear_solver="sparse")
+    dense = Engine(**common, linear_solver="dense")
+    sparse = Engine(**common, linear_solver="sparse")
     y = dense.initial_state()
     y[x.size: x.size + len(pairs)] = 1e-3 * rng.uniform(0.1, 1.0, len(pairs))
     a, b = dense.rhs(5.0, y), sparse.rhs(5.0, y)

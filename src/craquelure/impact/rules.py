@@ -1,0 +1,64 @@
+"""Concrete-impact scene rules a schema cannot state and the memory a run needs; called by
+:mod:`craquelure.scene_rules` (``scene_problems``, ``memory_estimate``)."""
+
+from __future__ import annotations
+
+import math
+
+from craquelure.errors import SceneError
+from craquelure.impact.api import concrete
+from craquelure.scene_rules import MAX_STEPS, SceneView, lookup
+
+
+def scene_problems(data: dict) -> list[str]:
+    out = []
+    t_end = float(lookup(data, "outputs.t_end"))
+    # snapshot_times after t_end are documented as dropped (the end time is always stored)
+    h_min, h_max = lookup(data, "numerics.h_min"), lookup(data, "numerics.h_max")
+    if h_min >= h_max:
+        out.append(f"numerics.h_min: {h_min!r} must be below numerics.h_max = {h_max!r}")
+    if lookup(data, "domain.dim") == 3:
+        if lookup(data, "domain.plane") == "stress":
+            out.append("domain.plane: 'stress' is not allowed with domain.dim = 3; allowed "
+                       "values: strain (the default; a 3D body has no plane assumption)")
+        if lookup(data, "particles.shape") == "rings":
+            out.append("particles.shape: 'rings' is not allowed with domain.dim = 3; allowed "
+                       "values: disc, rectangle")
+    precrack = lookup(data, "particles.precrack")
+    layouts = lookup(data, "precracks") or {}
+    if precrack != "none" and precrack not in layouts:
+        out.append(f"particles.precrack: {precrack!r} is not allowed; allowed values: none, "
+                   f"{', '.join(layouts)} (the layouts under precracks)")
+    if "damage" in data["effects"]:
+        try:
+            concrete(SceneView(data)).check()
+        except ArithmeticError as exc:
+            out.append(f"material.f_t, material.G_F: the softening law cannot be computed from "
+                       f"these magnitudes ({exc})")
+        except SceneError as exc:
+            out.append(str(exc))
+    series = lookup(data, "outputs.series_dt")
+    if t_end / series > MAX_STEPS:
+        out.append(f"outputs.series_dt: {series!r} gives {t_end / series:.3g} samples")
+    return out
+
+
+def memory_estimate(data: dict) -> tuple[float, str]:
+    d = int(lookup(data, "particles.diameter_cells"))
+    n = d * int(lookup(data, "particles.height_cells", 1)) \
+        if lookup(data, "particles.shape") == "rectangle" else math.pi / 4 * d * d
+    three_d = lookup(data, "domain.dim") == 3
+    if three_d:
+        n *= int(lookup(data, "particles.thickness_cells"))
+    kappa = float(lookup(data, "numerics.kappa", 1.0))
+    hf = float(lookup(data, "numerics.h_factor"))
+    h_max = float(lookup(data, "numerics.h_max", 2.0))
+    skin = float(lookup(data, "numerics.neighbour_skin"))
+    support = 2 * kappa * hf * max(1.0, h_max) * (1 + skin)
+    pairs = n * min(n, 4.0 / 3.0 * math.pi * support**3 if three_d else math.pi * support**2)
+    t_end = float(lookup(data, "outputs.t_end"))
+    series_dt = float(lookup(data, "outputs.series_dt"))
+    samples = t_end / series_dt + 2
+    snaps = len(lookup(data, "outputs.snapshot_times") or []) + 1
+    need = n * 8 * 80 + pairs * 32 + samples * 17 * 8 * 2 + snaps * n * 5 * 8
+    return need, f"{n:.3g} particles, {pairs:.3g} neighbour pairs, {samples:.3g} series samples"

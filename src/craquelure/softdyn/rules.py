@@ -1,0 +1,52 @@
+"""Soft Dynamics scene rules a schema cannot state and the memory a run needs; called by
+:mod:`craquelure.scene_rules` (``scene_problems``, ``memory_estimate``)."""
+
+from __future__ import annotations
+
+from craquelure.errors import SceneError
+from craquelure.scene_rules import SceneView, lookup, steps_problem
+from craquelure.softdyn import studies
+from craquelure.softdyn.initial_state import build
+
+
+def scene_problems(data: dict) -> list[str]:
+    out = []
+    t_end = float(lookup(data, "outputs.t_end"))
+    dt = lookup(data, "numerics.dt")
+    if dt is not None and dt > t_end:
+        out.append(f"numerics.dt: {dt!r} is not allowed; the step must not be longer than "
+                   f"outputs.t_end = {t_end!r} (the run would take no step)")
+    elif dt is not None and lookup(data, "numerics.integrator") == "heun":
+        problem = steps_problem("numerics.dt", t_end, dt)
+        if problem:
+            out.append(problem)
+    window = lookup(data, "study.window")
+    if window and window[0] >= window[1]:
+        out.append(f"study.window: {window!r} must be increasing")
+    try:
+        validate_run_setup(SceneView(data))
+    except SceneError as exc:
+        out.append(str(exc))
+    return out
+
+
+def validate_run_setup(view: SceneView) -> None:
+    """What Soft Dynamics checks while building a run (effects, stop rule, loads, study
+    lists), done here so that ``check`` refuses what ``run`` would."""
+    kind = view.get("study.kind")
+    build(view).stop_function()
+    if kind == "sweep":
+        studies.sweep_grid(view)
+    elif kind == "phase":
+        studies.phase_points(view)
+    elif kind == "accuracy" and not (view.get("study.rtol", None) or view.get("study.dt", None)):
+        raise SceneError("study.rtol / study.dt: an accuracy study needs at least one list")
+
+
+def memory_estimate(data: dict) -> tuple[float, str]:
+    samples = int(lookup(data, "outputs.n_samples", 400))
+    grid = 1
+    for key in ("h0", "reduced_force", "fh_over_fv", "rtol", "dt"):
+        grid *= max(1, len(lookup(data, f"study.{key}") or []))
+    need = samples * 64 * 8 * grid + 1e6
+    return need, f"{samples} samples x {grid} study points"
