@@ -93,3 +93,36 @@ def test_links_are_rewritten_for_the_site_and_missing_targets_warned(hooks, capl
     assert any("docs/nope.md" in r.getMessage() for r in caplog.records)
     page = hooks.rewrite_links("[x](../config/README.md#keys)", "docs/outputs.md", "outputs.md")
     assert page == "[x](configuration.md#keys)"
+
+
+def test_site_builds_strict_and_renders_every_equation_offline(tmp_path):
+    """`mkdocs build --strict` (warnings, broken links and anchors are errors), then each API
+    page in headless Chromium without network: every equation typeset by the site's own
+    MathJax, none left as TeX, no MathJax error."""
+    import os
+    import subprocess
+    import sys
+
+    from tests.chromium import FLAGS, require_chromium
+
+    pytest.importorskip("mkdocs")
+    site = tmp_path / "site"
+    env = {**os.environ, "NO_MKDOCS_2_WARNING": "1"}
+    built = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--quiet",
+                            "--site-dir", str(site)], cwd=ROOT, env=env, capture_output=True,
+                           text=True)
+    assert built.returncode == 0, built.stdout + built.stderr
+    browser = require_chromium()
+    for model in (*MODELS, "core"):
+        page = site / "api" / model / "index.html"
+        text = page.read_text()
+        equations = text.count('class="arithmatex"')
+        if model != "core":
+            assert equations > 0, model  # every model's effects state their equations
+        dom = subprocess.run([browser, *FLAGS, f"--user-data-dir={tmp_path}/profile",
+                              "--window-size=1280,800", "--virtual-time-budget=30000",
+                              "--dump-dom", page.as_uri()], capture_output=True, text=True,
+                             timeout=180).stdout
+        assert dom.count('class="arithmatex"') == equations, model
+        assert dom.count("<mjx-container") == equations, model
+        assert "<mjx-merror" not in dom and "data-mjx-error" not in dom, model

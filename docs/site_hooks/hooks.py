@@ -8,6 +8,9 @@
   (wherever it lives) and every module of the model's package. A page for the shared core
   (everything else) follows. Nothing lists a module path by hand, so moving a module moves its
   documentation with it.
+* MathJax (the docstrings' equations) is served by the site itself, so the pages read offline:
+  the hook adds MathJax 3's self-contained ``tex-svg.js`` from the pinned package that ships it
+  (``sphinx-mathjax-offline``) as ``javascripts/mathjax/tex-svg.js``.
 * Links are written for the repository (they work when the files are read on disk or on a code
   host); this hook rewrites each relative link to the site page it becomes, and a link whose
   target does not exist in the repository is a warning (an error under ``--strict``), so the
@@ -160,7 +163,23 @@ def rewrite_links(markdown: str, repo_path: str, site_path: str) -> str:
     return "\n".join(out)
 
 
+MATHJAX = "javascripts/mathjax/tex-svg.js"
+
+
+def mathjax_file() -> Path:
+    """MathJax 3's tex-svg component as installed with the docs extra."""
+    from importlib.metadata import PackageNotFoundError, distribution
+
+    try:
+        files = distribution("sphinx-mathjax-offline").files or []
+    except PackageNotFoundError as exc:
+        raise RuntimeError("MathJax for the site comes with sphinx-mathjax-offline: "
+                           "pip install -e '.[docs]'") from exc
+    return Path(next(f for f in files if str(f).endswith("mathjax/tex-svg.js")).locate())
+
+
 def on_files(files: Files, config) -> Files:
+    files.append(File.generated(config, MATHJAX, abs_src_path=str(mathjax_file())))
     for repo_path, site_path in ROOT_PAGES.items():
         text = (ROOT / repo_path).read_text()
         files.append(File.generated(config, site_path,
