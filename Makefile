@@ -1,5 +1,5 @@
 # `make run` (whole workflow on config/config.yaml, then the report and the archive),
-# `make test` (ruff, snakefmt, the documentation site's strict build, pytest) and `make docs`
+# `make test` (ruff, snakefmt, pytest: the documentation site's strict build too) and `make docs`
 # (the site into site/). Each creates .venv with the system python3 and installs pinned deps.
 # Snakemake loads the default workflow profile profiles/default/ by itself (all cores,
 # keep-going, rerun-incomplete): `make run` passes no options. CORES=2 limits the cores.
@@ -9,7 +9,8 @@ BIN := $(VENV)/bin
 CORES ?=
 SNAKEMAKE := $(BIN)/snakemake $(if $(CORES),--cores $(CORES))
 # The documentation site (mkdocs.yml) into site/; --strict: any warning, a broken internal link
-# or anchor included, fails the build. NO_MKDOCS_2_WARNING silences the theme's banner.
+# or anchor included, fails the build (pytest's tests/test_docs.py runs the same build in
+# `make test`). NO_MKDOCS_2_WARNING silences the theme's banner.
 MKDOCS := NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
 
 .PHONY: install run test test-slurm lint bench docs clean-results
@@ -30,7 +31,6 @@ run: install
 test: install
 	$(BIN)/ruff check src tests workflow benchmarks docs
 	$(BIN)/snakefmt --check Snakefile workflow/rules
-	$(MKDOCS)
 	$(BIN)/pytest -q -m "not slurm"
 
 docs: install
