@@ -1,5 +1,6 @@
-# `make run` (whole workflow on config/config.yaml, then the report and the archive) and
-# `make test`. Both create .venv with the system python3 and install pinned dependencies.
+# `make run` (whole workflow on config/config.yaml, then the report and the archive),
+# `make test` (ruff, snakefmt, pytest: the documentation site's strict build too) and `make docs`
+# (the site into site/). Each creates .venv with the system python3 and installs pinned deps.
 # Snakemake loads the default workflow profile profiles/default/ by itself (all cores,
 # keep-going, rerun-incomplete): `make run` passes no options. CORES=2 limits the cores.
 PYTHON ?= python3
@@ -7,8 +8,12 @@ VENV := .venv
 BIN := $(VENV)/bin
 CORES ?=
 SNAKEMAKE := $(BIN)/snakemake $(if $(CORES),--cores $(CORES))
+# The documentation site (mkdocs.yml) into site/; --strict: any warning, a broken internal link
+# or anchor included, fails the build (pytest's tests/test_docs.py runs the same build in
+# `make test`). NO_MKDOCS_2_WARNING silences the theme's banner.
+MKDOCS := NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
 
-.PHONY: install run test test-slurm lint bench clean-results
+.PHONY: install run test test-slurm lint bench docs clean-results
 
 $(BIN)/.installed: pyproject.toml requirements.lock
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -24,9 +29,12 @@ run: install
 	$(SNAKEMAKE) archive
 
 test: install
-	$(BIN)/ruff check src tests workflow benchmarks
+	$(BIN)/ruff check src tests workflow benchmarks docs
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/pytest -q -m "not slurm"
+
+docs: install
+	$(MKDOCS)
 
 # The CI config through the SLURM profile on a one-node cluster started on this machine
 # (needs root: installs and starts Debian's slurmctld, slurmd and munge).
@@ -35,7 +43,7 @@ test-slurm: install
 	$(BIN)/pytest -q -m slurm tests/workflow/test_slurm.py
 
 lint: install
-	$(BIN)/ruff check src tests workflow benchmarks
+	$(BIN)/ruff check src tests workflow benchmarks docs
 	$(BIN)/snakefmt --check Snakefile workflow/rules
 	$(BIN)/snakemake --lint --configfile config/ci.yaml
 

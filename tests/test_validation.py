@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -65,8 +66,9 @@ def test_outputs_count_and_escape(tmp_path):
     html = validation.render_html(claims, "ci")
     assert "a &lt; b &amp; c" in html and "a < b" not in html
     assert "impact: 1 reproduced, 1 partly, 0 not reproduced, 0 inconclusive" in html
-    assert html.count('class="inconclusive"') == 1
-    assert html.count('class="not-reproduced"') == 1
+    # one badge per claim plus the tally's legend of the four verdicts
+    assert html.count('class="cq-badge inconclusive"') == 1 + 1
+    assert html.count('class="cq-badge not-reproduced"') == 1 + 1
 
 
 def test_fraction_power_by_simulation_matches_the_binomial():
@@ -80,3 +82,86 @@ def test_fraction_power_by_simulation_matches_the_binomial():
     assert abs(fraction_power(10, 0.9, 0.5) - (0.9**10 + 10 * 0.9**9 * 0.1)) < 0.03
     assert fraction_power(3, 0.9, 0.5) == 0.0
     assert samples_for_power(3, 0.9, 0.5) == 12
+
+
+def _figures(tmp_path, names):
+    """Small real PNG figures under results/<model>/... (as the workflow writes them)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    paths = []
+    for i, name in enumerate(names):
+        path = tmp_path / "results" / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig, ax = plt.subplots(figsize=(6, 4), dpi=100)
+        ax.plot(range(10), [j * (i + 1) for j in range(10)])
+        fig.savefig(path)
+        plt.close(fig)
+        paths.append(path)
+    return paths
+
+
+def _default_like_claims():
+    """33 claims as the default profile has them (drying 4, impact 15, lattice 7, softdyn 7),
+    with long measured strings, each naming its deciding figure."""
+    long = "; ".join(f"quantity {i} = {i * 0.123:.3f} (95 % CI {i * 0.1:.2f}-{i * 0.2:.2f})"
+                     for i in range(30))
+    spec = {"drying": (4, "drying/figures/drying_inverse_mean_area.png"),
+            "impact": (15, "impact/figures/impact_precracks.png"),
+            "lattice": (7, "lattice/glen/glen.png"),
+            "softdyn": (7, "softdyn/t1_single/fig4.png")}
+    claims = []
+    for model, (n, figure) in spec.items():
+        for i in range(n):
+            verdict = validation.VERDICTS[i % 4]
+            claims.append(Claim(model, f"{model} claim {i}: " + "a long statement " * 8, "paper",
+                                "criterion " * 30, long, verdict, "note " * 20,
+                                deciding=f"x = {i}.00 (bound 1)", figure=Path(figure).name))
+    return claims, [f for _, f in spec.values()]
+
+
+def test_summary_rows_fold_the_long_strings_and_embed_the_deciding_figure(tmp_path):
+    claims, names = _default_like_claims()
+    figures = _figures(tmp_path, names)
+    html = validation.render_html(claims, "default", figures)
+    # one row per claim, the long strings inside its <details>, badges and numbers outside
+    assert html.count('<tr class="cq-row"') == len(claims)
+    assert html.count("<details>") == len(claims)
+    row = html.split('<tr class="cq-row"')[1]
+    summary_part, folded = row.split("</summary>", 1)
+    assert "quantity 29" not in summary_part and "quantity 29" in folded
+    assert "criterion criterion" in folded and 'class="cq-badge reproduced"' in row
+    assert "x = 0.00 (bound 1)" in row
+    # each figure embedded once however many claims it decides (background of a class)
+    assert html.count("data:image/png;base64,") == len(figures)
+    assert validation.figure_for(claims[0], figures) == figures[0]
+    # a figure of another model with the same name is never taken
+    other = Claim("lattice", "c", "s", "k", "m", "reproduced",
+                  figure="drying_inverse_mean_area.png")
+    assert validation.figure_for(other, figures) is None
+    # the fragment for the report is the same summary
+    assert validation.render_summary(claims, "default", figures) in html
+
+
+def test_validation_page_shows_summary_and_thumbnails_on_the_first_screen(tmp_path):
+    """In a real browser at 1280 x 800: the 33 rows of a default-like profile (two columns),
+    each with its badge and the thumbnail of its decoded figure, all on the first screen,
+    every details element folded."""
+    from tests.chromium import first_screen, on_screen, require_chromium
+
+    require_chromium()
+    claims, names = _default_like_claims()
+    page = validation.write_html(claims, tmp_path / "validation.html", "default",
+                                 _figures(tmp_path, names))
+    seen = first_screen(page)
+    assert seen["found"]
+    assert seen["viewport"] == [1280, 800]
+    assert len(seen["tables"]) == 2 and all(on_screen(t) for t in seen["tables"])
+    assert len(seen["rows"]) == len(claims) and all(on_screen(r) for r in seen["rows"])
+    assert all(on_screen(b) for b in seen["badges"])
+    assert len(seen["thumbs"]) == len(claims)
+    assert all(t["figure"] and on_screen(t) for t in seen["thumbs"])
+    assert seen["figures_decoded"] and all(seen["figures_decoded"])
+    assert seen["details"] == len(claims) and seen["details_open"] == 0

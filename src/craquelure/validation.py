@@ -53,6 +53,8 @@ class Claim:
     measured: str  # the numbers
     verdict: str  # one of VERDICTS
     note: str = ""  # failed conditions, caveats (sample size, profile departures)
+    deciding: str = ""  # the one number the verdict turns on, with its bound (summary table)
+    figure: str = ""  # the figure that decides it: the tail of its path ("glen/glen.png")
 
     def __post_init__(self) -> None:
         if self.verdict not in VERDICTS:
@@ -62,10 +64,10 @@ class Claim:
     @classmethod
     def judged(cls, model: str, claim: str, source: str, criterion: str, measured: str,
                conditions: Mapping[str, bool], undecided: Mapping[str, str] | None = None,
-               partial: bool = True) -> Claim:
+               partial: bool = True, *, deciding: str = "", figure: str = "") -> Claim:
         """A claim whose verdict and note :func:`verdict_of` computes from its conditions."""
         return cls(model, claim, source, criterion, measured,
-                   *verdict_of(conditions, undecided, partial))
+                   *verdict_of(conditions, undecided, partial), deciding=deciding, figure=figure)
 
 
 def verdict_of(conditions: Mapping[str, bool], undecided: Mapping[str, str] | None = None,
@@ -204,48 +206,197 @@ def write_json(claims: Sequence[Claim], path: str | Path, profile: str,
     return write_text_atomic(path, json.dumps(doc, indent=2) + "\n")
 
 
+# --- rendering: results/validation.html and the summary that opens the Snakemake report -------
+
+# Thumbnails are the deciding figures themselves, scaled down once per figure and embedded (the
+# page and the report stay single files); rows show them small, the folded details large.
+FIGURE_WIDTH = 720  # pixels of the embedded copy of a figure
+SUMMARY_CLASS = "cq-summary"
+
 _STYLE = """
-body { font-family: sans-serif; font-size: 13px; margin: 1em; }
-table { border-collapse: collapse; width: 100%; }
-th, td { border: 1px solid #bbb; padding: 4px 6px; vertical-align: top; text-align: left; }
-th { background: #eee; }
-td.reproduced { background: #d9f2d9; }
-td.partly { background: #fff2cc; }
-td.not-reproduced { background: #f8d7d7; }
-td.inconclusive { background: #e0e0ef; }
+.cq-summary { font-family: sans-serif; font-size: 13px; line-height: 1.3; color: #222; }
+.cq-summary h2 { font-size: 18px; margin: 0 0 4px 0; }
+.cq-summary p.cq-tally { margin: 0 0 8px 0; }
+.cq-grid { display: grid; grid-template-columns: repeat(auto-fit, minmax(520px, 1fr));
+           gap: 0 16px; align-items: start; }
+.cq-summary table.cq-table { border-collapse: collapse; width: 100%; table-layout: fixed;
+                             margin: 0; }
+.cq-table th, .cq-table td { border-bottom: 1px solid #ddd; padding: 1px 4px; text-align: left;
+                             vertical-align: middle; }
+.cq-table col.cq-c-thumb { width: 48px; } .cq-table col.cq-c-verdict { width: 104px; }
+.cq-table col.cq-c-number { width: 34%; }
+.cq-table tr.cq-model th { background: #eee; font-weight: bold; padding: 3px 4px; }
+.cq-table td.cq-claim { overflow: hidden; }
+.cq-table td.cq-claim summary { display: block; cursor: pointer; white-space: nowrap;
+                                overflow: hidden; text-overflow: ellipsis; }
+.cq-table td.cq-claim summary::before { content: "\\25B8  "; color: #777; }
+.cq-table td.cq-claim details[open] summary { white-space: normal; }
+.cq-table td.cq-claim details[open] summary::before { content: "\\25BE  "; }
+.cq-table td.cq-number { white-space: nowrap; overflow: hidden; text-overflow: ellipsis; }
+.cq-table dl { margin: 4px 0; } .cq-table dt { font-weight: bold; margin-top: 3px; }
+.cq-table dd { margin: 0 0 0 12px; white-space: normal; }
+.cq-thumb { display: block; width: 44px; height: 29px; background: #f6f6f6 center / contain
+            no-repeat; border: 1px solid #ccc; }
+.cq-thumb.cq-none { background: repeating-linear-gradient(45deg, #f6f6f6, #f6f6f6 4px,
+                    #e8e8e8 4px, #e8e8e8 8px); }
+.cq-figure { width: 100%; max-width: 720px; background: center / contain no-repeat;
+             margin-top: 4px; }
+.cq-badge { display: inline-block; border-radius: 8px; padding: 1px 7px; font-size: 11px;
+            font-weight: bold; white-space: nowrap; }
+.cq-badge.reproduced { background: #2e7d32; color: #fff; }
+.cq-badge.partly { background: #f9a825; color: #222; }
+.cq-badge.not-reproduced { background: #c62828; color: #fff; }
+.cq-badge.inconclusive { background: #5c6bc0; color: #fff; }
+.cq-keyfigs { display: flex; flex-wrap: wrap; gap: 8px; margin-top: 10px; }
+.cq-keyfigs figure { margin: 0; width: 300px; }
+.cq-keyfigs figcaption { font-size: 11px; color: #555; }
 """
 
 
-def render_html(claims: Sequence[Claim], profile: str) -> str:
+def figure_for(claim: Claim, figures: Sequence[str | Path]) -> Path | None:
+    """The figure file of ``claim`` among ``figures``: the first of its model's (a path with
+    the model's folder, ``results/<model>/...``) whose path ends with the claim's ``figure``
+    (whole path components), else None."""
+    if not claim.figure:
+        return None
+    tail = Path(claim.figure).parts
+    for path in map(Path, figures):
+        if path.parts[-len(tail):] == tail and claim.model in path.parts[:-len(tail)]:
+            return path
+    return None
+
+
+def _figure_data(path: Path) -> tuple[str, float]:
+    """``(data URI, height / width)`` of a figure scaled to :data:`FIGURE_WIDTH` pixels."""
+    import base64
+    import io
+
+    from PIL import Image
+
+    with Image.open(path) as im:
+        im = im.convert("RGB")
+        if im.width > FIGURE_WIDTH:
+            im = im.resize((FIGURE_WIDTH, round(im.height * FIGURE_WIDTH / im.width)),
+                           Image.LANCZOS)
+        buf = io.BytesIO()
+        im.save(buf, "PNG", optimize=True)
+        ratio = im.height / im.width
+    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode(), ratio
+
+
+def _badge(verdict: str) -> str:
+    return f'<span class="cq-badge {verdict.replace(" ", "-")}">{html.escape(verdict)}</span>'
+
+
+def _tally_text(n: Mapping[str, int]) -> str:
+    return (f'{n["reproduced"]} reproduced, {n["partly"]} partly, '
+            f'{n["not reproduced"]} not reproduced, {n["inconclusive"]} inconclusive')
+
+
+def render_summary(claims: Sequence[Claim], profile: str,
+                   figures: Sequence[str | Path] = ()) -> str:
+    """The one-screen summary: per claim a thumbnail of the figure that decides it, the claim,
+    a verdict badge and the one deciding number, in two balanced columns; the source,
+    criterion, measured numbers, note and the figure itself are folded under each row
+    (``<details>``). A self-contained HTML fragment (its own style, figures embedded), the
+    body of results/validation.html and the lead of the Snakemake report's first page."""
     counts = tally(claims)
-    rows = []
+    total = counts.get("all", dict.fromkeys(VERDICTS, 0))
+    used: dict[Path, int] = {}
+    for c in claims:
+        path = figure_for(c, figures)
+        if path is not None and path not in used:
+            used[path] = len(used)
+    styles, ratios = [], {}
+    for path, i in used.items():
+        uri, ratios[i] = _figure_data(path)
+        styles.append(f".cq-f{i} {{ background-image: url({uri}); }}")
+    rows: list[tuple[str, str]] = []  # (model, row); a model heading row has model ""
     for model in MODELS:
         mine = [c for c in claims if c.model == model]
         if not mine:
             continue
-        n = counts[model]
-        rows.append(f'<tr><th colspan="5">{model}: {n["reproduced"]} reproduced, '
-                    f'{n["partly"]} partly, {n["not reproduced"]} not reproduced, '
-                    f'{n["inconclusive"]} inconclusive</th></tr>')
+        rows.append(("", f'<tr class="cq-model"><th colspan="4">{html.escape(model)}: '
+                         f'{_tally_text(counts[model])}</th></tr>'))
         for c in mine:
-            cells = [c.claim, c.source, c.criterion, c.measured]
-            tds = "".join(f"<td>{html.escape(x)}</td>" for x in cells)
-            verdict = html.escape(c.verdict) + (f"<br><small>{html.escape(c.note)}</small>"
-                                                if c.note else "")
-            rows.append(f'<tr>{tds}<td class="{c.verdict.replace(" ", "-")}">{verdict}</td></tr>')
-    head = "".join(f"<th>{h}</th>" for h in
-                   ("claim", "source", "criterion", "measured", "verdict"))
-    total = counts.get("all", dict.fromkeys(VERDICTS, 0))
-    return (f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>craquelure validation"
-            f"</title><style>{_STYLE}</style></head><body>\n"
-            f"<h2>Validation, profile {html.escape(profile)}</h2>\n"
-            f"<p>{len(claims)} claims: {total['reproduced']} reproduced, {total['partly']} partly, "
-            f"{total['not reproduced']} not reproduced, {total['inconclusive']} inconclusive. "
-            f"Verdicts are computed from the criterion's conditions; 'partly' names the "
-            f"conditions that fail; 'inconclusive' means no condition fails but the sample "
-            f"cannot decide the claim, and names the sample it would need.</p>\n"
-            f"<table><tr>{head}</tr>\n" + "\n".join(rows) + "\n</table></body></html>\n")
+            path = figure_for(c, figures)
+            name = html.escape(path.name if path else "")
+            if path is None:
+                thumb = '<span class="cq-thumb cq-none" role="img" aria-label="no figure"></span>'
+                large = ""
+            else:
+                i = used[path]
+                thumb = (f'<span class="cq-thumb cq-f{i}" role="img" '
+                         f'aria-label="figure {name}" title="{name}"></span>')
+                large = (f'<div class="cq-figure cq-f{i}" role="img" aria-label="figure {name}" '
+                         f'style="aspect-ratio: {1 / ratios[i]:.4f}"></div>')
+            items = [("source", c.source), ("criterion", c.criterion), ("measured", c.measured)]
+            if c.note:
+                items.append(("note", c.note))
+            if path is not None:
+                items.append(("figure", path.name))
+            dl = "".join(f"<dt>{k}</dt><dd>{html.escape(v)}</dd>" for k, v in items)
+            number = html.escape(c.deciding or "-")
+            rows.append((model, (
+                f'<tr class="cq-row" data-verdict="{html.escape(c.verdict)}">'
+                f'<td class="cq-fig">{thumb}</td>'
+                f'<td class="cq-claim"><details><summary title="{html.escape(c.claim)}">'
+                f'{html.escape(c.claim)}</summary><dl>{dl}</dl>{large}</details></td>'
+                f'<td class="cq-verdict">{_badge(c.verdict)}</td>'
+                f'<td class="cq-number" title="{number}">{number}</td></tr>')))
+    # Two columns of (nearly) equal length; a column never ends on a model heading, and one
+    # that starts inside a model repeats its heading.
+    split = (len(rows) + 1) // 2
+    while 0 < split < len(rows) and not rows[split - 1][0]:
+        split -= 1
+    if 0 < split < len(rows) and rows[split][0]:
+        rows.insert(split, ("", f'<tr class="cq-model"><th colspan="4">'
+                                f'{html.escape(rows[split][0])} (continued)</th></tr>'))
+    cols = '<colgroup><col class="cq-c-thumb"><col><col class="cq-c-verdict">' \
+           '<col class="cq-c-number"></colgroup>'
+    head = ('<thead><tr><th>figure</th><th>claim (click for criterion and numbers)</th>'
+            '<th>verdict</th><th>deciding number</th></tr></thead>')
+    tables = "".join(
+        f'<table class="cq-table">{cols}{head}<tbody>{"".join(r for _, r in part)}'
+        f'</tbody></table>' for part in (rows[:split], rows[split:]) if part)
+    keyfigs = []
+    for model in MODELS:  # one key figure per model: its first claim's that has one
+        path = next((figure_for(c, figures) for c in claims if c.model == model
+                     and figure_for(c, figures) is not None), None)
+        if path is not None:
+            i = used[path]
+            keyfigs.append(f'<figure><div class="cq-figure cq-f{i}" role="img" aria-label='
+                           f'"figure {html.escape(path.name)}" style="aspect-ratio: '
+                           f'{1 / ratios[i]:.4f}"></div><figcaption>{html.escape(model)}: '
+                           f'{html.escape(path.name)}</figcaption></figure>')
+    keys = (f'<h3>Key figures</h3><div class="cq-keyfigs">{"".join(keyfigs)}</div>'
+            if keyfigs else "")
+    return (f'<section class="{SUMMARY_CLASS}"><style>{_STYLE}\n' + "\n".join(styles) +
+            f'</style>\n<h2>Validation, profile {html.escape(profile)}</h2>\n'
+            f'<p class="cq-tally">{len(claims)} claims: {total["reproduced"]} '
+            f'{_badge("reproduced")}, {total["partly"]} {_badge("partly")}, '
+            f'{total["not reproduced"]} {_badge("not reproduced")}, {total["inconclusive"]} '
+            f'{_badge("inconclusive")}. Verdicts are computed from each criterion\'s conditions: '
+            f'"partly" names the conditions that fail, "inconclusive" means none fails but the '
+            f'sample cannot decide (the row names the sample it would need).</p>\n'
+            f'<div class="cq-grid">{tables}</div>\n{keys}</section>\n')
 
 
-def write_html(claims: Sequence[Claim], path: str | Path, profile: str) -> Path:
-    return write_text_atomic(path, render_html(claims, profile))
+def render_html(claims: Sequence[Claim], profile: str,
+                figures: Sequence[str | Path] = ()) -> str:
+    """results/validation.html: the summary (:func:`render_summary`) as a page."""
+    return ("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><meta name=\"viewport\" "
+            "content=\"width=device-width\"><title>craquelure validation</title></head>"
+            "<body style=\"margin: 8px\">\n" + render_summary(claims, profile, figures) +
+            "</body></html>\n")
+
+
+def write_html(claims: Sequence[Claim], path: str | Path, profile: str,
+               figures: Sequence[str | Path] = ()) -> Path:
+    return write_text_atomic(path, render_html(claims, profile, figures))
+
+
+def write_summary(claims: Sequence[Claim], path: str | Path, profile: str,
+                  figures: Sequence[str | Path] = ()) -> Path:
+    """The summary fragment alone (the Snakemake report's first page includes it)."""
+    return write_text_atomic(path, render_summary(claims, profile, figures))

@@ -228,7 +228,11 @@ def test_ci_validation_report_covers_every_model(ci_run):
                for c in doc["claims"])
     assert sum(doc["tally"]["all"].values()) == len(doc["claims"])
     html = (work / "results" / "validation.html").read_text()
-    assert html.count("<tr>") == len(doc["claims"]) + 1 + len(doc["tally"]) - 1
+    assert html.count('<tr class="cq-row"') == len(doc["claims"])
+    assert html.count("<details>") == len(doc["claims"])
+    # the summary for the report's first page is the page's summary
+    summary = (work / "results" / "validation_summary.html").read_text()
+    assert summary.startswith('<section class="cq-summary">') and summary in html
 
 
 def test_ci_report_builds(ci_run):
@@ -239,6 +243,38 @@ def test_ci_report_builds(ci_run):
     assert report.returncode == 0, report.stdout[-3000:] + report.stderr[-3000:]
     html = (work / "results" / "report.html").read_bytes()
     assert len(html) > 10_000 and b"<html" in html[:2000].lower()
+
+
+def test_ci_pages_open_on_the_summary(ci_run):
+    """The CI profile's validation page and Snakemake report in headless Chromium at
+    1280 x 800: the summary table, its verdict badges and the thumbnails of the deciding figures
+    are on the first screen, every claim folded; the page shows every row at once."""
+    from tests.chromium import first_screen, on_screen, require_chromium
+
+    require_chromium()
+    work, proc = ci_run
+    assert proc.returncode == 0
+    results = work / "results"
+    if not (results / "report.html").exists():
+        built = snakemake(work, "--cores", "1", "--configfile", "config/ci.yaml",
+                          "--report", "results/report.html")
+        assert built.returncode == 0, built.stdout[-3000:] + built.stderr[-3000:]
+    claims = json.loads((results / "validation.json").read_text())["claims"]
+    page = first_screen(results / "validation.html")
+    assert page["found"] and page["viewport"] == [1280, 800]
+    assert len(page["rows"]) == len(claims) and all(on_screen(r) for r in page["rows"])
+    assert all(on_screen(b) for b in page["badges"])
+    with_figure = [t for t in page["thumbs"] if t["figure"]]
+    assert with_figure and all(on_screen(t) for t in with_figure)
+    assert all(page["figures_decoded"]) and page["details_open"] == 0
+    report = first_screen(results / "report.html")
+    assert report["found"], "the report's first page does not show the validation summary"
+    assert report["tables"] and on_screen(report["tables"][0]) or (
+        report["tables"][0]["top"] < 800 / 2), report["tables"]
+    shown = [r for r in report["rows"] if on_screen(r)]
+    assert len(shown) >= min(len(claims), 10), (len(shown), report["rows"][:3])
+    thumbs = [t for t in report["thumbs"] if t["figure"] and on_screen(t)]
+    assert thumbs and all(report["figures_decoded"]), report["thumbs"][:3]
 
 
 # The one high-priority finding compliance-checker makes on our datasets: its §5.1 heuristic

@@ -28,6 +28,12 @@ def claim_sources(wildcards):
     return {model: paths for model, paths in CLAIM_SOURCES.items() if paths}
 
 
+def claim_figures(wildcards):
+    """Every figure the models register as targets: the validation summary shows, per claim,
+    the one that decides it (craquelure.validation.figure_for)."""
+    return [path for path in all_targets() if path.endswith(".png")]
+
+
 def all_targets():
     return [path for paths in TARGETS.values() for path in paths]
 

@@ -1,5 +1,6 @@
 # Validation report: every model's claims (craquelure.<model>.claims) computed from the
-# analysis outputs the model files registered in CLAIM_SOURCES, one table for the report.
+# analysis outputs the model files registered in CLAIM_SOURCES, one table for the report,
+# each claim shown with the figure that decides it (claim_figures).
 
 
 # Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
@@ -11,6 +12,7 @@ localrules:
 rule validation_report:
     input:
         unpack(claim_sources),
+        figures=claim_figures,
     output:
         html=report(
             "results/validation.html",
@@ -19,6 +21,8 @@ rule validation_report:
             labels={"table": "claims, measured, verdicts"},
         ),
         json="results/validation.json",
+        # the same summary as a fragment: the report's first page leads with it
+        summary="results/validation_summary.html",
     params:
         profile=config["profile"],
     log:
@@ -31,4 +35,8 @@ rule validation_report:
         "../scripts/validation_report.py"
 
 
-TARGETS["validation"] = ["results/validation.html", "results/validation.json"]
+TARGETS["validation"] = [
+    "results/validation.html",
+    "results/validation.json",
+    "results/validation_summary.html",
+]

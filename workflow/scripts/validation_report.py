@@ -11,6 +11,10 @@ if "snakemake" in globals():
     claims = validation.collect(sources)
     validation.write_json(claims, snakemake.output.json, snakemake.params.profile,  # noqa: F821
                           sources)
-    validation.write_html(claims, snakemake.output.html, snakemake.params.profile)  # noqa: F821
+    figures = list(snakemake.input.figures)  # noqa: F821
+    validation.write_html(claims, snakemake.output.html, snakemake.params.profile,  # noqa: F821
+                          figures)
+    validation.write_summary(claims, snakemake.output.summary,  # noqa: F821
+                             snakemake.params.profile, figures)  # noqa: F821
     for c in claims:
         print(f"[{c.model}] {c.verdict:>14}: {c.claim} | {c.measured}")

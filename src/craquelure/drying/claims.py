@@ -51,6 +51,50 @@ def _verdict(check: dict) -> tuple[str, str]:
                       partial=check.get("partial", False))
 
 
+def _failed(check: dict) -> list[str]:
+    return [name for name, ok in check.get("conditions", {}).items() if not ok]
+
+
+def _inverse_area_number(c14: dict, verdict: str) -> str:
+    """The number check 14's verdict turns on: the first failing condition's, else the power
+    when the sample cannot decide, else the x-intercept t0."""
+    if "error" in c14:
+        return "no test"
+    failed = " ".join(_failed(c14))
+    if "(a)" in failed:
+        return f"chi^2_r = {c14['reduced_chi2']:.2f} (< {c14['reduced_chi2_critical']:.2f})"
+    if "(b)" in failed:
+        return f"quadratic p = {c14['quadratic_c_p']:.2g} (>= 0.01)"
+    if "t0" in failed or not failed and verdict != "inconclusive":
+        return f"t0 = {c14['t0_over_t_star']:.2f} t* (0-1 t*)"
+    if failed:
+        return f"b = {c14['slope_over_b_star']:.2f} b* (0.2-5 b*)"
+    return f"power {c14['power']:.2f} (needs 0.8)"
+
+
+def _collapse_number(c15: dict, verdict: str) -> str:
+    if "error" in c15:
+        return "no test"
+    failed = " ".join(_failed(c15))
+    if "KS(S_first" in failed:
+        return f"KS(S) = {c15['ks_raw_first_last']:.2f} (>= 0.3)"
+    if "CV" in failed:
+        return f"CV upper 95 % = {c15['cv_mean_x2_upper95']:.3f} (<= 0.10)"
+    if verdict == "inconclusive":
+        return f"power {c15['power']:.2f} (needs 0.8)"
+    return f"KS(X) upper 95 % = {c15['ks_scaled_first_last_upper95']:.3f} (<= 0.15)"
+
+
+def _onset_number(c16: dict) -> str:
+    def at(key: str) -> str:
+        v = c16[key]["over_t_star"]
+        return "never" if v is None else f"{v:.2f} t*"
+
+    if any(name.startswith("all") for name in _failed(c16)):
+        return f"all broken {at('all_samples_broken')} (<= 0.9 t*)"
+    return f"first broken {at('first_sample_broken')} (<= 0.45 t*)"
+
+
 def inverse_area_claim(summary: dict) -> Claim:
     c14, tstar = summary["checks"]["check14_inverse_mean_area_linear"], summary["t_star"]
     verdict, note = _verdict(c14)
@@ -73,7 +117,9 @@ def inverse_area_claim(summary: dict) -> Claim:
                  "weighted fit 1/<S>_t = b (t - t0): (a) reduced chi^2 below its 99 % critical "
                  "value, (b) quadratic term not significant at 1 %, (c) 0 < t0 <= t*, "
                  "0.2 b* <= b <= 5 b*; (d) power >= 0.8 against the t^-2 law",
-                 measured, verdict, _with(note, _caveat(summary)))
+                 measured, verdict, _with(note, _caveat(summary)),
+                 deciding=_inverse_area_number(c14, verdict),
+                 figure="drying_inverse_mean_area.png")
 
 
 def collapse_claim(summary: dict) -> Claim:
@@ -93,7 +139,8 @@ def collapse_claim(summary: dict) -> Claim:
                  "paper Figs. 5-6; drying spec check 15 (revised)",
                  "upper 95 % bootstrap bounds KS(X_first, X_last) <= 0.15 and CV of <X^2>_t "
                  "<= 0.10; KS(S_first, S_last) >= 0.3; power >= 0.8 against a 25 % width "
-                 "drift", measured, verdict, _with(note, _caveat(summary)))
+                 "drift", measured, verdict, _with(note, _caveat(summary)),
+                 deciding=_collapse_number(c15, verdict), figure="drying_scaled_distribution.png")
 
 
 def onset_claim(summary: dict) -> Claim:
@@ -116,7 +163,8 @@ def onset_claim(summary: dict) -> Claim:
                  "broken before 0.8 t* (100 samples)",
                  "paper Figs. 4-6 (t = 90, 150, 180); drying spec check 16",
                  "first sample broken by 0.45 t*, all broken by 0.9 t*",
-                 measured, verdict, _with(note, _caveat(summary)))
+                 measured, verdict, _with(note, _caveat(summary)),
+                 deciding=_onset_number(c16), figure="drying_snapshots.png")
 
 
 def thickness_claim(path: Path) -> Claim:
@@ -137,7 +185,9 @@ def thickness_claim(path: Path) -> Claim:
     return Claim(MODEL, "fragment area at a given time scales as H^2 (beyond the paper: "
                  "dimensional analysis, drying-layer experiments)",
                  "issue #4 part 6", f"exponent of <S> ~ H^beta within {THICKNESS_SIGMAS:g} "
-                 f"standard deviations of {predicted:g}", measured, verdict, note)
+                 f"standard deviations of {predicted:g}", measured, verdict, note,
+                 deciding=f"beta = {beta:.2f} +- {spread:.2f} ({predicted:g})",
+                 figure=f"{path.parent.name}_thickness.png")
 
 
 def claims(sources: list[Path]) -> list[Claim]:

@@ -80,6 +80,39 @@ def _fraction_text(name: str, test: dict) -> str:
             f"{test['ci95_exact'][1]:.2f}]; power {power})")
 
 
+# The report figure that shows each check-12 finding's case (2D: the figures draw the 2D runs).
+FIGURES = (("homogeneous:", "impact_damage_homogeneous.png"),
+           ("heterogeneous kappa = 1:", "impact_damage_heterogeneous_kappa1.png"),
+           ("heterogeneous kappa = ", "impact_damage_heterogeneous_kappa_low_high.png"),
+           ("pf", "impact_precracks.png"))
+
+
+def figure_of(finding: dict) -> str:
+    if finding.get("dim", "2D") != "2D":
+        return ""
+    return next((name for prefix, name in FIGURES if finding["finding"].startswith(prefix)), "")
+
+
+def deciding_number(finding: dict) -> str:
+    """The number the verdict turns on: the first failing condition's (else the first
+    undecided one's, else the first's): k of n specimens for a fraction, the main-crack count
+    of the homogeneous disc."""
+    conditions = finding.get("conditions", {})
+    tests = finding.get("fraction_tests", {})
+    order = ([k for k, v in conditions.items() if v is False]
+             + [k for k, v in conditions.items() if v is None] + list(conditions))
+    for name in order:
+        test = tests.get(name)
+        if test and "k" in test:
+            what = name.split(" in at least half")[0]
+            return f"{what}: {test['k']} of {test['n']}"
+        if name == "one main crack":
+            return f"N_main = {finding['values'].get('n_main_cracks_revised')} (1)"
+        if name in conditions:
+            return f"{name}: {'yes' if conditions[name] else 'no'}"
+    return ""
+
+
 def finding_claim(finding: dict, caveat: str) -> Claim:
     """A check-12 finding of :mod:`.check12` (status computed there), with every seed's values
     (all of them are in summary.json too), and each fractional condition's statistic,
@@ -106,14 +139,16 @@ def finding_claim(finding: dict, caveat: str) -> Claim:
         status = "inconclusive"
         notes.insert(0, "not run")
     return Claim(MODEL, f"[{dim}] {finding['finding']}", "impact spec section 7; check 12 "
-                 "(revised 2026-12)", finding["criterion"], measured, status, "; ".join(notes))
+                 "(revised 2026-12)", finding["criterion"], measured, status, "; ".join(notes),
+                 deciding=deciding_number(finding), figure=figure_of(finding))
 
 
 def not_run_claim(finding: dict, dim: str, profile: str) -> Claim:
     """The row of a dimension the profile did not run, beside the other dimension's."""
     return Claim(MODEL, f"[{dim}] {finding['finding']}", "impact spec section 7; check 12 "
                  "(revised 2026-12)", finding["criterion"], f"no {dim} runs", "inconclusive",
-                 f"not run: profile {profile} has no {dim} runs of this case")
+                 f"not run: profile {profile} has no {dim} runs of this case",
+                 deciding=f"no {dim} runs")
 
 
 def caveat_of(summary: dict, dim: str) -> str:
@@ -149,7 +184,9 @@ def robustness_claim(summary: dict) -> Claim:
                         f" max energy-balance error {err:.2%}",
                         {"all runs finished": bool(summary["all_runs_finished"]),
                          f"energy balance error < {ENERGY_BALANCE_MAX:.0%}":
-                         err < ENERGY_BALANCE_MAX})
+                         err < ENERGY_BALANCE_MAX},
+                        deciding=f"max energy error {err:.2%} (< {ENERGY_BALANCE_MAX:.0%})",
+                        figure="impact_contact_force.png")
 
 
 def claims(sources: list[Path]) -> list[Claim]:

@@ -28,12 +28,15 @@ def glen_claims(s: dict) -> list[Claim]:
         f"viscosity slope {s['viscosity_slope']:.3f} (strain-rate exponent "
         f"{s['strain_rate_exponent']:.3f}); frozen {s['frozen_viscosity_slope']:.4f}",
         {"viscosity slope -2 +- 0.2": s["check8_glen_slope_pass"],
-         "frozen bonds: slope 0 +- 0.2": s["check8_newtonian_pass"]})
+         "frozen bonds: slope 0 +- 0.2": s["check8_newtonian_pass"]},
+        deciding=f"slope {s['viscosity_slope']:.2f} (-2 +- 0.2)", figure="glen/glen.png")
     steady = Claim.judged(
         MODEL, "with melting the creep rate under constant stress is steady",
         "lattice spec check 9", "strain rate in the second half of the run within 10 % of the "
         "first", f"largest deviation {s['max_steadiness_deviation']:.1%}",
-        {"steady within 10 %": s["check9_steady_pass"]})
+        {"steady within 10 %": s["check9_steady_pass"]},
+        deciding=f"deviation {s['max_steadiness_deviation']:.1%} (<= 10 %)",
+        figure="glen/glen.png")
     return [glen, steady]
 
 
@@ -42,7 +45,9 @@ def gravity_claim(s: dict) -> Claim:
                         "predicts", "lattice spec check 10",
                         "interior settlement within 5 % of rho_2 g H^2 / (2M)",
                         f"{s['measured']:.4g} against {s['predicted']:.4g} "
-                        f"({s['relative_error']:+.2%})", {"within 5 %": s["check10_pass"]})
+                        f"({s['relative_error']:+.2%})", {"within 5 %": s["check10_pass"]},
+                        deciding=f"{s['relative_error']:+.2%} (within 5 %)",
+                        figure="gravity_block/gravity_block.png")
 
 
 def calving_claim(s: dict) -> Claim:
@@ -60,7 +65,10 @@ def calving_claim(s: dict) -> Claim:
                         "exponent in [1.2, 1.9] by maximum likelihood and by the log-binned slope",
                         f"{s['fragments']} fragments: tau = {s['ml_exponent']:.2f} (cut-off "
                         f"{s['ml_cutoff']:.3g}), binned slope {s['slope']:.2f} over "
-                        f"{s['decades']:.2f} decades", conditions, undecided)
+                        f"{s['decades']:.2f} decades", conditions, undecided,
+                        deciding=(f"tau = {s['ml_exponent']:.2f} (1.2-1.9)" if conditions else
+                                  f"{s['fragments']} fragments (>= {CALVING_MIN_FRAGMENTS})"),
+                        figure="calving/calving.png")
 
 
 def fretting_claim(s: dict) -> Claim:
@@ -72,7 +80,8 @@ def fretting_claim(s: dict) -> Claim:
                         "broken beams under the pad and at least one detached platelet",
                         f"{s['broken']} broken beams; platelets per cycle: "
                         f"{per_cycle or 'none run'}", {"cracks under the pad": s["broken"] > 0,
-                                                       "platelets detach": platelets > 0})
+                                                       "platelets detach": platelets > 0},
+                        deciding=f"{platelets} platelets (>= 1)", figure="fretting/fretting.png")
 
 
 def accuracy_claim(s: dict) -> Claim:
@@ -82,7 +91,10 @@ def accuracy_claim(s: dict) -> Claim:
                         "convergence order of the mode period -2 +- 0.2 at every time step",
                         f"order {orders}; deviation from the chain prediction <= "
                         f"{s['max_deviation_from_chain_prediction']:.1%}",
-                        {"order -2 +- 0.2": s["order_two_pass"]})
+                        {"order -2 +- 0.2": s["order_two_pass"]},
+                        deciding="order " + " / ".join(
+                            f"{v:.2f}" for v in s["convergence_order"].values()) + " (-2 +- 0.2)",
+                        figure="accuracy/accuracy.png")
 
 
 def scaling_claim(path: Path) -> Claim:
@@ -97,7 +109,9 @@ def scaling_claim(path: Path) -> Claim:
                         f"smallest to the largest lattice",
                         f"{min(per):.3g}-{max(per):.3g} s (spread {spread:.0%}) at {sizes} "
                         "particles", {f"spread <= {WEAK_SCALING_SPREAD:.0%}":
-                                      spread <= WEAK_SCALING_SPREAD})
+                                      spread <= WEAK_SCALING_SPREAD},
+                        deciding=f"spread {spread:.0%} (<= {WEAK_SCALING_SPREAD:.0%})",
+                        figure="scaling/scaling.png")
 
 
 _BY_FOLDER = {"glen": glen_claims, "gravity_block": lambda s: [gravity_claim(s)],

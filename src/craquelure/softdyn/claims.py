@@ -28,7 +28,8 @@ def sweep_claims(n: dict) -> list[Claim]:
         f"{n['finished']} finished runs at {n['forces']} forces; decreasing at "
         f"{sum(monotone)}/{len(monotone)} forces; span {span:.2f} decades",
         {"decreasing at every force": bool(monotone) and all(monotone),
-         "span >= 2 decades": span >= 2.0})]
+         "span >= 2 decades": span >= 2.0},
+        deciding=f"decreasing at {sum(monotone)}/{len(monotone)} forces", figure="fig5.png")]
     if slopes:
         inside = [-2.2 <= s <= -1.5 for _, s, _, _ in slopes]
         out.append(Claim.judged(
@@ -36,7 +37,9 @@ def sweep_claims(n: dict) -> list[Claim]:
             "paper 2 Eq. 34; softdyn spec check 11", "d ln T / d ln h0 between the two grid "
             "points nearest below h0/h* = 0.1 in [-2.2, -1.5] (-> -2 as h0/h* -> 0)",
             "; ".join(f"F~ = {f:g}: {s:.2f} (h0/h* {a:.3g}-{b:.3g})" for f, s, a, b in slopes),
-            {"local slope in [-2.2, -1.5] at every force": all(inside)}))
+            {"local slope in [-2.2, -1.5] at every force": all(inside)},
+            deciding="slope " + " / ".join(f"{s:.2f}" for _, s, _, _ in slopes)
+            + " ([-2.2, -1.5])", figure="fig5.png"))
     return out
 
 
@@ -61,7 +64,8 @@ def phase_claim(n: dict) -> Claim:
                  f"T1 occurrence equals the prediction at the points farther than {NEAR_LINE:g}"
                  f" from the line, and at every point of the (F_h/F_v, F~) scan",
                  f"{int(agree.sum())}/{agree.size} points agree"
-                 + (f" (differs: {off})" if off else ""), verdict, note)
+                 + (f" (differs: {off})" if off else ""), verdict, note,
+                 deciding=f"{int(agree.sum())}/{agree.size} points agree", figure="fig3.png")
 
 
 def t1_claim(n: dict) -> Claim:
@@ -72,7 +76,8 @@ def t1_claim(n: dict) -> Claim:
                         f"theta {n['theta_start']:.2f} -> {final:.2f} deg in "
                         f"{n['duration']:.4g} tau (largest rise {rising:.1e} deg)",
                         {"final angle in [29, 33] deg": 29.0 <= final <= 33.0,
-                         "angle non-increasing": rising <= 1e-9})
+                         "angle non-increasing": rising <= 1e-9},
+                        deciding=f"theta {final:.2f} deg (29-33)", figure="fig4.png")
 
 
 def approach_claims(n: dict) -> list[Claim]:
@@ -85,7 +90,9 @@ def approach_claims(n: dict) -> list[Claim]:
                                 "paper 1 (Poiseuille limit); softdyn spec check 4",
                                 "fitted rate of ln h while h >= 100 h* within 1 % of 1/(c_n tau)",
                                 f"rate x c_n tau = {rate:.4f} over {n['rate_samples']} samples",
-                                {"rate within 1 %": abs(rate - 1) <= 0.01}))
+                                {"rate within 1 %": abs(rate - 1) <= 0.01},
+                                deciding=f"rate {rate - 1:+.2%} (within 1 %)",
+                                figure="gaps.png"))
     if n["hertz_ratio"] is not None:
         ratio = n["hertz_ratio"]
         out.append(Claim.judged(MODEL, "in elastic contact (h << h*) the gap closes as h^-2 - "
@@ -93,7 +100,9 @@ def approach_claims(n: dict) -> list[Claim]:
                                 "paper 1 (Hertz limit); softdyn spec check 4",
                                 "d(h^-2)/dt while h <= h*/100 within 2 % of 2/(c_n tau h*^2)",
                                 f"measured / predicted = {ratio:.4f}",
-                                {"within 2 %": abs(ratio - 1) <= 0.02}))
+                                {"within 2 %": abs(ratio - 1) <= 0.02},
+                                deciding=f"ratio {ratio - 1:+.2%} (within 2 %)",
+                                figure="gaps.png"))
     return out
 
 
@@ -105,7 +114,9 @@ def separation_claim(n: dict) -> Claim:
                         "opening time within 2 % of the quadrature of spec section 7",
                         f"{duration:.5g} tau against {predicted:.5g} tau "
                         f"({duration / predicted - 1:+.2%}), h0 = {h0:g} R, F~ = {force:g}",
-                        {"within 2 %": abs(duration / predicted - 1) <= 0.02})
+                        {"within 2 %": abs(duration / predicted - 1) <= 0.02},
+                        deciding=f"{duration / predicted - 1:+.2%} (within 2 %)",
+                        figure="gaps.png")
 
 
 def accuracy_claim(n: dict) -> Claim:
@@ -115,7 +126,9 @@ def accuracy_claim(n: dict) -> Claim:
                         "observed order of Heun's method 2 +- 0.2 (T1 duration and state)",
                         f"order {order:.2f} (duration), {state:.2f} (state)",
                         {"order 2 +- 0.2 on the duration": abs(order - 2) <= 0.2,
-                         "order 2 +- 0.2 on the state": abs(state - 2) <= 0.2})
+                         "order 2 +- 0.2 on the state": abs(state - 2) <= 0.2},
+                        deciding=f"order {order:.2f} / {state:.2f} (2 +- 0.2)",
+                        figure="accuracy.png")
 
 
 BY_KIND = {"sweep": sweep_claims, "phase": lambda n: [phase_claim(n)],

@@ -1,0 +1,125 @@
+"""The documentation site's generators (docs/site_hooks/): the docstrings' reST math becomes
+arithmatex's Markdown, and the API pages cover every effect and module of the package. The
+site is built with warnings as errors (`mkdocs build --strict`, as `make docs` does), which
+also checks every internal link and anchor, and its equations are checked in a browser."""
+
+from __future__ import annotations
+
+import importlib.util
+import re
+
+import pytest
+
+from craquelure.registry import known_effects
+from craquelure.scene import MODELS, project_root
+
+ROOT = project_root()
+
+
+def _load(name: str):
+    spec = importlib.util.spec_from_file_location(name, ROOT / "docs" / "site_hooks" /
+                                                  f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def rest_math():
+    return _load("rest_math")
+
+
+@pytest.fixture(scope="module")
+def hooks():
+    return _load("hooks")
+
+
+def test_rest_math_becomes_arithmatex(rest_math):
+    text = ("Rate (Eq. 15):\n\n.. math::\n\n    a = b\n    + c\n\n    d = e\n\nwith :math:`x_i^2`, "
+            "see :func:`~craquelure.codegen.generate` and ``scene.get``.\n\n    .. math::\n"
+            "        :label: eq1\n\n        f = g\n\nend")
+    out = rest_math.rest_to_markdown(text)
+    assert "\\[\na = b\n+ c\n\\]" in out and "\\[\nd = e\n\\]" in out
+    assert "\\(x_i^2\\)" in out and "`craquelure.codegen.generate`" in out
+    assert "`scene.get`" in out and "``" not in out and ":math:" not in out
+    assert "    \\[\n    f = g\n    \\]" in out and ":label:" not in out
+    assert out.endswith("end")
+    one_line = rest_math.rest_to_markdown(".. math:: u = v\n\ntext")
+    assert "\\[\nu = v\n\\]" in one_line and one_line.endswith("text")
+
+
+def test_every_effect_docstring_converts_to_balanced_math(rest_math):
+    for model in MODELS:
+        for effect in known_effects(model).values():
+            path = next(p for p in (ROOT / "src" / "craquelure").rglob("*.py")
+                        if f'"{effect.name}"' in p.read_text() and "EFFECT = Effect(" in
+                        p.read_text() and f'"{model}"' in p.read_text())
+            doc = re.search(r'^r?"""(.*?)"""', path.read_text(), re.S)
+            assert doc, path
+            out = rest_math.rest_to_markdown(doc.group(1))
+            assert ":math:" not in out and ".. math::" not in out, path
+            assert out.count("\\(") == out.count("\\)"), path
+            assert out.count("\\[") == out.count("\\]"), path
+
+
+def test_api_pages_cover_every_model_effect_and_module(hooks):
+    pages = hooks.api_pages()
+    assert set(pages) == {f"api/{m}.md" for m in MODELS} | {"api/core.md"}
+    listed = {}
+    for page, text in pages.items():
+        for name in re.findall(r"^::: (\S+)$", text, re.M):
+            assert name not in listed, (name, page, listed.get(name))
+            listed[name] = page
+    for model in MODELS:
+        effects_part = pages[f"api/{model}.md"].split("## Modules")[0]
+        for effect in known_effects(model):
+            assert re.search(rf"^::: craquelure\.[\w.]*effects\.{effect}$", effects_part, re.M), (
+                model, effect)
+    package = ROOT / "src" / "craquelure"
+    modules = {".".join(p.relative_to(package.parent).with_suffix("").parts)
+               for p in package.rglob("*.py") if p.name != "__init__.py"}
+    assert modules == set(listed)
+
+
+def test_links_are_rewritten_for_the_site_and_missing_targets_warned(hooks, caplog):
+    text = ("[a](docs/drying.md#cost) [b](config/README.md) [c](LICENSE) "
+            "![d](docs/export_drying_default.png) [e](https://example.org) [f](docs/nope.md)")
+    out = hooks.rewrite_links(text, "README.md", "index.md")
+    assert "[a](drying.md#cost)" in out and "[b](configuration.md)" in out
+    assert "`LICENSE`" in out and "![d](export_drying_default.png)" in out
+    assert "[e](https://example.org)" in out
+    assert any("docs/nope.md" in r.getMessage() for r in caplog.records)
+    page = hooks.rewrite_links("[x](../config/README.md#keys)", "docs/outputs.md", "outputs.md")
+    assert page == "[x](configuration.md#keys)"
+
+
+def test_site_builds_strict_and_renders_every_equation_offline(tmp_path):
+    """`mkdocs build --strict` (warnings, broken links and anchors are errors), then each API
+    page in headless Chromium without network: every equation typeset by the site's own
+    MathJax, none left as TeX, no MathJax error."""
+    import os
+    import subprocess
+    import sys
+
+    from tests.chromium import FLAGS, require_chromium
+
+    site = tmp_path / "site"
+    env = {**os.environ, "NO_MKDOCS_2_WARNING": "1"}
+    built = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "--quiet",
+                            "--site-dir", str(site)], cwd=ROOT, env=env, capture_output=True,
+                           text=True)
+    assert built.returncode == 0, built.stdout + built.stderr
+    browser = require_chromium()
+    for model in (*MODELS, "core"):
+        page = site / "api" / model / "index.html"
+        text = page.read_text()
+        equations = text.count('class="arithmatex"')
+        if model != "core":
+            assert equations > 0, model  # every model's effects state their equations
+        dom = subprocess.run([browser, *FLAGS, f"--user-data-dir={tmp_path}/profile",
+                              "--window-size=1280,800", "--virtual-time-budget=30000",
+                              "--dump-dom", page.as_uri()], capture_output=True, text=True,
+                             timeout=180).stdout
+        assert dom.count('class="arithmatex"') == equations, model
+        assert dom.count("<mjx-container") == equations, model
+        assert "<mjx-merror" not in dom and "data-mjx-error" not in dom, model
