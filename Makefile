@@ -1,6 +1,7 @@
 # `make run` (whole workflow on config/config.yaml, then the report and the archive),
-# `make test` (ruff, snakefmt, pytest: the documentation site's strict build too) and `make docs`
-# (the site into site/). Each creates .venv with the system python3 and installs pinned deps.
+# `make test` (ruff, snakefmt, pytest: the documentation site's strict build too), `make
+# test-fast` (the unit tests only) and `make docs` (the site into site/). Each creates .venv with
+# the system python3 and installs pinned deps.
 # Snakemake loads the default workflow profile profiles/default/ by itself (all cores,
 # keep-going, rerun-incomplete): `make run` passes no options. CORES=2 limits the cores.
 PYTHON ?= python3
@@ -13,7 +14,7 @@ SNAKEMAKE := $(BIN)/snakemake $(if $(CORES),--cores $(CORES))
 # `make test`). NO_MKDOCS_2_WARNING silences the theme's banner.
 MKDOCS := NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
 
-.PHONY: install run test test-slurm lint bench docs clean-results
+.PHONY: install run test test-fast test-slurm lint bench docs clean-results
 
 $(BIN)/.installed: pyproject.toml requirements.lock
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -35,6 +36,11 @@ test: install
 
 docs: install
 	$(MKDOCS)
+
+# The unit tests, for a developer between edits: no end-to-end workflow (tests/workflow), no
+# hard cases (tests/hard_cases), nothing marked slow. `make test` stays the whole suite.
+test-fast: install
+	$(BIN)/pytest -q -m "not slow and not slurm" --ignore=tests/workflow --ignore=tests/hard_cases
 
 # The CI config through the SLURM profile on a one-node cluster started on this machine
 # (needs root: installs and starts Debian's slurmctld, slurmd and munge).

@@ -51,7 +51,7 @@ def one_run(scene_name: str, kappa: float, t_end: float, seed: int) -> dict:
         if eng.index is not built:
             rebuilds += 1
             built = eng.index
-        bad = run.check()
+        bad = run.divergence()
         if bad is not None:
             raise RuntimeError(f"{scene_name}: {bad}")
         run.sample()

@@ -1,5 +1,5 @@
 """Check 7 (crack band in SPH) at any resolution and kappa, with its CPU time: the notched
-200 mm bar of :func:`craquelure.impact.checks.crack_band_bar` pulled at +-0.05 m/s; prints the
+200 mm bar of :func:`craquelure.impact.experiments.crack_band_bar` pulled at +-0.05 m/s; prints the
 dissipation per crack area over G_F, the band width in columns and l_c.
 
     .venv/bin/python benchmarks/impact_crack_band.py 0.004 10 1.0  # spacing [m], rows, kappa
@@ -9,7 +9,7 @@ import sys
 
 import numba
 
-from craquelure.impact.checks import crack_band_bar
+from craquelure.impact.experiments import crack_band_bar
 
 
 def main(spacing: float, rows: int, kappa: float) -> None:

@@ -16,7 +16,9 @@ import xarray as xr
 
 from craquelure import cf
 from craquelure.io import open_dataset, write_dataset
-from craquelure.models import MODELS
+from craquelure.models import MODELS, model_module
+
+SOFTDYN, IMPACT = (model_module(m, "metadata").METADATA for m in ("softdyn", "impact"))
 
 
 def parses(units: str) -> bool:
@@ -29,7 +31,7 @@ def parses(units: str) -> bool:
 
 @pytest.mark.parametrize("model", MODELS)
 def test_every_table_unit_becomes_udunits(model):
-    meta = cf.model_metadata(model)
+    meta = model_module(model, "metadata").METADATA
     assert meta.title and meta.references
     for name, (long_name, units) in meta.variables.items():
         assert long_name, name
@@ -47,11 +49,11 @@ def test_reduced_model_scale_names_are_not_read_as_si():
     # "R" (sphere radius) parses in UDUNITS as roentgen and "tau" does not parse at all:
     # reduced units must never be passed through as if they were SI.
     assert parses("R") and cf_units.Unit("R") != cf_units.Unit("m")
-    assert cf._units(cf.model_metadata("softdyn"), "R") == ("1", "R")
-    assert cf._units(cf.model_metadata("softdyn"), "tau") == ("1", "tau")
-    assert cf._units(cf.model_metadata("softdyn"), "s") == ("s", None)  # wall time stays SI
-    assert cf._units(cf.model_metadata("softdyn"), "deg") == ("degree", None)
-    assert cf._units(cf.model_metadata("impact"), "N/m") == ("N m-1", None)
+    assert cf._units(SOFTDYN, "R") == ("1", "R")
+    assert cf._units(SOFTDYN, "tau") == ("1", "tau")
+    assert cf._units(SOFTDYN, "s") == ("s", None)  # wall time stays SI
+    assert cf._units(SOFTDYN, "deg") == ("degree", None)
+    assert cf._units(IMPACT, "N/m") == ("N m-1", None)
 
 
 def run_like(model: str) -> xr.Dataset:

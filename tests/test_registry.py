@@ -65,9 +65,10 @@ def test_broken_effect_module_is_not_silently_ignored(tmp_path, monkeypatch):
         registry._effects_in_package.cache_clear()
         with pytest.raises(ModuleNotFoundError, match="no_such_module_xyz"):
             known_effects("drying")
-        # A model whose effects package does not exist yet simply has none.
+        # Every model has an effects package: a missing one is an error, not an empty registry.
         monkeypatch.setitem(registry.EFFECT_PACKAGES, "drying", "fake_effects_pkg.absent")
-        assert known_effects("drying") == {}
+        with pytest.raises(ModuleNotFoundError, match="fake_effects_pkg.absent"):
+            known_effects("drying")
     finally:
         registry._effects_in_package.cache_clear()
         for mod in [m for m in sys.modules if m.startswith("fake_effects_pkg")]:
@@ -78,3 +79,9 @@ def test_effect_is_frozen():
     effect = Effect(model="drying", name="x", flag=None, description="d")
     with pytest.raises(AttributeError):
         effect.name = "y"
+
+
+def test_flag_is_the_effect_name_in_capitals():
+    assert Effect(model="drying", name="xsph", flag="XSPH", description="d").flag == "XSPH"
+    with pytest.raises(ValueError, match="'HAS_XSPH'; the flag is the name in capitals, 'XSPH'"):
+        Effect(model="drying", name="xsph", flag="HAS_XSPH", description="d")

@@ -33,7 +33,7 @@ class ToyEngine:
         if self.steps == self.nan_at:
             self.x[3] = np.nan
 
-    def check(self):
+    def divergence(self):
         return runner.non_finite({"x": self.x})
 
     def sample(self):

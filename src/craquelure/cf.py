@@ -58,11 +58,6 @@ def per_body(variables: dict[str, tuple[str, str | None]]) -> dict[str, tuple[st
             for name, (long_name, units) in variables.items()}
 
 
-def model_metadata(model: str) -> ModelMetadata:
-    """The :class:`ModelMetadata` of a model (``craquelure.<model>.metadata.METADATA``)."""
-    return model_module(model, "metadata").METADATA
-
-
 def command_line(argv: list[str] | None = None) -> str:
     """The command that is writing, as a user would type it (``python -m craquelure ...``
     shows as ``craquelure ...``)."""
@@ -92,7 +87,7 @@ def apply(ds: xr.Dataset, argv: list[str] | None = None) -> xr.Dataset:
     """Add the CF attributes to ``ds`` in place (see the module docstring) and return it.
     Datasets without a known ``model`` attribute get the global attributes only."""
     model = str(ds.attrs.get("model", ""))
-    meta = model_metadata(model) if model in MODELS else None
+    meta = model_module(model, "metadata").METADATA if model in MODELS else None
     attrs = ds.attrs
     attrs["Conventions"] = CONVENTIONS
     line = history_line(argv)

@@ -24,8 +24,8 @@ class Effect:
     ``requires`` are the dotted scene paths the effect needs (e.g. ``("material.eta",)``);
     ``conflicts`` names effects it cannot run with. ``flag`` is the compile-time constant of
     the engine's kernel template that switches the effect on
-    (:func:`craquelure.codegen.effect_flags`); ``None`` for an effect that is always compiled
-    in or acts outside the kernel.
+    (:func:`craquelure.codegen.effect_flags`), the effect's name in capitals (``xsph`` ->
+    ``XSPH``); ``None`` for an effect that is always compiled in or acts outside the kernel.
     """
 
     model: str
@@ -35,6 +35,11 @@ class Effect:
     requires: tuple[str, ...] = ()
     conflicts: tuple[str, ...] = ()
 
+    def __post_init__(self) -> None:
+        if self.flag not in (None, self.name.upper()):
+            raise ValueError(f"effect {self.name!r}: flag {self.flag!r}; the flag is the name "
+                             f"in capitals, {self.name.upper()!r}")
+
 
 # The package whose modules declare each model's effects: ``craquelure.<model>.effects``.
 EFFECT_PACKAGES = {model: f"craquelure.{model}.effects" for model in MODELS}
@@ -42,14 +47,7 @@ EFFECT_PACKAGES = {model: f"craquelure.{model}.effects" for model in MODELS}
 
 @cache
 def _effects_in_package(package: str) -> dict[str, Effect]:
-    try:
-        pkg = importlib.import_module(package)
-    except ModuleNotFoundError as exc:
-        # Only a model without an effects package yet has no effects; a missing import
-        # *inside* an effects package is a bug that must not empty the registry silently.
-        if exc.name is None or not package.startswith(exc.name):
-            raise
-        return {}
+    pkg = importlib.import_module(package)  # every model has one (the model contract)
     found: dict[str, Effect] = {}
     for info in pkgutil.iter_modules(pkg.__path__):
         module = importlib.import_module(f"{package}.{info.name}")

@@ -4,7 +4,7 @@ An engine adapter exposes a few small methods and the runner does the rest:
 
 - ``start()``: record what is due at t = 0 (not called on resume);
 - ``advance()``: one step, or one chunk that ends at a safe point (lattice: one frame);
-- ``check()``: ``None`` or a :class:`Divergence` (which check, what, the worst particle);
+- ``divergence()``: ``None`` or a :class:`Divergence` (which guard, what, the worst particle);
 - ``sample()``: record the outputs due now (output schedule: the engine's own);
 - ``state()`` / ``restore(state)``: everything that evolves, as arrays, so that a run resumed
   from ``state()`` is bit-identical to the uninterrupted run (taking a checkpoint must not
@@ -59,7 +59,7 @@ class Engine(Protocol):
 
     def start(self) -> None: ...
     def advance(self) -> None: ...
-    def check(self) -> Divergence | None: ...
+    def divergence(self) -> Divergence | None: ...
     def sample(self) -> None: ...
     def state(self) -> dict[str, np.ndarray]: ...
     def restore(self, state: dict[str, np.ndarray]) -> None: ...
@@ -78,7 +78,8 @@ def diverged(desc: str, bad: Divergence, step: int, time: float,
 class EngineRun:
     """Base of the models' adapters: ``time`` and ``steps`` read from ``self.engine`` (its
     attributes named by ``TIME`` and ``STEPS``); nothing to record at the start or the end, no
-    check and no sample unless overridden."""
+    guard and no sample unless overridden; the checkpoint ``state()`` / ``restore()`` is every
+    attribute of the objects ``parts()`` names (``{prefix: object}``) unless overridden."""
 
     TIME, STEPS = "t", "step_count"
     engine: object
@@ -94,7 +95,7 @@ class EngineRun:
     def start(self) -> None:
         pass
 
-    def check(self) -> Divergence | None:
+    def divergence(self) -> Divergence | None:
         return None
 
     def sample(self) -> None:
@@ -102,6 +103,14 @@ class EngineRun:
 
     def finish(self) -> None:
         pass
+
+    def state(self) -> dict[str, np.ndarray]:
+        return {key: value for prefix, part in self.parts().items()
+                for key, value in attributes(part, prefix).items()}
+
+    def restore(self, state: dict[str, np.ndarray]) -> None:
+        for prefix, part in self.parts().items():
+            set_attributes(part, state, prefix)
 
 
 def non_finite(fields: dict[str, np.ndarray]) -> Divergence | None:
@@ -302,7 +311,7 @@ def run(engine: Engine, scene, seed: int, *, t_end: float, desc: str, out: Path 
     last_ck, written = t0, 0
     while not engine.done():
         engine.advance()
-        bad = engine.check()
+        bad = engine.divergence()
         if bad is not None:
             if bar is not None:
                 bar.close()

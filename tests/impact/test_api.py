@@ -10,7 +10,6 @@ import yaml
 from craquelure.errors import SceneError, SimulationDiverged
 from craquelure.impact import workflow
 from craquelure.impact.api import (
-    artificial_stress_epsilon,
     derived_numbers,
     run,
     settings,
@@ -50,11 +49,10 @@ def test_run_dataset_is_complete_and_deterministic(tmp_path):
     (["numerics.kappa=1.25"], 0.075), (["numerics.kappa=3.0"], 0.0),
     (["numerics.kappa=1.5", "numerics.as_epsilon=0.3"], 0.3)])
 def test_artificial_stress_epsilon_auto(overrides, expected):
-    """``as_epsilon: auto`` (the impact scenes' default) follows h(0)/Delta = 1.2 kappa through
+    """``as_epsilon: auto`` (the schema's default) follows h(0)/Delta = 1.2 kappa through
     the measured minimisers 0.2 / 0.15 / 0 at 0.84 / 1.2 / 1.8, linear in between, constant
     outside; a number is taken as given."""
     scene = load_scene("impact/ci", overrides)
-    assert artificial_stress_epsilon(scene) == pytest.approx(expected, abs=1e-12)
     assert settings(scene).as_epsilon == pytest.approx(expected, abs=1e-12)
 
 

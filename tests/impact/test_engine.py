@@ -61,8 +61,8 @@ def periodic_block(nx, ny, spacing=0.004, effects=("elasticity", "artificial_vis
     st = State.grid(x, y, 0.0, 0.0, np.full(x.size, rho0 * spacing**2), rho0,
                       kappa * 1.2 * spacing)
     s = Settings(material=MAT, rho0=rho0, spacing=spacing, effects=tuple(effects),
-                 as_epsilon=as_epsilon, periodic_box=(nx * spacing, ny * spacing),
-                 plane_stress=plane_stress)
+                 av_alpha=1.0, av_beta=2.0, as_epsilon=as_epsilon,
+                 periodic_box=(nx * spacing, ny * spacing), plane_stress=plane_stress)
     return s, st
 
 

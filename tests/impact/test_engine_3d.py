@@ -61,8 +61,8 @@ def periodic_block(nx, ny, nz, effects=("elasticity",), as_epsilon=0.0):
     rho0 = 2400.0
     st = State.grid(x, y, 0.0, 0.0, np.full(x.size, rho0 * DELTA**3), rho0, 1.2 * DELTA, z=z)
     s = Settings(material=MAT, rho0=rho0, spacing=DELTA, effects=tuple(effects),
-                 as_epsilon=as_epsilon, periodic_box=(nx * DELTA, ny * DELTA, nz * DELTA),
-                 dim=3)
+                 av_alpha=1.0, av_beta=2.0, as_epsilon=as_epsilon,
+                 periodic_box=(nx * DELTA, ny * DELTA, nz * DELTA), dim=3)
     return s, st
 
 

@@ -31,9 +31,9 @@ def particles(x, y, vx=None):
 def test_generated_kernels_differ_only_in_flags():
     a, _ = codegen.generate(KERNEL_TEMPLATE, kernel_flags(("beams",)))
     b, _ = codegen.generate(KERNEL_TEMPLATE, kernel_flags(("beams", "contact")))
-    assert "HAS_CONTACT = False" in a and "HAS_CONTACT = True" in b
+    assert "CONTACT = False" in a and "CONTACT = True" in b
     diff = [(x, y) for x, y in zip(a.splitlines(), b.splitlines(), strict=True) if x != y]
-    assert diff == [("HAS_CONTACT = False", "HAS_CONTACT = True")]
+    assert diff == [("CONTACT = False", "CONTACT = True")]
 
 
 def test_contact_head_on_collision_conserves_energy_and_momentum():

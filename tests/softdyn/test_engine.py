@@ -221,9 +221,9 @@ def test_effects_are_compiled_in_or_out():
     as compile-time False, and the state only holds what the effects need."""
     src, _ = codegen.generate("craquelure.softdyn.kernel_template",
                               Flags(tangential=False, hertz=True, literal=False).template_flags())
-    assert "\nHAS_TANGENTIAL = False\n" in src and "\nHAS_HERTZ = True\n" in src
+    assert "\nLUBRICATION_TANGENTIAL = False\n" in src and "\nHERTZ = True\n" in src
     mod = kernels(Flags(tangential=False, hertz=True, literal=False))
-    assert mod.HAS_TANGENTIAL is False and mod is not kernels(Flags())
+    assert mod.LUBRICATION_TANGENTIAL is False and mod is not kernels(Flags())
     full = t1_setup().system
     no_t = t1_setup("effects=[lubrication_normal, hertz]").system
     rigid = t1_setup("effects=[lubrication_normal, lubrication_tangential]").system

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numba
 
-from craquelure.impact.checks import lattice_gradient_factor, p_wave_mode
+from craquelure.impact.experiments import lattice_gradient_factor, p_wave_mode
 from craquelure.impact.figures import figure_accuracy
 from craquelure.io import write_text_atomic
 

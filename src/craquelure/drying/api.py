@@ -233,7 +233,7 @@ class DryingRun(runner.EngineRun):
         self.engine.stop_at = self.rec.next_stop(self.t_end)
         self.engine.step()
 
-    def check(self):
+    def divergence(self):
         return self.engine.health()
 
     def sample(self) -> None:
@@ -257,14 +257,6 @@ class DryingRun(runner.EngineRun):
         engine = self.engine
         return {"engine_": engine, "stepper_": engine.stepper, "rec_": self.rec,
                 **({"control_": engine.controller} if engine.controller else {})}
-
-    def state(self) -> dict[str, np.ndarray]:
-        return {key: value for prefix, part in self.parts().items()
-                for key, value in runner.attributes(part, prefix).items()}
-
-    def restore(self, state: dict[str, np.ndarray]) -> None:
-        for prefix, part in self.parts().items():
-            runner.set_attributes(part, state, prefix)
 
 
 def _init_fingerprint(init: xr.Dataset) -> bytes:

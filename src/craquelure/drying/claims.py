@@ -1,7 +1,7 @@
 """The drying paper's claims for the validation report (:mod:`craquelure.validation`).
 
 Sources (registered by the drying rules): ``results/drying/summary.json`` (checks 14-16, see
-:mod:`craquelure.drying.checks`; each verdict is recomputed here from the recorded conditions
+:mod:`craquelure.drying.statistics`; each verdict is recomputed here from the recorded conditions
 and what the sample cannot decide) and, when the thickness sweep ran,
 ``results/drying/<scene>/thickness.nc`` (:mod:`craquelure.drying.thickness`).
 """

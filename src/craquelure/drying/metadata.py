@@ -1,8 +1,6 @@
 """CF metadata of the drying paste (reduced units of rho0, lambda and eta): title, references and
 the long name and units of each variable, read by :func:`craquelure.cf.apply`."""
 
-from __future__ import annotations
-
 from craquelure.cf import ModelMetadata
 
 _TIME_DRYING = "eta/lambda"

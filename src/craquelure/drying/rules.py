@@ -2,8 +2,6 @@
 ``--init`` state must match; called by :mod:`craquelure.scene_rules` (``scene_problems``,
 ``memory_estimate``) and by the drying API (``initial_state_problems``)."""
 
-from __future__ import annotations
-
 import math
 
 from craquelure.drying.integrators import REAL_AXIS_LIMIT

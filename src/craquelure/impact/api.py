@@ -20,7 +20,7 @@ import xarray as xr
 
 from craquelure import runner
 from craquelure.errors import SceneError
-from craquelure.impact.effects.artificial_stress import auto_epsilon
+from craquelure.impact.effects.artificial_stress import as_epsilon
 from craquelure.impact.effects.contact_bulk import bulk_stiffness, half_cell_scale
 from craquelure.impact.effects.contact_mass import DEFAULT_SCALE
 from craquelure.impact.effects.damage import crack_band_width
@@ -58,15 +58,6 @@ def material_model(scene: Scene) -> str:
     return "+".join([base, *extra])
 
 
-def artificial_stress_epsilon(scene: Scene) -> float:
-    """ε_AS of the run: the scene's number, or for ``auto`` the minimiser of the linearised
-    tensile growth at h(0)/Δ (:func:`~craquelure.impact.effects.artificial_stress.auto_epsilon`)."""
-    eps = scene.get("numerics.as_epsilon", 0.0)
-    if eps == "auto":
-        return auto_epsilon(initial_smoothing_length(scene) / scene.get("particles.spacing"))
-    return float(eps)
-
-
 def contact_scale(scene: Scene) -> float:
     """Penalty scale factor a of the run: the scene's number, or for ``auto`` the spec's 0.1
     with the mass-based formula and the half-cell stiffness a = 2√2 M/K with the bulk one
@@ -86,8 +77,9 @@ def settings(scene: Scene) -> Settings:
     return Settings(
         material=concrete(scene), rho0=g("material.rho0"), spacing=g("particles.spacing"),
         effects=scene.effects, cfl=g("numerics.cfl"), dt_max=g("numerics.dt_max"),
-        av_alpha=g("numerics.av_alpha", 0.0), av_beta=g("numerics.av_beta", 0.0),
-        as_epsilon=artificial_stress_epsilon(scene), as_n=g("numerics.as_n"),
+        av_alpha=g("numerics.av_alpha"), av_beta=g("numerics.av_beta"),
+        as_epsilon=as_epsilon(scene.get("numerics.as_epsilon"), initial_smoothing_length(scene)
+                              / scene.get("particles.spacing")), as_n=g("numerics.as_n"),
         h_min=g("numerics.h_min"), h_max=g("numerics.h_max"), base_y=g("domain.base_y"),
         contact_radius=g("numerics.contact_radius"), contact_a=contact_scale(scene),
         kinematic_ratio=g("numerics.kinematic_ratio"),
@@ -244,7 +236,7 @@ class ImpactRun(runner.EngineRun):
     def _sample_due(self) -> bool:
         return self.engine.t >= self.next_sample * (1 - 1e-9) or self.done()
 
-    def check(self):
+    def divergence(self):
         if self.engine.step_count % self.CHECK_EVERY == 0 or self._sample_due():
             return self.engine.health()
         return None
@@ -291,14 +283,6 @@ class ImpactRun(runner.EngineRun):
         """What evolves, by checkpoint prefix: the engine, its particles and this run's
         series, snapshots and sampling clock."""
         return {"engine_": self.engine, "particles_": self.engine.state, "model_": self}
-
-    def state(self) -> dict[str, np.ndarray]:
-        return {key: value for prefix, part in self.parts().items()
-                for key, value in runner.attributes(part, prefix).items()}
-
-    def restore(self, state: dict[str, np.ndarray]) -> None:
-        for prefix, part in self.parts().items():
-            runner.set_attributes(part, state, prefix)
 
     def result(self):
         return (self.specimen, self.engine, {k: np.asarray(v) for k, v in self.series.items()},

@@ -70,11 +70,11 @@ class Settings:
     rho0: float
     spacing: float
     effects: tuple[str, ...]
+    av_alpha: float
+    av_beta: float
+    as_epsilon: float
     cfl: float = 0.3
     dt_max: float = 1e-5
-    av_alpha: float = 1.0
-    av_beta: float = 2.0
-    as_epsilon: float = 0.3
     as_n: float = 4.0
     h_min: float = 0.2
     h_max: float = 2.0

@@ -2,8 +2,6 @@
 :func:`craquelure.cf.per_body`): title, references and the long name and units of each
 variable, read by :func:`craquelure.cf.apply`."""
 
-from __future__ import annotations
-
 from craquelure.cf import ModelMetadata
 
 # Impact: the spec's SI units, 2D per unit out-of-plane thickness.

@@ -1,8 +1,6 @@
 """Concrete-impact scene rules a schema cannot state and the memory a run needs; called by
 :mod:`craquelure.scene_rules` (``scene_problems``, ``memory_estimate``)."""
 
-from __future__ import annotations
-
 import math
 
 from craquelure.errors import SceneError

@@ -106,14 +106,14 @@ class LatticeRun(runner.EngineRun):
         if mark > self.engine.step:
             self._bad = self.engine.advance(mark - self.engine.step)
 
-    def check(self):
+    def divergence(self):
         return self._bad
 
     def sample(self) -> None:
         self._record()
         k = len(self.frames["time"]) - 1
         if (self.rebuild_every and 0 < k < len(self.marks) - 1 and k % self.rebuild_every == 0
-                and self.engine.flags["HAS_CONTACT"]):
+                and self.engine.flags["CONTACT"]):
             self.engine.rebuild_contacts()
 
     def _record(self) -> None:

@@ -43,8 +43,8 @@ def kernel_flags(effects, periodic_x: bool = False, node_averaged: bool = False,
     """Flags of the kernel template: the effects' (from the registry) and the engine options."""
     flags = effect_flags("lattice", effects)
     flags["PERIODIC_X"] = bool(periodic_x)
-    flags["NODE_AVERAGED"] = bool(node_averaged) and flags["HAS_FRACTURE"]
-    flags["BENDING"] = bool(bending) and flags["HAS_FRACTURE"]
+    flags["NODE_AVERAGED"] = bool(node_averaged) and flags["FRACTURE"]
+    flags["BENDING"] = bool(bending) and flags["FRACTURE"]
     flags["PARALLEL"] = bool(parallel)
     return flags
 
@@ -224,7 +224,7 @@ class Engine:
         self.fc = np.zeros((2, s.n))
         self.cpi = np.zeros(0, np.int64)
         self.cpj = np.zeros(0, np.int64)
-        if self.flags["HAS_CONTACT"]:
+        if self.flags["CONTACT"]:
             self.rebuild_contacts()
 
     def _alloc_bond_arrays(self):
@@ -317,7 +317,7 @@ class Engine:
         buf = np.zeros((remaining // self.series_every + 2, k.N_SERIES))
         while remaining > 0:
             chunk = remaining
-            if self.freeze_every and self.flags["HAS_MELTING"]:
+            if self.freeze_every and self.flags["MELTING"]:
                 chunk = min(chunk, self.freeze_every - self.step % self.freeze_every)
             try:
                 status, done, rows = self._advance(chunk, buf)
@@ -332,10 +332,10 @@ class Engine:
                 return self._divergence(status)
             if status == k.REBUILD:
                 self.rebuild_contacts()
-            if (self.freeze_every and self.flags["HAS_MELTING"]
+            if (self.freeze_every and self.flags["MELTING"]
                     and self.step % self.freeze_every == 0):
                 self.refreeze()
-                if self.flags["HAS_CONTACT"]:
+                if self.flags["CONTACT"]:
                     self.rebuild_contacts()
         return None
 

@@ -1,6 +1,6 @@
 """Source template of the lattice time-step kernel (lattice spec sections 5-8).
 
-:func:`craquelure.codegen.specialise` copies this file with the ``HAS_*`` / ``PERIODIC_X`` /
+:func:`craquelure.codegen.specialise` copies this file with the effect flags / ``PERIODIC_X`` /
 ``NODE_AVERAGED`` / ``BENDING`` / ``PARALLEL`` constants set for one scene's effect set into
 a cache folder and imports it: numba freezes module globals as compile-time constants, so
 the branches of absent effects are removed by the compiler and cost nothing, and
@@ -58,14 +58,14 @@ from craquelure.lattice.effects.melting import melt_rate, uniform01
 from craquelure.periodic import minimum_image
 
 # BEGIN FLAGS
-HAS_BEAMS = True
-HAS_FRACTURE = True
-HAS_MELTING = True
-HAS_CONTACT = True
-HAS_GRAVITY = True
-HAS_BUOYANCY = True
-HAS_DRAG = True
-HAS_BED = True
+BEAMS = True
+FRACTURE = True
+MELTING = True
+CONTACT = True
+GRAVITY = True
+BUOYANCY = True
+DRAG = True
+BED = True
 PERIODIC_X = True
 NODE_AVERAGED = True
 BENDING = True
@@ -210,7 +210,7 @@ def _bond_chunk(lo, hi, nlo, nhi, q, qm, bi, bj, bref, bk, state, unbreak, bprev
         m2 = kb * p1 + ka * p2
         u = elastic_energy(kn, ka, kb, e, p1, p2)
         benergy[b] = u
-        if HAS_FRACTURE:
+        if FRACTURE:
             r = beam_ratio_scaled(nax, (m1 + m2) / ell, m1, m2, inv_area, bend, inv_sigma0,
                                   inv_tau0, BENDING)
             bratio[b] = r
@@ -220,7 +220,7 @@ def _bond_chunk(lo, hi, nlo, nhi, q, qm, bi, bj, bref, bk, state, unbreak, bprev
                 e_fract += u
                 n_broken += 1.0
                 continue
-        if HAS_MELTING:
+        if MELTING:
             lam = melt_rate(u, p[MELT_A], p[E_B], p[BLOCK], p[FROZEN_RATE])
             if uniform01(seed, gstep, b) < -math.expm1(-lam * dt):
                 bref[0, b] = ell
@@ -310,13 +310,13 @@ def _particle_chunk(lo, hi, qm, q, qref, qbuild, mass, inertia, diam, fix, drive
         fx = 0.0
         fy = 0.0
         tq = 0.0
-        if HAS_BEAMS:
+        if BEAMS:
             for c in range(NCHUNK):
                 if crange[0, c] <= i < crange[1, c]:
                     fx += fn[c, 0, i]
                     fy += fn[c, 1, i]
                     tq += fn[c, 2, i]
-        if HAS_CONTACT:
+        if CONTACT:
             fx += fc[0, i]
             fy += fc[1, i]
             # cleared here, in the parallel phase, for the next step's contact sums
@@ -325,20 +325,20 @@ def _particle_chunk(lo, hi, qm, q, qref, qbuild, mass, inertia, diam, fix, drive
         yi = q[1, i]
         gx = gam
         gy = gam
-        if HAS_GRAVITY:
+        if GRAVITY:
             fgx, fgy, ug = gravity(m, g_x, g_y, q[0, i], yi, qref[0, i], qref[1, i])
             fx += fgx
             fy += fgy
             u_ext += ug
-        if HAS_BUOYANCY:
+        if BUOYANCY:
             fb, ub = buoyancy(m, p[RHO], p[RHO_W], p[G], yi, qref[1, i], p[Y_WATER])
             fy += fb
             u_ext += ub
-        if HAS_DRAG:
+        if DRAG:
             cd = drag_rate(yi, p[Y_WATER], p[C_DRAG], p[DRAG_ALL] > 0.0)
             gx += cd
             gy += cd
-        if HAS_BED:
+        if BED:
             h, fbed, ubed = bed(yi, diam[i], p[Y_BED], p[K_BED])
             if h > 0.0:
                 fy += fbed
@@ -375,7 +375,7 @@ def _particle_chunk(lo, hi, qm, q, qref, qbuild, mass, inertia, diam, fix, drive
             lux += q[0, i] - qref[0, i]
             luy += q[1, i] - qref[1, i]
             nload += 1.0
-        if HAS_CONTACT:
+        if CONTACT:
             ddx = xn - qbuild[0, i]
             ddy = yn - qbuild[1, i]
             moved = max(moved, ddx * ddx + ddy * ddy)
@@ -439,7 +439,7 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
         u_beams = 0.0
         e_fract = 0.0
         n_broken = 0.0
-        if HAS_BEAMS:
+        if BEAMS:
             for c in prange(NCHUNK):
                 _bond_chunk(cb[c], cb[c + 1], crange[0, c], crange[1, c], q, qm, bi, bj, bref,
                             bk, state, unbreak, bprev, bforce, benergy, bratio, tbreak, p,
@@ -452,7 +452,7 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
                 n_broken += bpart[c, B_BROKEN]
                 acc[A_MELTED] += bpart[c, B_MELTED]
         # 2. node-averaged fracture
-        if HAS_BEAMS and HAS_FRACTURE and NODE_AVERAGED and t >= p[T_FRACTURE]:
+        if BEAMS and FRACTURE and NODE_AVERAGED and t >= p[T_FRACTURE]:
             vol = 2.0 * p[CELL_AREA]
             for i in range(n):
                 sxx = 0.0
@@ -498,7 +498,7 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
         acc[A_BROKEN] += n_broken
         # 3. contacts
         u_contact = 0.0
-        if HAS_CONTACT:
+        if CONTACT:
             # fc is zero here: the particle phase clears what it read (a whole-array
             # assignment would be a parallel region of its own)
             for kk in range(ncp):
@@ -574,7 +574,7 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
             if abs(total - acc[A_E0]) > p[ENERGY_TOL] * scale + allowance:
                 status = RUNAWAY
                 break
-        if HAS_CONTACT and (psum[P_MOVED] > 0.25 * p[SKIN] * p[SKIN]
+        if CONTACT and (psum[P_MOVED] > 0.25 * p[SKIN] * p[SKIN]
                             or acc[A_BROKEN] > broken_before):
             status = REBUILD
             break

@@ -1,8 +1,6 @@
 """CF metadata of the beam lattice (natural units of the lattice): title, references and the long
 name and units of each variable, read by :func:`craquelure.cf.apply`."""
 
-from __future__ import annotations
-
 from craquelure.cf import ModelMetadata
 
 _LENGTH_LATTICE = "L"

@@ -1,8 +1,6 @@
 """Beam-lattice scene rules a schema cannot state and the memory a run needs; called by
 :mod:`craquelure.scene_rules` (``scene_problems``, ``memory_estimate``)."""
 
-from __future__ import annotations
-
 import math
 
 from craquelure.lattice.initial_state import beam_constants

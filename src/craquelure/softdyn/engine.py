@@ -38,7 +38,7 @@ class Flags:
     literal: bool = False
 
     def template_flags(self) -> dict[str, bool]:
-        return {"HAS_TANGENTIAL": self.tangential, "HAS_HERTZ": self.hertz,
+        return {"LUBRICATION_TANGENTIAL": self.tangential, "HERTZ": self.hertz,
                 "LITERAL_DEFLECTION": self.literal}
 
 
@@ -58,7 +58,7 @@ def flags_for(scene) -> Flags:
         raise SceneError("numerics.deflection_rule: 'literal' only differs from 'corotating' "
                          "with both 'hertz' and 'lubrication_tangential'")
     flags = effect_flags("softdyn", scene.effects)
-    return Flags(tangential=flags["HAS_TANGENTIAL"], hertz=flags["HAS_HERTZ"], literal=literal)
+    return Flags(tangential=flags["LUBRICATION_TANGENTIAL"], hertz=flags["HERTZ"], literal=literal)
 
 
 @dataclass

@@ -35,8 +35,8 @@ from craquelure.softdyn.effects.lubrication_normal import zeta_normal
 from craquelure.softdyn.effects.lubrication_tangential import zeta_tangential
 
 # BEGIN FLAGS
-HAS_TANGENTIAL = True
-HAS_HERTZ = True
+LUBRICATION_TANGENTIAL = True
+HERTZ = True
 LITERAL_DEFLECTION = False
 # END FLAGS
 
@@ -54,10 +54,10 @@ def unpack(y, x0, n_pair):
     s = np.zeros(n_pair)
     q = np.zeros((n_pair, d))
     off = n_part * d
-    if HAS_HERTZ:
+    if HERTZ:
         s = y[off: off + n_pair].copy()
         off += n_pair
-        if HAS_TANGENTIAL:
+        if LUBRICATION_TANGENTIAL:
             q = y[off: off + n_pair * d].copy().reshape((n_pair, d))
     return x, s, q
 
@@ -101,7 +101,7 @@ def pair_terms(x, s, q, pi, pj, p):
         sk = s[k]
         hk = rk - 2.0 * R + sk
         h[k] = hk
-        if HAS_HERTZ:
+        if HERTZ:
             a2 = interaction_radius2(R, hk, sk)
         else:
             a2 = R * hk
@@ -110,14 +110,14 @@ def pair_terms(x, s, q, pi, pj, p):
         znk = zeta_normal(eta, cn, a2, hk)
         zn[k] = znk
         ztk = 0.0
-        if HAS_TANGENTIAL:
+        if LUBRICATION_TANGENTIAL:
             ztk = zeta_tangential(eta, ct, a2, hk)
             zt[k] = ztk
-        if HAS_HERTZ:
+        if HERTZ:
             # g = k_n s n + k_t q ; f = E a g ; f_n = E a k_n s ; f_t = E a k_t q
             for c in range(d):
                 g[c] = kn * sk * nv[k, c]
-                if HAS_TANGENTIAL:
+                if LUBRICATION_TANGENTIAL:
                     g[c] += kt * q[k, c]
                 f[k, c] = E * ak * g[c]
             sg = sign(sk)
@@ -125,7 +125,7 @@ def pair_terms(x, s, q, pi, pj, p):
             adot0 = -(R / (2.0 * ak)) * (1.0 + sg) * rate_n
             for c in range(d):
                 b[k, c] = E * adot0 * g[c] - E * ak * kn * rate_n * nv[k, c]
-                if HAS_TANGENTIAL:
+                if LUBRICATION_TANGENTIAL:
                     b[k, c] -= E * ak * kt * (E * ak * kt * q[k, c] / ztk)
             for c in range(d):
                 for e in range(d):
@@ -133,7 +133,7 @@ def pair_terms(x, s, q, pi, pj, p):
                     qq = (1.0 if c == e else 0.0) - nn
                     val = -E * ak * kn * nn + E * ak * kn * (sk / rk) * qq
                     val -= (E * R * sg / (2.0 * ak)) * g[c] * nv[k, e]
-                    if HAS_TANGENTIAL:
+                    if LUBRICATION_TANGENTIAL:
                         val -= E * ak * kt * qq
                         val -= E * ak * kt * nv[k, c] * q[k, e] / rk
                         if LITERAL_DEFLECTION:
@@ -145,7 +145,7 @@ def pair_terms(x, s, q, pi, pj, p):
                 for e in range(d):
                     nn = nv[k, c] * nv[k, e]
                     val = znk * nn
-                    if HAS_TANGENTIAL:
+                    if LUBRICATION_TANGENTIAL:
                         val += ztk * ((1.0 if c == e else 0.0) - nn)
                     A[k, c, e] = val
     return nv, r, h, a, zn, zt, f, A, b
@@ -162,7 +162,7 @@ def particle_terms(t, pi, pj, F0, p, f, b):
     for i in range(n_part):
         for e in range(d):
             resid[i, e] = ramp * F0[i, e]
-    if not HAS_HERTZ:
+    if not HERTZ:
         for i in range(n_part):
             for e in range(d):
                 c[i, e] = ramp * F0[i, e]
@@ -215,7 +215,7 @@ def assemble_dense(pi, pj, A, c):
 
 @njit(cache=True)
 def solve_dense(M, rhs):
-    if HAS_TANGENTIAL:
+    if LUBRICATION_TANGENTIAL:
         return np.linalg.solve(M, rhs)
     return np.linalg.lstsq(M, rhs)[0]
 
@@ -226,13 +226,13 @@ def rates(v, pi, pj, nv, r, a, zn, zt, s, q, p, n_part, d):
     E, kn, kt = p[E_], p[K_N], p[K_T]
     n_pair = pi.shape[0]
     size = n_part * d
-    if HAS_HERTZ:
+    if HERTZ:
         size += n_pair
-        if HAS_TANGENTIAL:
+        if LUBRICATION_TANGENTIAL:
             size += n_pair * d
     ydot = np.zeros(size)
     ydot[: n_part * d] = v
-    if not HAS_HERTZ:
+    if not HERTZ:
         return ydot
     off_s = n_part * d
     off_q = off_s + n_pair
@@ -249,7 +249,7 @@ def rates(v, pi, pj, nv, r, a, zn, zt, s, q, p, n_part, d):
         if LITERAL_DEFLECTION:
             sdot += qv / r[k]
         ydot[off_s + k] = sdot
-        if HAS_TANGENTIAL:
+        if LUBRICATION_TANGENTIAL:
             for e in range(d):
                 tang = vij[e] - vn * nv[k, e]
                 val = -tang - E * a[k] * kt * q[k, e] / zt[k] - nv[k, e] * qv / r[k]
@@ -298,7 +298,7 @@ def min_gap(y, x0, pi, pj, radius):
             dx = y[i * d + e] + x0[i, e] - y[j * d + e] - x0[j, e]
             r2 += dx * dx
         hk = math.sqrt(r2) - 2.0 * radius
-        if HAS_HERTZ:
+        if HERTZ:
             hk += y[off + k]
         out = min(out, hk)
     return out

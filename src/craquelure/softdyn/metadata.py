@@ -1,8 +1,6 @@
 """CF metadata of Soft Dynamics (reduced units of R, E and eta): title, references and the long
 name and units of each variable, read by :func:`craquelure.cf.apply`."""
 
-from __future__ import annotations
-
 from craquelure.cf import ModelMetadata
 
 METADATA = ModelMetadata(

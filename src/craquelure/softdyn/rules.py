@@ -1,8 +1,6 @@
 """Soft Dynamics scene rules a schema cannot state and the memory a run needs; called by
 :mod:`craquelure.scene_rules` (``scene_problems``, ``memory_estimate``)."""
 
-from __future__ import annotations
-
 from craquelure.errors import SceneError
 from craquelure.scene_rules import SceneView, lookup, steps_problem
 from craquelure.softdyn import studies

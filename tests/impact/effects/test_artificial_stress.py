@@ -75,7 +75,8 @@ def test_pair_term_weight_and_antisymmetry(h_over_delta, r_over_delta):
     delta = 0.004
     k = kernels_for(("elasticity", "artificial_stress"))
     prm = Settings(material=standard_concrete(), rho0=RHO, spacing=delta,
-                   effects=("elasticity", "artificial_stress")).params(k)
+                   effects=("elasticity", "artificial_stress"), av_alpha=1.0, av_beta=2.0,
+                   as_epsilon=EPS).params(k)
     h = h_over_delta * delta
     r = r_over_delta * delta
     x = np.array([0.01, 0.01 + r * math.cos(0.4)])

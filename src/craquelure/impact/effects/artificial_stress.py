@@ -61,6 +61,12 @@ EFFECT = Effect("impact", "artificial_stress", "ARTIFICIAL_STRESS",
 AUTO_EPSILON = ((0.84, 0.2), (1.2, 0.15), (1.8, 0.0))
 
 
+def as_epsilon(value: float | str, support_ratio: float) -> float:
+    """ε_AS of a run: ``numerics.as_epsilon`` (a number, or ``auto``: :func:`auto_epsilon` at
+    h(0)/Δ = ``support_ratio``)."""
+    return auto_epsilon(support_ratio) if value == "auto" else float(value)
+
+
 def auto_epsilon(support_ratio: float) -> float:
     """ε_AS for ``as_epsilon: auto`` at h(0)/Δ = ``support_ratio``."""
     ratio, eps = zip(*AUTO_EPSILON, strict=True)

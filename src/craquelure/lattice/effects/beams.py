@@ -23,7 +23,7 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect("lattice", "beams", "HAS_BEAMS",
+EFFECT = Effect("lattice", "beams", "BEAMS",
                 "elastic beams (Euler-Bernoulli or shear-beam) with bond damping",
                 requires=("material.bond_model",))
 

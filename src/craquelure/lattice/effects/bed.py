@@ -11,7 +11,7 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect("lattice", "bed", "HAS_BED",
+EFFECT = Effect("lattice", "bed", "BED",
                 "elastic bed below the body: spring + damping vertically, drag friction",
                 requires=("bed.stiffness", "domain.bed_level"))
 

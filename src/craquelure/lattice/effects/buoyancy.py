@@ -10,7 +10,7 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect("lattice", "buoyancy", "HAS_BUOYANCY",
+EFFECT = Effect("lattice", "buoyancy", "BUOYANCY",
                 "buoyancy rho_w g m/rho_i on particles below the water line",
                 requires=("material.g", "material.rho_w", "material.rho", "domain.water_level"))
 

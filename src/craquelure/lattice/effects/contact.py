@@ -14,7 +14,7 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect("lattice", "contact", "HAS_CONTACT",
+EFFECT = Effect("lattice", "contact", "CONTACT",
                 "Hertz-like repulsion k_c (d - r)^1.5 between unbonded particles, with friction",
                 requires=("contact.stiffness",))
 

@@ -7,7 +7,7 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect("lattice", "drag", "HAS_DRAG", "linear drag -c_d m v below the water line",
+EFFECT = Effect("lattice", "drag", "DRAG", "linear drag -c_d m v below the water line",
                 requires=("drag.rate",))
 
 

@@ -22,7 +22,7 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect("lattice", "fracture", "HAS_FRACTURE",
+EFFECT = Effect("lattice", "fracture", "FRACTURE",
                 "remove beams on the elliptical (sigma/sigma0)^2 + (tau/tau0)^2 >= 1 criterion",
                 requires=("material.sigma0", "material.tau0"))
 

@@ -10,7 +10,7 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect("lattice", "gravity", "HAS_GRAVITY",
+EFFECT = Effect("lattice", "gravity", "GRAVITY",
                 "uniform gravity m g, vertical or along a slope (material.slope_angle)",
                 requires=("material.g",))
 

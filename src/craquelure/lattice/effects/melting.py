@@ -19,7 +19,7 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect("lattice", "melting", "HAS_MELTING",
+EFFECT = Effect("lattice", "melting", "MELTING",
                 "random melting of beams at rate 2 A E_b^2 U/a^2, re-forming stress-free",
                 requires=("melting.rate_factor",))
 

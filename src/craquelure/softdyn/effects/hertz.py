@@ -28,7 +28,7 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect("softdyn", "hertz", "HAS_HERTZ",
+EFFECT = Effect("softdyn", "hertz", "HERTZ",
                 "elastic surfaces f = E a (k_n s n + k_t q), a^2 = R (h + |s|)",
                 requires=("material.young", "material.k_n", "material.k_t"))
 

@@ -15,7 +15,7 @@ from numba import njit
 
 from craquelure.registry import Effect
 
-EFFECT = Effect("softdyn", "lubrication_tangential", "HAS_TANGENTIAL",
+EFFECT = Effect("softdyn", "lubrication_tangential", "LUBRICATION_TANGENTIAL",
                 "Couette sliding film, zeta_t = c_t eta a^2 / h",
                 requires=("material.viscosity", "material.c_t"))
 

@@ -122,7 +122,8 @@ def p_wave_mode(spacing: float, kappa: float = 1.0, length: float = 0.2, cfl: fl
     st = State.grid(x, y, v0 * np.sin(k * x), 0.0, np.full(x.size, rho0 * spacing**2), rho0,
                     1.2 * kappa * spacing)
     s = Settings(material=standard_concrete(), rho0=rho0, spacing=spacing, effects=effects,
-                 cfl=cfl, periodic_box=(nx * spacing, rows * spacing))
+                 av_alpha=1.0, av_beta=2.0, as_epsilon=0.3, cfl=cfl,  # the spec's constants
+                 periodic_box=(nx * spacing, rows * spacing))
     eng = Engine(s, st)
     omega = k * s.wave_speed
     weight = st.m * np.sin(k * x)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from craquelure.drying import checks
+from craquelure.drying import statistics
 
 TIMES = np.arange(180.0, 301.0, 10.0)
 T_STAR = 5e-3 / 2.2e-5
@@ -51,12 +51,12 @@ def campaign(law, n_seeds, shape=1.0, seed=1):
 
 
 def check14(data, n_power=400):
-    return checks.check_inverse_area(TIMES, data[3], data[4], T_STAR, B_STAR, n_boot=200,
+    return statistics.check_inverse_area(TIMES, data[3], data[4], T_STAR, B_STAR, n_boot=200,
                                      n_power=n_power)
 
 
 def check15(data, n_seeds, n_draws=20):
-    return checks.check_collapse(data[0], data[1], data[2], n_seeds, TIMES.size, n_boot=200,
+    return statistics.check_collapse(data[0], data[1], data[2], n_seeds, TIMES.size, n_boot=200,
                                  n_draws=n_draws, n_boot_power=60)
 
 
@@ -133,17 +133,17 @@ def test_narrow_sizes_leave_check15_without_power_at_any_sample():
 def test_onset_verdicts_respect_what_the_sample_size_can_decide():
     times = np.arange(10.0, 101.0, 10.0)  # t* = 100
     early = np.tile((times >= 30.0) + 1, (5, 1))  # every sample broken at 0.3 t*
-    out = checks.check_onset(times, early, np.full(5, 25.0), 100.0, 0.05, n_boot=100)
+    out = statistics.check_onset(times, early, np.full(5, 25.0), 100.0, 0.05, n_boot=100)
     assert out["first_sample_broken"]["over_t_star"] == pytest.approx(0.3)
     # First broken by 0.45 t* decides; "all broken by 0.9 t*" on 5 samples does not.
     assert out["verdict"] == "inconclusive" and "100 samples" in out["note"]
     late = np.tile((times >= 95.0) + 1, (5, 1))  # all break at 1.0 t*
-    out = checks.check_onset(times, late, np.full(5, 80.0), 100.0, 0.05, n_boot=100)
+    out = statistics.check_onset(times, late, np.full(5, 80.0), 100.0, 0.05, n_boot=100)
     # All broken later than 0.9 t* decides (more samples only break later).
     assert out["verdict"] in ("partly", "not reproduced")
     assert not out["conditions"]["all samples broken by 0.9 t*"]
     many = np.tile((times >= 30.0) + 1, (100, 1))
-    out = checks.check_onset(times, many, np.full(100, 25.0), 100.0, 0.05, n_boot=100)
+    out = statistics.check_onset(times, many, np.full(100, 25.0), 100.0, 0.05, n_boot=100)
     assert out["verdict"] == "reproduced"
     assert out["all_samples_broken"]["ci95_over_t_star"] == [pytest.approx(0.3)] * 2
 

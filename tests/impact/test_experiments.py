@@ -2,7 +2,7 @@
 
 import pytest
 
-from craquelure.impact.checks import lattice_gradient_factor, p_wave_mode
+from craquelure.impact.experiments import lattice_gradient_factor, p_wave_mode
 
 
 def test_lattice_gradient_factor_tends_to_one_with_wide_kernels():
