@@ -10,8 +10,8 @@ import re
 
 import pytest
 
-from craquelure.registry import known_effects
 from craquelure.models import MODELS
+from craquelure.registry import known_effects
 from craquelure.scene import project_root
 
 ROOT = project_root()
