@@ -98,8 +98,8 @@ def _measure(browser: str, page: Path, size: tuple[int, int], timeout: float) ->
     with tempfile.TemporaryDirectory() as tmp:
         copy = page.with_name(f".{page.stem}.measure{page.suffix}")  # beside it: same relative
         text = page.read_text()                                     # links
-        text = (text.replace("</body>", _MEASURE + "</body>", 1) if "</body>" in text
-                else text + _MEASURE)
+        end = text.rfind("</body>")  # the last: embedded data may hold the string too
+        text = text[:end] + _MEASURE + text[end:] if end >= 0 else text + _MEASURE
         copy.write_text(text)
         try:
             proc = subprocess.run(

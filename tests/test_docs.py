@@ -10,8 +10,9 @@ import re
 
 import pytest
 
+from craquelure.models import MODELS
 from craquelure.registry import known_effects
-from craquelure.scene import MODELS, project_root
+from craquelure.scene import project_root
 
 ROOT = project_root()
 
@@ -123,3 +124,23 @@ def test_site_builds_strict_and_renders_every_equation_offline(tmp_path):
         assert dom.count('class="arithmatex"') == equations, model
         assert dom.count("<mjx-container") == equations, model
         assert "<mjx-merror" not in dom and "data-mjx-error" not in dom, model
+
+
+def test_repository_paths_named_in_the_docs_exist():
+    """Every file or folder of the repository a page names in code (`src/...`, `tests/...`,
+    `config/...`, `workflow/...`, `benchmarks/...`, `profiles/...`, `docs/...`) exists: moved
+    code takes its documentation along. Patterns (`<model>`, `*`, `{scene}`) are not paths."""
+    pages = [ROOT / "README.md", ROOT / "CHANGELOG.md", ROOT / "config" / "README.md",
+             ROOT / "results" / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    roots = ("src/", "tests/", "config/", "workflow/", "benchmarks/", "profiles/", "docs/")
+    # named as written by runs (benchmark: files) or as where Snakemake never looks
+    not_files = {"benchmarks/results/", "workflow/profiles/"}
+    missing = []
+    for page in pages:
+        for token in re.findall(r"`([^`\s]+)`", page.read_text()):
+            path = token.split("::")[0].rstrip(".,;:")
+            if (path.startswith(roots) and not re.search(r"[<>*{}]", path)
+                    and not path.startswith(tuple(not_files))):
+                if not (ROOT / path).exists():
+                    missing.append(f"{page.relative_to(ROOT)}: {token}")
+    assert missing == [], "\n".join(missing)

@@ -24,7 +24,7 @@ import time
 # starts (the first parallel call, after this module is imported by every engine's code
 # generator); an explicit OMP_WAIT_POLICY in the environment wins. On dedicated cores a
 # bounded spin (GOMP_SPINCOUNT=300000) scales better (1.88-1.93x vs 1.66-1.78x on 2 threads),
-# but with the cores shared it made 2 threads 10x slower than 1: see the README.
+# but with the cores shared it made 2 threads 10x slower than 1: see docs/performance.md.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 _LIMITER = None

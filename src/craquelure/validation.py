@@ -212,12 +212,13 @@ def write_json(claims: Sequence[Claim], path: str | Path, profile: str,
 # page and the report stay single files); rows show them small, the folded details large.
 FIGURE_WIDTH = 720  # pixels of the embedded copy of a figure
 SUMMARY_CLASS = "cq-summary"
+KEY_FIGURE_SIZE = (300, 220)  # largest width and height of a key figure below the table
 
 _STYLE = """
 .cq-summary { font-family: sans-serif; font-size: 13px; line-height: 1.3; color: #222; }
 .cq-summary h2 { font-size: 18px; margin: 0 0 4px 0; }
 .cq-summary p.cq-tally { margin: 0 0 8px 0; }
-.cq-grid { display: grid; grid-template-columns: repeat(auto-fit, minmax(520px, 1fr));
+.cq-grid { display: grid; grid-template-columns: repeat(auto-fit, minmax(470px, 1fr));
            gap: 0 16px; align-items: start; }
 .cq-summary table.cq-table { border-collapse: collapse; width: 100%; table-layout: fixed;
                              margin: 0; }
@@ -248,7 +249,7 @@ _STYLE = """
 .cq-badge.not-reproduced { background: #c62828; color: #fff; }
 .cq-badge.inconclusive { background: #5c6bc0; color: #fff; }
 .cq-keyfigs { display: flex; flex-wrap: wrap; gap: 8px; margin-top: 10px; }
-.cq-keyfigs figure { margin: 0; width: 300px; }
+.cq-keyfigs figure { margin: 0; }
 .cq-keyfigs figcaption { font-size: 11px; color: #555; }
 """
 
@@ -278,8 +279,8 @@ def _figure_data(path: Path) -> tuple[str, float]:
         if im.width > FIGURE_WIDTH:
             im = im.resize((FIGURE_WIDTH, round(im.height * FIGURE_WIDTH / im.width)),
                            Image.LANCZOS)
-        buf = io.BytesIO()
-        im.save(buf, "PNG", optimize=True)
+        buf = io.BytesIO()  # 256 colours: a plot's few colours and their anti-aliasing
+        im.quantize(256, dither=Image.Dither.NONE).save(buf, "PNG", optimize=True)
         ratio = im.height / im.width
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode(), ratio
 
@@ -365,9 +366,11 @@ def render_summary(claims: Sequence[Claim], profile: str,
                      and figure_for(c, figures) is not None), None)
         if path is not None:
             i = used[path]
-            keyfigs.append(f'<figure><div class="cq-figure cq-f{i}" role="img" aria-label='
-                           f'"figure {html.escape(path.name)}" style="aspect-ratio: '
-                           f'{1 / ratios[i]:.4f}"></div><figcaption>{html.escape(model)}: '
+            width = min(KEY_FIGURE_SIZE[0], KEY_FIGURE_SIZE[1] / ratios[i])
+            keyfigs.append(f'<figure style="width: {width:.0f}px"><div class="cq-figure cq-f{i}" '
+                           f'role="img" aria-label="figure {html.escape(path.name)}" style='
+                           f'"aspect-ratio: {1 / ratios[i]:.4f}"></div><figcaption>'
+                           f'{html.escape(model)}: '
                            f'{html.escape(path.name)}</figcaption></figure>')
     keys = (f'<h3>Key figures</h3><div class="cq-keyfigs">{"".join(keyfigs)}</div>'
             if keyfigs else "")

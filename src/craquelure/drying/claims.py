@@ -186,7 +186,8 @@ def thickness_claim(path: Path) -> Claim:
                  "dimensional analysis, drying-layer experiments)",
                  "issue #4 part 6", f"exponent of <S> ~ H^beta within {THICKNESS_SIGMAS:g} "
                  f"standard deviations of {predicted:g}", measured, verdict, note,
-                 deciding=f"beta = {beta:.2f} +- {spread:.2f} ({predicted:g})",
+                 deciding=(f"beta = {beta:.2f} +- {spread:.2f} ({predicted:g})" if n > 0
+                           and math.isfinite(beta) else "no late snapshot all broken"),
                  figure=f"{path.parent.name}_thickness.png")
 
 

@@ -56,7 +56,7 @@ def phase_claim(n: dict) -> Claim:
         "agreement at every point": bool(agree.all())})
     if not agree.all():
         note += ("; near the line the threshold is cot(theta) with the deformed angle, not "
-                 "sqrt(3) (README, Soft Dynamics)")
+                 "sqrt(3) (docs/softdyn.md)")
     off = ", ".join(f"F_h/F_v = {ratio[i, j]:g} at F~ = {force[j]:g}"
                     for i, j in zip(*np.nonzero(~agree), strict=True))
     return Claim(MODEL, "a T1 happens if and only if F_h < F_v / sqrt(3)",
