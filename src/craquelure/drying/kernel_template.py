@@ -27,8 +27,8 @@ from craquelure.drying.effects.gradient_correction import corrected_gradient
 from craquelure.drying.effects.substrate import substrate_acceleration
 from craquelure.drying.effects.viscosity import viscous_stress
 from craquelure.drying.effects.xsph import xsph_pair
-from craquelure.periodic import minimum_image
-from craquelure.sph.kernels import kernel_dwdr, kernel_w_dwdr
+from craquelure.periodic import minimum_image_inv
+from craquelure.sph.kernels import kernel_w_g
 
 # BEGIN FLAGS
 CONTINUITY = True
@@ -41,6 +41,11 @@ VISCOSITY = True
 XSPH = True
 # END FLAGS
 
+# Reassociation lets LLVM vectorise the pair sums (their order, hence the last bits, changes);
+# contraction allows FMA. No finite-math assumptions: a NaN in the state still propagates
+# to the guards.
+PAIR_FASTMATH = {"reassoc", "contract", "nsz"}
+
 X, Y, VX, VY, RHO, SXX, SYY, SXY = 0, 1, 2, 3, 4, 5, 6, 7
 NVAR = 8
 # the parameter vector: names in order, declared once (the engine packs by name)
@@ -51,21 +56,37 @@ P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = param_
     "box_length", "drying_stress_cap")
 
 
-@njit(parallel=True, cache=True)
+PAIR_OPTIONS = dict(parallel=True, cache=True, fastmath=PAIR_FASTMATH, error_model="numpy")
+
+
+@njit(cache=True)
 def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
-    """Fill ``out`` (NVAR, N) with dY/dt and ``stress`` (3, N) with the total stress."""
+    """Fill ``out`` (NVAR, N) with dY/dt and ``stress`` (3, N) with the total stress. Three
+    parallel loops: the volumes V_J = m_J/rho_J, pass 1 and pass 2."""
+    n = state.shape[1]
+    volume = np.empty(n)
+    scaled = np.empty((3, n))
+    volumes(mass, state[RHO], alive, volume)
+    gradient_pass(state, t, mass, alive, offsets, index, p, volume, out, stress, scaled)
+    momentum_pass(state, mass, alive, x0, y0, offsets, index, p, scaled, out)
+
+
+@njit(**PAIR_OPTIONS)
+def volumes(mass, rhos, alive, volume):
+    for i in prange(mass.size):
+        volume[i] = mass[i] / rhos[i] if alive[i] else 0.0
+
+
+@njit(**PAIR_OPTIONS)
+def gradient_pass(state, t, mass, alive, offsets, index, p, volume, out, stress, scaled):
+    """Pass 1: L, XSPH, the total stress (and sigma/rho^2 for pass 2) and every rate but the
+    velocity's."""
     n = state.shape[1]
     s = p[P_SUPPORT]
+    inv_s = 1.0 / s
     box = p[P_BOX]
-    s2 = s * s
-    # Per-particle factors hoisted out of the pair loops: V_J = m_J/rho_J (pass 1) and
-    # sigma_J/rho_J^2 (pass 2).
-    volume = np.empty(n)
-    # dW/dr / r of every listed pair, written by pass 1 for every pair of a present particle
-    # and reused by pass 2 (0 beyond the support and for coincident particles)
-    gfac = np.empty(index.size)
-    for i in prange(n):
-        volume[i] = mass[i] / state[RHO, i] if alive[i] else 0.0
+    inv_box = 1.0 / box
+    xs, ys, vxs, vys, rhos = state[X], state[Y], state[VX], state[VY], state[RHO]
     for i in prange(n):
         if not alive[i]:
             for v in range(NVAR):
@@ -73,10 +94,13 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
             stress[0, i] = 0.0
             stress[1, i] = 0.0
             stress[2, i] = 0.0
+            scaled[0, i] = 0.0
+            scaled[1, i] = 0.0
+            scaled[2, i] = 0.0
             continue
-        xi, yi = state[X, i], state[Y, i]
-        vxi, vyi = state[VX, i], state[VY, i]
-        rhoi = state[RHO, i]
+        xi, yi = xs[i], ys[i]
+        vxi, vyi = vxs[i], vys[i]
+        rhoi = rhos[i]
         lxx = 0.0
         lxy = 0.0
         lyx = 0.0
@@ -87,39 +111,32 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
         mxy = 0.0
         myx = 0.0
         myy = 0.0
-        for k in range(offsets[i], offsets[i + 1]):
+        # branch-free pair loop (vectorised by LLVM): pairs beyond the support and coincident
+        # particles have w = g = 0 and add exactly 0. An unsigned k makes index[k] a plain
+        # load (a signed one gets numba's negative-index wraparound, which LLVM turns into a
+        # gather of the index array: 8x slower)
+        for k in range(np.uint64(offsets[i]), np.uint64(offsets[i + 1])):
             j = index[k]
-            dx = minimum_image(xi - state[X, j], box)
-            dy = minimum_image(yi - state[Y, j], box)
-            r2 = dx * dx + dy * dy
-            if r2 >= s2:
-                gfac[k] = 0.0
-                continue
-            r = np.sqrt(r2)
-            dvx = state[VX, j] - vxi
-            dvy = state[VY, j] - vyi
+            dx = minimum_image_inv(xi - xs[j], box, inv_box)
+            dy = minimum_image_inv(yi - ys[j], box, inv_box)
+            w, g = kernel_w_g(KERNEL, dx * dx + dy * dy, s, inv_s)
+            dvx = vxs[j] - vxi
+            dvy = vys[j] - vyi
+            f = volume[j] * g
+            gx = f * dx
+            gy = f * dy
+            lxx += dvx * gx
+            lxy += dvx * gy
+            lyx += dvy * gx
+            lyy += dvy * gy
+            if GRADIENT_CORRECTION:
+                # r_J - r_I = -(dx, dy)
+                mxx -= dx * gx
+                mxy -= dx * gy
+                myx -= dy * gx
+                myy -= dy * gy
             if XSPH:
-                w, dwdr = kernel_w_dwdr(KERNEL, r, s, 2)
-            else:
-                w, dwdr = 0.0, kernel_dwdr(KERNEL, r, s, 2)
-            g = dwdr / r if r > 0.0 else 0.0
-            gfac[k] = g
-            if r > 0.0:
-                f = volume[j] * g
-                gx = f * dx
-                gy = f * dy
-                lxx += dvx * gx
-                lxy += dvx * gy
-                lyx += dvy * gx
-                lyy += dvy * gy
-                if GRADIENT_CORRECTION:
-                    # r_J - r_I = -(dx, dy)
-                    mxx -= dx * gx
-                    mxy -= dx * gy
-                    myx -= dy * gx
-                    myy -= dy * gy
-            if XSPH:
-                cx, cy = xsph_pair(mass[j], rhoi, state[RHO, j], dvx, dvy, w)
+                cx, cy = xsph_pair(mass[j], rhoi, rhos[j], dvx, dvy, w)
                 hx += cx
                 hy += cy
         if GRADIENT_CORRECTION:
@@ -139,6 +156,10 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
         stress[0, i] = sxx
         stress[1, i] = syy
         stress[2, i] = sxy
+        inv2 = 1.0 / (rhoi * rhoi)
+        scaled[0, i] = sxx * inv2
+        scaled[1, i] = syy * inv2
+        scaled[2, i] = sxy * inv2
         if ELASTICITY:
             a, b, c = jaumann_rate(lxx, lxy, lyx, lyy, state[SXX, i], state[SYY, i],
                                    state[SXY, i], p[P_LAMBDA], p[P_MU])
@@ -159,35 +180,41 @@ def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
         else:
             out[X, i] = vxi
             out[Y, i] = vyi
-    scaled = np.empty((3, n))
-    for i in prange(n):
-        inv2 = 1.0 / (state[RHO, i] * state[RHO, i])
-        scaled[0, i] = stress[0, i] * inv2
-        scaled[1, i] = stress[1, i] * inv2
-        scaled[2, i] = stress[2, i] * inv2
+
+
+@njit(**PAIR_OPTIONS)
+def momentum_pass(state, mass, alive, x0, y0, offsets, index, p, scaled, out):
+    """Pass 2: the velocity rate (pairwise antisymmetric momentum sum + substrate)."""
+    n = state.shape[1]
+    s = p[P_SUPPORT]
+    inv_s = 1.0 / s
+    box = p[P_BOX]
+    inv_box = 1.0 / box
+    xs, ys, rhos = state[X], state[Y], state[RHO]
+    sxxs, syys, sxys = scaled[0], scaled[1], scaled[2]
     for i in prange(n):
         if not alive[i]:
             continue
-        xi, yi = state[X, i], state[Y, i]
-        rhoi = state[RHO, i]
+        xi, yi = xs[i], ys[i]
+        rhoi = rhos[i]
         axx = scaled[0, i]
         ayy = scaled[1, i]
         axy = scaled[2, i]
         ax = 0.0
         ay = 0.0
-        for k in range(offsets[i], offsets[i + 1]):
-            g = gfac[k]
-            if g == 0.0:
-                continue
+        for k in range(np.uint64(offsets[i]), np.uint64(offsets[i + 1])):
             j = index[k]
-            dx = minimum_image(xi - state[X, j], box)
-            dy = minimum_image(yi - state[Y, j], box)
+            dx = minimum_image_inv(xi - xs[j], box, inv_box)
+            dy = minimum_image_inv(yi - ys[j], box, inv_box)
+            # g recomputed, not stored by pass 1: a per-pair store stops the vectoriser (it
+            # cannot rule out aliasing) and costs more memory traffic than the arithmetic
+            _, g = kernel_w_g(KERNEL, dx * dx + dy * dy, s, inv_s)
             f = mass[j] * g
             gx = f * dx
             gy = f * dy
-            txx = axx + scaled[0, j]
-            tyy = ayy + scaled[1, j]
-            txy = axy + scaled[2, j]
+            txx = axx + sxxs[j]
+            tyy = ayy + syys[j]
+            txy = axy + sxys[j]
             ax += txx * gx + txy * gy
             ay += txy * gx + tyy * gy
         if SUBSTRATE:

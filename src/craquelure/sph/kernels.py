@@ -137,6 +137,47 @@ def kernel_w_dwdr(kind, r, s, dim):
     return norm * scale * f, norm * (scale * inv) * (-15.0 * d)
 
 
+@njit(inline="always", cache=True)
+def quintic_w_g(r2, inv_s):
+    """Branch-free quintic (2D) from the squared distance: ``(W, (dW/dr)/r)`` with ``inv_s`` =
+    1/s. The clamps max(k - 3x, 0) are the spec's (k - 3x)_+, so one formula covers every piece
+    and x >= 1 (all three terms vanish: W = 0, g = 0, exactly as the piecewise form). At r = 0,
+    f'(0) = -15 (3^4 - 6 2^4 + 15) = 0 exactly, so g = 0 there (r2 is floored at 1e-300 only to
+    keep 1/r finite). One square root and one division per pair."""
+    # conditional expressions (selects), not max(): numba's max() keeps a branch that stops
+    # the loop vectoriser
+    inv_r = 1.0 / np.sqrt(r2 if r2 > 1e-300 else 1e-300)
+    x = (r2 * inv_r) * inv_s
+    x3 = 3.0 * x
+    a = 3.0 - x3
+    b = 2.0 - x3
+    c = 1.0 - x3
+    a = a if a > 0.0 else 0.0
+    b = b if b > 0.0 else 0.0
+    c = c if c > 0.0 else 0.0
+    a4 = a * a * a * a
+    b4 = b * b * b * b
+    c4 = c * c * c * c
+    f = a4 * a - 6.0 * (b4 * b) + 15.0 * (c4 * c)
+    d = a4 - 6.0 * b4 + 15.0 * c4
+    norm = 63.0 / (478.0 * math.pi) * inv_s * inv_s
+    return norm * f, (norm * inv_s) * (-15.0 * d) * inv_r
+
+
+@njit(inline="always", cache=True)
+def kernel_w_g(kind, r2, s, inv_s):
+    """(W, (dW/dr)/r) in 2D from the squared distance r2 (both 0 for r >= s; g = 0 at r = 0):
+    the branch-free quintic, the piecewise forms of the other kernels."""
+    if kind == QUINTIC:
+        return quintic_w_g(r2, inv_s)
+    if r2 >= s * s or r2 <= 0.0:
+        w0 = kernel_w(kind, 0.0, s, 2) if r2 <= 0.0 else 0.0
+        return w0, 0.0
+    r = np.sqrt(r2)
+    w, dwdr = kernel_w(kind, r, s, 2), kernel_dwdr(kind, r, s, 2)
+    return w, dwdr / r
+
+
 @njit(cache=True)
 def kernel_w_array(kind, r, s, dim):
     out = np.empty_like(r)
