@@ -157,17 +157,43 @@ def main(argv: list[str] | None = None) -> None:
         instrument(profile)
         args.out.parent.mkdir(parents=True, exist_ok=True)
         start, wall = time.process_time(), time.perf_counter()
+        part: dict = {}
+        parts.append(part)
+
+        def save() -> None:
+            """This part's profile so far (also every 50 steps: a run stopped by the clock
+            still leaves its profile)."""
+            profile.cpu["run"] = time.process_time() - start
+            part.update({"cpu": dict(profile.cpu), "calls": dict(profile.calls),
+                         "listed_pairs": profile.listed_pairs,
+                         "wall": time.perf_counter() - wall, "finished": args.out.exists(),
+                         "overrides": args.set, "steps_in_part": profile.calls["step"],
+                         "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())})
+            tmp = log.with_name(log.name + ".tmp")
+            tmp.write_text(json.dumps(parts, indent=1))
+            tmp.replace(log)
+
+        step = engine_module.DryingEngine.step
+
+        def step_and_save(self):
+            removed = step(self)
+            ctrl = self.controller
+            part["engine"] = {"t": self.t, "steps": self.step_count,
+                              "rate_evaluations": self.evaluations,
+                              "power_iteration_evaluations": self.viscous_evaluations,
+                              "rejected": ctrl.rejected if ctrl else 0,
+                              "removed": self.n_removed,
+                              "neighbour_builds": self.neighbour_builds}
+            if profile.calls["step"] % 50 == 0:
+                save()
+            return removed
+
+        engine_module.DryingEngine.step = step_and_save
         try:
             api.run(scene, args.out, seed=args.seed, resume=True,
                     checkpoint_every=args.checkpoint_every)
         finally:
-            profile.cpu["run"] = time.process_time() - start
-            parts.append({"cpu": profile.cpu, "calls": profile.calls,
-                          "listed_pairs": profile.listed_pairs,
-                          "wall": time.perf_counter() - wall,
-                          "finished": args.out.exists(), "overrides": args.set,
-                          "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())})
-            log.write_text(json.dumps(parts, indent=1))
+            save()
     builds = sum(p["calls"]["neighbour_list"] for p in parts)
     attrs, pairs = None, sum(p["listed_pairs"] for p in parts) / max(builds, 1)
     if args.out.exists():

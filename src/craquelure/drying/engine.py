@@ -271,8 +271,9 @@ class DryingEngine:
     # -- stepping ------------------------------------------------------------------------------
     def step(self) -> int:
         """Advance one step; returns the number of particles removed in it. A kernel's
-        arithmetic failure (numba raises division by zero and overflow as Python does) is the
-        guard's stop, :class:`SimulationDiverged`, not a traceback."""
+        arithmetic failure is the guard's stop, :class:`SimulationDiverged`, not a traceback:
+        the rate kernel uses numpy's error model (a division by zero gives inf/NaN, which
+        :meth:`health` reports); an ArithmeticError raised elsewhere is caught here."""
         try:
             return self._step()
         except ArithmeticError as exc:

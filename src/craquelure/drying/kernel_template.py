@@ -14,6 +14,18 @@ sigma_e xx, yy, xy. Two pair passes per evaluation:
 
 Pairs come from a CSR Verlet list (radius h + skin); pairs beyond h contribute exactly 0.
 Removed particles (``alive == 0``) have zero mass and zero rates.
+
+The pair loops are written for LLVM's loop vectoriser (issue 28; measured by
+benchmarks/drying_roofline.py): no branch in the loop body (the branch-free quintic
+:func:`~craquelure.sph.kernels.kernel_w_g` from r^2, 0 beyond the support and g = 0 at r = 0), no
+per-pair store (pass 2 recomputes dW/dr / r: a store next to the gathers cannot be proven free
+of aliasing and blocks vectorisation), an unsigned loop index (a signed one makes numba's
+negative-index wraparound, which LLVM turns into a gather of the index array), the minimum image
+by multiplication with 1/L, numpy's error model (no ZeroDivisionError branch: a division by zero
+gives inf/NaN, which the engine's guards stop) and reassociated sums (``PAIR_FASTMATH``; the
+sums' order, hence their last bits, depends on the vector width). Particles are in cell order
+(the initial state sorts them, :mod:`craquelure.drying.initial_state`), so the gathers of a
+particle's neighbours hit few cache lines.
 """
 
 import numpy as np
