@@ -170,9 +170,9 @@ def main() -> None:
                              "threshold too (e.g. --n 3600, the gravity_block scene's size)")
     args = parser.parse_args()
     single_threaded_libraries()
-    from craquelure.threads import library_pools
+    from threadpoolctl import threadpool_info
 
-    pools = ", ".join(f"{p['internal_api']} {p['num_threads']}" for p in library_pools()
+    pools = ", ".join(f"{p['internal_api']} {p['num_threads']}" for p in threadpool_info()
                       if p["user_api"] == "blas")
     print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; numba "
           f"{numba.__version__} ({numba.config.THREADING_LAYER} layer), "
