@@ -37,7 +37,6 @@ from craquelure.drying.effects.elasticity import jaumann_rate
 from craquelure.drying.effects.gradient_correction import corrected_gradient
 from craquelure.drying.effects.substrate import substrate_acceleration
 from craquelure.drying.effects.viscosity import viscous_stress
-from craquelure.drying.effects.xsph import xsph_pair
 from craquelure.periodic import minimum_image
 from craquelure.sph.kernels import kernel_dwdr, kernel_w_dwdr
 
@@ -51,15 +50,16 @@ P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = range(
 CONTINUITY = DRYING = ELASTICITY = SUBSTRATE = VISCOSITY = XSPH = True
 GRADIENT_CORRECTION = False
 KERNEL = 0
-# Per pair visit, read off the current kernel (drying_rate.gradient_pass / momentum_pass, all 7
-# effects): (flops, streamed bytes, gathered bytes) of pass 1 and pass 2.
+# Per pair visit, read off the current kernel (kernel_template.gradient_pass / momentum_pass, all
+# 7 effects): (flops, streamed bytes, gathered bytes) of pass 1 and pass 2.
 #  pass 1: minimum image 2 x 4, r^2 3, kernel_w_g 32 (sqrt, divide, x = r/s 2, 3x 1, three
-#          clamps' subtractions 3, fourth powers 9, f 7, d 4, W 1, g 3), dv 2, V_J g and its
-#          two components 3, L sums 4 FMA = 8, XSPH 8 (mean density 2, divide, times W, two
-#          components, two sums) = 64; index 8 B; gathers x, y, vx, vy, V, m, rho = 56 B
+#          clamps' subtractions 3, fourth powers 9, f 7, d 4, W 1, g 3), dv 2, the shared
+#          divide for V_J and 1/(rho_I + rho_J) 6 (sum, product, divide, V_J 2, 1/sum 1), XSPH
+#          8 (2 m_J, times 1/sum, times W, two components, two sums), V_J g and its two
+#          components 3, L sums 4 FMA = 8: 70; index 8 B; gathers x, y, vx, vy, m, rho = 48 B
 #  pass 2: minimum image 8, r^2 3, g only 24, m_J g and components 3, sigma sums 3,
 #          accelerations 2 x 4 = 8 = 49; index 8 B; gathers x, y, m, sigma/rho^2 x 3 = 48 B
-COUNT = {"pass 1": (64, 8, 56), "pass 2": (49, 8, 48)}
+COUNT = {"pass 1": (70, 8, 48), "pass 2": (49, 8, 48)}
 
 
 # -- the kernel before issue 28 (commit 58dba0d), the side-by-side reference -------------------
@@ -132,7 +132,8 @@ def reference_rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress
                     myx -= dy * gx
                     myy -= dy * gy
             if XSPH:
-                cx, cy = xsph_pair(mass[j], rhoi, state[RHO, j], dvx, dvy, w)
+                f = mass[j] / (0.5 * (rhoi + state[RHO, j])) * w
+                cx, cy = f * dvx, f * dvy
                 hx += cx
                 hy += cy
         if GRADIENT_CORRECTION:
@@ -231,14 +232,14 @@ def fma_loop(y, m, c, repeats):
 
 
 @njit(parallel=True, fastmath={"reassoc", "contract", "nsz"}, error_model="numpy")
-def gather_loop(offsets, index, a, b, c, d, e, f, g):
-    """Only the gathers of pass 1 (seven per-particle arrays through the CSR index) and a sum."""
+def gather_loop(offsets, index, a, b, c, d, e, f):
+    """Only the gathers of pass 1 (six per-particle arrays through the CSR index) and a sum."""
     total = 0.0
     for i in prange(offsets.size - 1):
         acc = 0.0
         for k in range(np.uint64(offsets[i]), np.uint64(offsets[i + 1])):
             j = index[k]
-            acc += a[j] + b[j] + c[j] + d[j] + e[j] + f[j] + g[j]
+            acc += a[j] + b[j] + c[j] + d[j] + e[j] + f[j]
         total += acc
     return total
 
@@ -295,12 +296,9 @@ def main() -> None:
     out_ref, s_ref = np.empty_like(st), np.empty((3, n))
     t_ref = cpu_time(lambda: reference_rate(*args_rate, out_ref, s_ref), args.repeats)
     t_new = cpu_time(lambda: mod.rate(*args_rate, out_new, s_new), args.repeats)
-    volume, scaled = np.empty(n), np.empty((3, n))
-    mod.volumes(engine.mass, st[RHO], engine.alive, volume)
-    t_vol = cpu_time(lambda: mod.volumes(engine.mass, st[RHO], engine.alive, volume),
-                     args.repeats)
+    scaled = np.empty((3, n))
     t_p1 = cpu_time(lambda: mod.gradient_pass(st, 50.0, engine.mass, engine.alive,
-                                              engine.offsets, engine.index, p, volume,
+                                              engine.offsets, engine.index, p,
                                               out_new, s_new, scaled), args.repeats)
     t_p2 = cpu_time(lambda: mod.momentum_pass(st, engine.mass, engine.alive, engine.x0,
                                               engine.y0, engine.offsets, engine.index, p,
@@ -314,9 +312,8 @@ def main() -> None:
           f"numba {numba.__version__}, 1 thread, CPU time, best of 5 x {args.repeats}")
     print(f"{'kernel':<34} {'ms/eval':>8} {'pair visits/s':>14}")
     print(f"{'before (reference_rate)':<34} {1e3 * t_ref:>8.2f} {2 * pairs / t_ref:>14.3e}")
-    print(f"{'current (drying_rate.rate)':<34} {1e3 * t_new:>8.2f} {2 * pairs / t_new:>14.3e}"
+    print(f"{'current (kernel_template.rate)':<34} {1e3 * t_new:>8.2f} {2 * pairs / t_new:>14.3e}"
           f"   {t_ref / t_new:.2f}x")
-    print(f"{'  volumes':<34} {1e3 * t_vol:>8.2f}")
     print(f"{'  pass 1 (L, XSPH, stress, rates)':<34} {1e3 * t_p1:>8.2f} {pairs / t_p1:>14.3e}")
     print(f"{'  pass 2 (momentum, substrate)':<34} {1e3 * t_p2:>8.2f} {pairs / t_p2:>14.3e}")
     print("largest |current - before| / max|before| per rate row: "
@@ -326,10 +323,10 @@ def main() -> None:
     reps = 20000
     t_fma = cpu_time(lambda: fma_loop(yv, 0.999999, 1e-6, reps), 1)
     peak = 16 * yv.size * reps / t_fma
-    cols = [st[X], st[Y], st[VX], st[VY], volume, engine.mass, st[RHO]]
+    cols = [st[X], st[Y], st[VX], st[VY], engine.mass, st[RHO]]
     t_gather = cpu_time(lambda: gather_loop(engine.offsets, engine.index, *cols), args.repeats)
     print(f"measured FMA peak (numba, same options): {peak / 1e9:.1f} Gflop/s; gather roof "
-          f"(pass 1's 7 gathers only): {pairs / t_gather:.3e} pair visits/s")
+          f"(pass 1's 6 gathers only): {pairs / t_gather:.3e} pair visits/s")
     for label, t, (flops, streamed, gathered) in (("pass 1", t_p1, COUNT["pass 1"]),
                                                  ("pass 2", t_p2, COUNT["pass 2"])):
         rate = pairs / t

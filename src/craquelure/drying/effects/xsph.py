@@ -18,7 +18,8 @@ EFFECT = Effect("drying", "xsph", "XSPH",
 
 
 @njit(inline="always", cache=True)
-def xsph_pair(mj, rho_i, rho_j, dvx, dvy, w):
-    """Contribution of J to the XSPH correction of I (before the factor epsilon)."""
-    f = mj / (0.5 * (rho_i + rho_j)) * w
+def xsph_pair(mj, inv_rho_sum, dvx, dvy, w):
+    """Contribution of J to the XSPH correction of I (before the factor epsilon), given
+    ``inv_rho_sum`` = 1/(rho_I + rho_J): m_J/rho_bar_IJ = 2 m_J/(rho_I + rho_J)."""
+    f = 2.0 * mj * inv_rho_sum * w
     return f * dvx, f * dvy
