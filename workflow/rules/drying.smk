@@ -149,3 +149,35 @@ rule drying_speed_run:
         "{params.cli} run {input.scene} --init {input.state} --out {output} --resume "
         "--threads {threads} {params.overrides} --set-file {input.speed} {params.study} "
         "> {log} 2>&1"
+
+
+# Fracture-criterion sensitivity (rules drying_criterion*, config drying.criterion): the same
+# initial states run with another material.fracture_stress_measure (open doubt 7 of the spec);
+# results/drying/<scene>_C<measure>/ then goes through drying_fragments and drying_campaign.
+ruleorder: drying_criterion_run > drying_run
+
+
+rule drying_criterion_run:
+    input:
+        scene=DRYING_JOBS.scene_path,
+        state="results/mass/{scene}/seed{seed}.nc",
+    output:
+        "results/drying/{scene}_C{measure}/run/seed{seed}.nc",
+    wildcard_constraints:
+        measure=drying_workflow.CRITERION_PATTERN,
+    params:
+        cli=CRAQUELURE,
+        overrides=scene_overrides("drying"),
+    log:
+        "logs/drying_run/{scene}_C{measure}/seed{seed}.log",
+    benchmark:
+        "benchmarks/results/drying_run/{scene}_C{measure}/seed{seed}.tsv"
+    priority: 10
+    threads: config["drying"]["threads"]
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_run"],
+    shell:
+        "{params.cli} run {input.scene} --init {input.state} --out {output} --resume "
+        "--threads {threads} {params.overrides} "
+        "--set material.fracture_stress_measure={wildcards.measure} > {log} 2>&1"

@@ -23,6 +23,9 @@ localrules:
     drying_thickness_figure,
     drying_speed,
     drying_speed_figure,
+    drying_criterion_summary,
+    drying_transition,
+    drying_transition_figure,
 
 
 rule drying_fragments:
@@ -46,7 +49,7 @@ rule drying_fragments:
 
 rule drying_campaign:
     input:
-        expand("results/drying/{{scene}}/fragments/seed{seed}.nc", seed=DRYING_JOBS.seeds()),
+        DRYING_JOBS.campaign_fragments,
     output:
         "results/drying/{scene}/campaign.nc",
     params:
@@ -297,3 +300,106 @@ rule drying_speed_study:
 
 TARGETS["drying_speed"] = DRYING_SPEED if config["drying"]["speed"]["n_seeds"] > 0 else []
 DATASETS["drying"] += DRYING_SPEED[:1] if config["drying"]["speed"]["n_seeds"] > 0 else []
+
+
+# Fracture-criterion sensitivity (config drying.criterion): a summary per criterion, with its
+# checks 14-16 in the validation report (every row says the criterion departs from the source).
+rule drying_criterion_summary:
+    input:
+        "results/drying/{scene}_C{measure}/campaign.nc",
+    output:
+        "results/drying/{scene}_C{measure}/summary.json",
+    wildcard_constraints:
+        measure=drying_workflow.CRITERION_PATTERN,
+    params:
+        profile=config["profile"],
+        scene=DRYING_JOBS.criterion_scene,
+    log:
+        "logs/drying_summary/{scene}_C{measure}.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_summary.py"
+
+
+DRYING_CRITERION = [
+    f"results/drying/{folder}/summary.json" for folder in DRYING_JOBS.criterion_folders()
+]
+CLAIM_SOURCES["drying"] += DRYING_CRITERION
+TARGETS["drying_criterion"] = DRYING_CRITERION
+
+
+# One target for the criterion study: the source criterion's summary beside each other
+# criterion's, and the validation report that holds their rows.
+rule drying_criterion_study:
+    localrule: True
+    input:
+        "results/drying/summary.json",
+        DRYING_CRITERION,
+        "results/validation.json",
+
+
+# Damage-to-fragmentation transition (beyond the source; config drying.transition): m_max, its
+# sample-to-sample fluctuation and the mean fragment area against damage d per box size, d_c by
+# finite-size scaling, exponents with bootstrap intervals (craquelure.drying.transition).
+rule drying_transition:
+    input:
+        unpack(DRYING_JOBS.transition_fragments),
+    output:
+        "results/drying/transition.nc",
+    params:
+        variant=config["drying"]["transition"]["variant"],
+    log:
+        "logs/drying_transition.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_transition.py"
+
+
+rule drying_transition_figure:
+    input:
+        "results/drying/transition.nc",
+    output:
+        png=report(
+            "results/drying/figures/drying_transition.png",
+            caption="../report/drying_transition.rst",
+            category="Drying paste",
+            labels={"figure": "damage-to-fragmentation transition"},
+        ),
+        pdf="results/drying/figures/drying_transition.pdf",
+    params:
+        figure="transition",
+        profile=config["profile"],
+    log:
+        "logs/drying_transition_figure.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_dataset_figure.py"
+
+
+DRYING_TRANSITION = [
+    "results/drying/transition.nc",
+    "results/drying/figures/drying_transition.png",
+    "results/drying/figures/drying_transition.pdf",
+]
+
+
+# One target for the transition study: `snakemake drying_transition_study`.
+rule drying_transition_study:
+    localrule: True
+    input:
+        DRYING_TRANSITION,
+
+
+if DRYING_JOBS.transition_fragments():
+    TARGETS["drying_transition"] = DRYING_TRANSITION
+    DATASETS["drying"].append(DRYING_TRANSITION[0])
+    CLAIM_SOURCES["drying"].append(DRYING_TRANSITION[0])

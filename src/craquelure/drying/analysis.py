@@ -92,7 +92,7 @@ import xarray as xr
 from scipy import stats
 
 import craquelure
-from craquelure.drying import statistics
+from craquelure.drying import crack_measures, statistics
 from craquelure.drying.binarise import (
     DEFAULT_PHI0,
     DEFAULT_SPACING_H,
@@ -100,6 +100,7 @@ from craquelure.drying.binarise import (
     fragment_areas,
     snapshot_image,
 )
+from craquelure.drying.effects.fracture import SOURCE_MEASURE
 from craquelure.drying.field import mesh_spacing
 from craquelure.errors import CraquelureError, SceneError
 from craquelure.io import DatasetError, open_dataset, read_dataset, write_dataset, write_text_atomic
@@ -285,9 +286,14 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
     bar = Progress(len(times), "fragments", unit="snapshot") if progress else None
     areas, frag_time_index = [], []
     n_frag = np.zeros(len(times), np.int64)
+    n_open = np.zeros(len(times), np.int64)
     mean_area = np.full(len(times), np.nan)
     paste = np.zeros(len(times))
+    crack_length = np.zeros(len(times))
+    largest = np.zeros(len(times))
+    damage = np.zeros(len(times))
     spacing = mesh_spacing(length, spacing_h * h)
+    alive_all = run["alive"].values
     for k in range(len(times)):
         image, spacing = snapshot_image(run, k, spacing_h, phi0, kernel)
         a = fragment_areas(image, spacing)
@@ -297,6 +303,10 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
         if a.size:
             mean_area[k] = a.mean()
         paste[k] = image.mean()
+        n_open[k] = crack_measures.open_fragment_count(image)
+        crack_length[k] = crack_measures.crack_length_per_area(image, spacing)
+        largest[k] = crack_measures.largest_fraction(a, length)
+        damage[k] = crack_measures.damage(alive_all[k])
         if bar is not None:
             bar.update_to(k + 1, f"t={times[k]:g}: {a.size} fragments")
     if bar is not None:
@@ -317,6 +327,17 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
             "paste_fraction": ("time", paste,
                                {"long_name": "fraction of mesh points with phi >= phi0"}),
             "n_alive": ("time", alive.sum(axis=1).astype(np.int64)),
+            "damage": ("time", damage, {"long_name": "removed-area fraction d = removed "
+                                        "particles / N", "units": "1"}),
+            "crack_length_per_area": ("time", crack_length, {
+                "long_name": "crack length per area (half the paste/crack interface, "
+                             "Cauchy-Crofton)", "units": "1/length"}),
+            "largest_fragment_fraction": ("time", largest, {
+                "long_name": "largest fragment's area fraction m_max = S_max/L^2",
+                "units": "1"}),
+            "n_fragments_open": ("time", n_open, {
+                "long_name": "fragments without periodic wrap-around (image as a plain "
+                             "rectangle)", "units": "1"}),
         },
         coords={"time": ("time", times, dict(run["time"].attrs))},
     )
@@ -331,8 +352,38 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
         "edge_depth": edge_depth(phi0, kernel, h),
         "first_removal_time": first_removal_time(run),
         "connectivity": 4,
+        "fracture_stress_measure": fracture_measure_of(scene),
+        **onset_prediction(run, t_star(scene) if scene.get("material.yield_stress", None)
+                           and scene.get("material.drying_rate", None) else math.nan),
     })
     return ds
+
+
+def fracture_measure_of(scene: Scene) -> str:
+    """The scene's fracture criterion (scenes stored before it was a parameter: the source's)."""
+    return str(scene.get("material.fracture_stress_measure", SOURCE_MEASURE))
+
+
+def onset_prediction(run: xr.Dataset, tstar: float) -> dict[str, float]:
+    """kappa before the first removal and the first removal it predicts (spec open doubt 7):
+    ``kappa_max`` the median over the run's records of max_I sigma_bar_I / F (recorded from
+    F >= 20 a sigma_Y until the first removal, :mod:`craquelure.drying.engine`),
+    ``kappa_criterion`` the same for the criterion's stress, and
+    ``predicted_first_removal_time`` = t*/kappa_criterion (NaN without records)."""
+    out = {"kappa_max": math.nan, "kappa_criterion": math.nan, "kappa_records": 0,
+           "predicted_first_removal_time": math.nan}
+    if "kappa_max" not in run:
+        return out
+    kappa = np.asarray(run["kappa_max"].values, float)
+    crit = np.asarray(run["kappa_criterion_max"].values, float)
+    ok = np.isfinite(kappa) & np.isfinite(crit)
+    if not ok.any():
+        return out
+    out.update(kappa_max=float(np.median(kappa[ok])), kappa_criterion=float(np.median(crit[ok])),
+               kappa_records=int(ok.sum()))
+    if math.isfinite(tstar):
+        out["predicted_first_removal_time"] = tstar / out["kappa_criterion"]
+    return out
 
 
 def fragments_from_run_file(run_path: str | Path, out: str | Path, phi0: float | None = None,
@@ -466,6 +517,13 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
     first_removal = np.array([float(ds.attrs.get("first_removal_time", np.nan))
                               for ds in fragments])
 
+    def per_seed(key: str) -> np.ndarray:
+        return np.array([float(ds.attrs.get(key, np.nan)) for ds in fragments])
+
+    def per_time(key: str) -> np.ndarray:  # fragment datasets older than the measures: NaN
+        return np.stack([ds[key].values.astype(float) if key in ds else np.full(n_t, np.nan)
+                         for ds in fragments])
+
     # bare variables get their long names and units from craquelure.cf's table on writing
     ds = xr.Dataset(
         {
@@ -475,6 +533,25 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
             "paste_fraction": (("seed", "time"),
                                np.stack([d["paste_fraction"].values for d in fragments])),
             "first_removal_time": ("seed", first_removal),
+            "kappa_max": ("seed", per_seed("kappa_max"), {
+                "long_name": "median of max_I sigma_bar_I / F before the first removal",
+                "units": "1"}),
+            "kappa_criterion": ("seed", per_seed("kappa_criterion"), {
+                "long_name": "median of max_I s_I / F (criterion stress s) before the first "
+                             "removal", "units": "1"}),
+            "predicted_first_removal_time": ("seed", per_seed("predicted_first_removal_time"),
+                                             {"long_name": "t*/kappa_criterion",
+                                              "units": "eta/lambda"}),
+            "damage": (("seed", "time"), per_time("damage"), {
+                "long_name": "removed-area fraction d", "units": "1"}),
+            "crack_length_per_area": (("seed", "time"), per_time("crack_length_per_area"), {
+                "long_name": "crack length per area", "units": "1/length"}),
+            "largest_fragment_fraction": (("seed", "time"),
+                                          per_time("largest_fragment_fraction"), {
+                "long_name": "largest fragment's area fraction m_max = S_max/L^2",
+                "units": "1"}),
+            "n_fragments_open": (("seed", "time"), per_time("n_fragments_open"), {
+                "long_name": "fragments without periodic wrap-around", "units": "1"}),
             "mean_area": ("time", mean, {"long_name": "pooled mean fragment area <S>_t"}),
             "mean_area_se": ("time", se),
             "inverse_mean_area": ("time", 1.0 / mean),
@@ -509,6 +586,7 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
         value = scene.get(path, None)
         if value is not None:
             ds.attrs[key] = value
+    ds.attrs["fracture_stress_measure"] = fracture_measure_of(scene)
     ds.attrs.update({"scene_name": str(first.attrs.get("scene_name", scene.name)),
                      "n_seeds": n_s, "seeds": ",".join(map(str, seeds)), "t_star": tstar,
                      "window_mode": window_mode, "window_start": win["start"],

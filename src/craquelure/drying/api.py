@@ -4,8 +4,10 @@
 Run dataset: snapshots on dim ``time`` x ``particle``: ``x``, ``y`` (wrapped into the box),
 ``vx``, ``vy``, ``alive`` (removed particles keep their index with alive = 0), ``mass``, ``rho``,
 ``mean_stress`` (tr(sigma)/2 of the total stress); time series on dim ``step_time``:
-``n_removed``, ``kinetic_energy``, ``elastic_energy``, ``momentum_x``, ``momentum_y``; attributes
-``h``, ``box_length``, ``effects`` and the provenance of :mod:`craquelure.provenance`.
+``n_removed``, ``kinetic_energy``, ``elastic_energy``, ``momentum_x``, ``momentum_y``,
+``kappa_max`` and ``kappa_criterion_max`` (onset diagnostics, :mod:`craquelure.drying.engine`);
+attributes ``h``, ``box_length``, ``effects``, ``fracture_stress_measure`` and the provenance
+of :mod:`craquelure.provenance`.
 
 The loop, checkpoints (every ``numerics.checkpoint_every`` steps) and ``--resume`` are the
 runner's (:mod:`craquelure.runner`); :class:`DryingRun` gives it the full engine state (with the
@@ -114,6 +116,10 @@ SERIES_VARS = {
     "momentum_x": ("total momentum x", "rho0 length^2 sqrt(lambda/rho0)"),
     "momentum_y": ("total momentum y", "rho0 length^2 sqrt(lambda/rho0)"),
     "time_step": ("size of the last time step", "eta/lambda"),
+    "kappa_max": ("max_I sigma_bar_I / F before the first removal, from F >= 20 a sigma_Y "
+                  "(NaN otherwise)", "1"),
+    "kappa_criterion_max": ("max_I s_I / F of the fracture criterion's stress s, before the "
+                            "first removal, from F >= 20 a sigma_Y (NaN otherwise)", "1"),
 }
 
 
@@ -158,6 +164,9 @@ class Recorder:
         self.series["momentum_x"].append(px)
         self.series["momentum_y"].append(py)
         self.series["time_step"].append(engine.dt)
+        kappa, kappa_criterion = engine.onset_kappa()
+        self.series["kappa_max"].append(kappa)
+        self.series["kappa_criterion_max"].append(kappa_criterion)
 
     def maybe_snapshot(self, engine: DryingEngine) -> None:
         while (self.next_output < self.times.size
@@ -200,6 +209,8 @@ def _dataset(engine: DryingEngine, rec: Recorder, finished: bool) -> xr.Dataset:
         "rkc_stage_evaluations": engine.stage_evaluations,
         "spectral_radius_evaluations": engine.viscous_evaluations,
         "rejected_steps": engine.controller.rejected if engine.controller else 0,
+        "fracture_stress_measure": engine.fracture_measure,
+        "kappa_min_drying_stress": engine.kappa_min_f,
     })
 
 

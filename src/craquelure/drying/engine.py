@@ -7,8 +7,16 @@ integrator loop (drying spec sections 2-8). No file I/O here (see :mod:`craquelu
   summation order of an uninterrupted one: bit-identical results). Removed particles stay
   listed until the next rebuild; with zero mass they add exactly 0.
 - Fracture (effect ``fracture``): after each accepted step, with the rates of the new state,
-  particles with mean stress tr(sigma)/2 > sigma_Y are removed (alive = 0, mass = 0, v = 0) and
-  the multistep integrator restarts with RK4.
+  particles whose criterion stress s (``material.fracture_stress_measure``, default the
+  source's tr(sigma)/2; :mod:`craquelure.drying.effects.fracture`) exceeds sigma_Y are removed
+  (alive = 0, mass = 0, v = 0) and the multistep integrator restarts with RK4.
+- Onset diagnostics (open doubt 7 of the spec): before any removal each particle's mean stress
+  is sigma_bar_I = kappa_I F + (what is left of the initial stress), F the drying stress, so
+  the first removal comes at t*/kappa_max (source criterion). :meth:`DryingEngine.onset_kappa`
+  gives kappa_max = max_I sigma_bar_I/F and the criterion's max_I s_I/F while nothing has
+  been removed and F >= 20 a sigma_Y (a = ``material.initial_stress_amplitude``): the initial
+  stress, |sigma_bar(0)| <= a sigma_Y, then shifts kappa by at most 0.05 (under 4 % of the
+  kappa_max = 1.3-2 measured); NaN otherwise.
 - Time step, fixed-step integrators (abm4, rk4, rk2): the scene's dt; at the start and every
   ``spectral_check_every`` steps the viscous spectral radius is re-estimated by power iteration
   and dt is halved while it exceeds 0.6 of the integrator's real-axis limit (spec section 8).
@@ -39,7 +47,7 @@ import numpy as np
 
 from craquelure.codegen import effect_flags, pack_parameters, specialise
 from craquelure.drying import kernel_template as template
-from craquelure.drying.effects.fracture import particles_to_remove
+from craquelure.drying.effects.fracture import criterion_stress, particles_to_remove
 from craquelure.drying.integrators import (
     REAL_AXIS_LIMIT,
     RKC_SPECTRAL_SAFETY,
@@ -55,6 +63,7 @@ from craquelure.sph.kernels import kernel_kind
 from craquelure.sph.neighbours import Box, neighbour_list
 
 NVAR = template.NVAR
+KAPPA_AMPLITUDE_FACTOR = 20.0  # kappa from F >= 20 a sigma_Y (module docstring)
 X, Y, VX, VY, RHO, SXX, SYY, SXY = range(8)
 
 
@@ -105,6 +114,11 @@ class DryingEngine:
         self.effects = scene.effects
         self.fracture = scene.has("fracture")
         self.yield_stress = float(scene.get("material.yield_stress", math.inf))
+        self.fracture_measure = str(scene.get("material.fracture_stress_measure"))
+        # kappa is recorded from F >= 20 a sigma_Y (module docstring)
+        self.kappa_min_f = (KAPPA_AMPLITUDE_FACTOR
+                            * float(scene.get("material.initial_stress_amplitude"))
+                            * float(scene.get("material.yield_stress", 0.0)))
         kernel = scene.get("numerics.kernel")
         self.rate_module = compile_rate(self.effects, kernel)
         self.viscous_module = compile_rate(("viscosity",), kernel)
@@ -177,6 +191,26 @@ class DryingEngine:
     def mean_stress(self) -> np.ndarray:
         """tr(sigma)/2 of the total stress of the current state (0 for removed particles)."""
         return 0.5 * (self.stress[0] + self.stress[1])
+
+    @property
+    def criterion(self) -> np.ndarray:
+        """The fracture criterion's stress measure of the current total stress."""
+        return criterion_stress(self.stress, self.fracture_measure)
+
+    def drying_stress(self) -> float:
+        """F = min(v_r t, cap) of the current time (0 without the drying effect)."""
+        if not self.scene.has("drying"):
+            return 0.0
+        return min(self.params[template.P_VR] * self.t, self.params[template.P_DRYCAP])
+
+    def onset_kappa(self) -> tuple[float, float]:
+        """(max_I sigma_bar_I / F, max_I s_I / F) before the first removal once F >= 20 a
+        sigma_Y (module docstring); (nan, nan) otherwise."""
+        f = self.drying_stress()
+        if self.n_removed > 0 or f <= 0 or f < self.kappa_min_f or not self.alive.any():
+            return math.nan, math.nan
+        return (float(self.mean_stress[self.alive].max()) / f,
+                float(self.criterion[self.alive].max()) / f)
 
     def kinetic_energy(self) -> float:
         return float(0.5 * np.sum(self.mass * (self.state[VX] ** 2 + self.state[VY] ** 2)))
@@ -330,7 +364,7 @@ class DryingEngine:
         sigma_Y by more than removal_tolerance sigma_Y."""
         if not self.fracture or not math.isfinite(self.yield_stress):
             return math.inf
-        now = self.mean_stress
+        now = self.criterion
         # Particles already above sigma_Y (loaded by this step's removals) go at the end of the
         # next step whatever its size; the limit concerns those still below.
         rising = self.alive & (now > before) & (now <= self.yield_stress)
@@ -369,7 +403,7 @@ class DryingEngine:
                     f"numerics.step_control.dt_min = {self.dt_floor:g} (scaled error "
                     f"{err:.3g}); loosen numerics.step_control.tolerance or use abm4"),
                     self.step_count, self.t, "eta/lambda")
-        before = self.mean_stress.copy()
+        before = self.criterion
         self.state, self.f_current, self.stress = new, f_new, stress
         self.t = t_new
         self.dt = dt
@@ -391,7 +425,7 @@ class DryingEngine:
         return 0.5 * self.dt
 
     def remove_overstressed(self) -> int:
-        doomed = particles_to_remove(self.mean_stress, self.alive, self.yield_stress)
+        doomed = particles_to_remove(self.criterion, self.alive, self.yield_stress)
         if doomed.size == 0:
             return 0
         self.alive[doomed] = False

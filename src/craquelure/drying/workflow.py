@@ -10,11 +10,16 @@ sweep reuses the scene's runs at that H.
 
 from __future__ import annotations
 
+import re
 import shlex
 
 from craquelure.scene import load_scene
 
 SCENE_DIR = "config/scenes/drying"
+# Criteria of the sensitivity runs (scene schema material.fracture_stress_measure), as the
+# wildcard of results/drying/<scene>_C<measure>/.
+CRITERION_MEASURES = ("trace", "max_principal")
+CRITERION_PATTERN = "|".join(CRITERION_MEASURES)
 
 
 def label(value: float) -> str:
@@ -46,6 +51,40 @@ class Jobs:
     def seeds(self) -> list[int]:
         first = self.section["first_seed"]
         return list(range(first, first + self.section["n_seeds"]))
+
+    def campaign_fragments(self, wildcards) -> list[str]:
+        """Fragment datasets of the campaign of ``wildcards.scene``: every seed, or the first
+        ``criterion.n_seeds`` for a criterion-sensitivity folder <scene>_C<measure>."""
+        seeds = self.seeds()
+        if re.fullmatch(rf".+_C(?:{CRITERION_PATTERN})", wildcards.scene):
+            seeds = seeds[: self.section["criterion"]["n_seeds"]]
+        return [f"results/drying/{wildcards.scene}/fragments/seed{seed}.nc" for seed in seeds]
+
+    def criterion_folders(self) -> list[str]:
+        """results/drying/<folder> of the criterion sensitivity runs (none if n_seeds = 0)."""
+        study = self.section["criterion"]
+        if study["n_seeds"] <= 0:
+            return []
+        return [f"{self.section['scene']}_C{m}" for m in study["measures"]]
+
+    def transition_fragments(self, wildcards=None) -> dict[str, list[str]]:
+        """Fragment datasets of the transition study, grouped by scene (inputs <scene>): the
+        runs of each scene in ``transition.variant`` (its own, a criterion or a drying speed
+        folder)."""
+        study = self.section["transition"]
+        if len(study["scenes"]) != len(study["n_seeds"]):
+            raise ValueError(
+                f"config drying.transition.n_seeds: one count per entry of scenes "
+                f"({len(study['scenes'])}), got {study['n_seeds']}")
+        first = self.section["first_seed"]
+        return {scene: [f"results/drying/{scene}{study['variant']}/fragments/seed{seed}.nc"
+                        for seed in range(first, first + n)]
+                for scene, n in zip(study["scenes"], study["n_seeds"], strict=True) if n > 0}
+
+    @staticmethod
+    def criterion_scene(wildcards) -> str:
+        """The scene name of a criterion-sensitivity summary: <scene>_C<measure>."""
+        return f"{wildcards.scene}_C{wildcards.measure}"
 
     @staticmethod
     def thickness_value(wildcards) -> str:

@@ -1,10 +1,16 @@
 r"""Fracture by particle removal (drying spec section 4).
 
-Mean stress of the total 2D stress :math:`\bar\sigma = \mathrm{tr}\,\sigma/2` (viscous + elastic
-+ drying, evaluated with the rates of the accepted state). After every accepted step, every
-particle with :math:`\bar\sigma > \sigma_Y` is deleted: it keeps its index with ``alive = 0``,
-leaves the neighbour search, and its mass, momentum and history vanish. The multistep integrator
-then restarts (its history is invalid)."""
+The criterion's stress measure s of the total 2D stress (viscous + elastic + drying, evaluated
+with the rates of the accepted state) is the scene's ``material.fracture_stress_measure``:
+
+- ``half_trace`` (default, the source's text): :math:`s = \bar\sigma = \mathrm{tr}\,\sigma/2`;
+- ``trace``: :math:`s = \mathrm{tr}\,\sigma` (the factor-2 sensitivity of open doubt 7);
+- ``max_principal``: :math:`s = \sigma_1 = \mathrm{tr}\,\sigma/2 +
+  \sqrt{((\sigma_{xx} - \sigma_{yy})/2)^2 + \sigma_{xy}^2}` (Rankine).
+
+After every accepted step, every particle with :math:`s > \sigma_Y` is deleted: it keeps its
+index with ``alive = 0``, leaves the neighbour search, and its mass, momentum and history
+vanish. The multistep integrator then restarts (its history is invalid)."""
 
 import numpy as np
 from numba import njit
@@ -13,11 +19,37 @@ from craquelure.registry import Effect
 
 # flag None: acts between steps (engine), not in the rate kernel
 EFFECT = Effect("drying", "fracture", None,
-                "remove particles whose mean stress tr(sigma)/2 exceeds sigma_Y",
+                "remove particles whose criterion stress (default tr(sigma)/2) exceeds sigma_Y",
                 requires=("material.yield_stress",))
+
+MEASURES = ("half_trace", "trace", "max_principal")
+SOURCE_MEASURE = "half_trace"
+MEASURE_TEXT = {"half_trace": "tr(sigma)/2", "trace": "tr(sigma)",
+                "max_principal": "largest principal stress"}
+
+
+def criterion_stress(stress: np.ndarray, measure: str) -> np.ndarray:
+    """The criterion's stress measure of the total stress rows (xx, yy, xy), per particle."""
+    sxx, syy, sxy = stress[0], stress[1], stress[2]
+    if measure == "half_trace":
+        return 0.5 * (sxx + syy)
+    if measure == "trace":
+        return sxx + syy
+    if measure == "max_principal":
+        return 0.5 * (sxx + syy) + np.hypot(0.5 * (sxx - syy), sxy)
+    raise ValueError(f"material.fracture_stress_measure = {measure!r} is not allowed; allowed "
+                     f"values: {', '.join(MEASURES)}")
+
+
+def departure_note(measure: str) -> str:
+    """'' for the source's criterion, else the sentence every caption and row carries."""
+    if measure == SOURCE_MEASURE:
+        return ""
+    return (f"fracture criterion {MEASURE_TEXT[measure]} > sigma_Y departs from the source's "
+            f"tr(sigma)/2 > sigma_Y (a sensitivity, open doubt 7)")
 
 
 @njit(cache=True)
-def particles_to_remove(mean_stress, alive, yield_stress):
-    """Indices of live particles with mean stress strictly above the yield stress."""
-    return np.nonzero(alive & (mean_stress > yield_stress))[0]
+def particles_to_remove(criterion, alive, yield_stress):
+    """Indices of live particles whose criterion stress is strictly above the yield stress."""
+    return np.nonzero(alive & (criterion > yield_stress))[0]
