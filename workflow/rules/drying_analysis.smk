@@ -403,3 +403,111 @@ if DRYING_JOBS.transition_fragments():
     TARGETS["drying_transition"] = DRYING_TRANSITION
     DATASETS["drying"].append(DRYING_TRANSITION[0])
     CLAIM_SOURCES["drying"].append(DRYING_TRANSITION[0])
+
+
+# Onset study (config drying.kappa, issue 32 item 1): kappa_max at fixed F, fracture off, against
+# the minimum gap and h/Delta of the initial particles; one run per point and seed.
+KAPPA_JOBS = drying_workflow.KappaJobs(config["drying"])
+
+
+rule drying_kappa_init:
+    input:
+        scene=drying_workflow.KAPPA_SCENE,
+    output:
+        "results/mass/kappa/{point}/seed{seed}.nc",
+    wildcard_constraints:
+        point=drying_workflow.KAPPA_PATTERN.replace("?P<gap>", "")
+        .replace("?P<hd>", "")
+        .replace("?P<method>", ""),
+    params:
+        cli=CRAQUELURE,
+        overrides=KAPPA_JOBS.point_overrides,
+    log:
+        "logs/drying_kappa_init/{point}/seed{seed}.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    shell:
+        "{params.cli} init {input.scene} --seed {wildcards.seed} --out {output} --threads 1 "
+        "{params.overrides} > {log} 2>&1"
+
+
+rule drying_kappa_run:
+    input:
+        scene=drying_workflow.KAPPA_SCENE,
+        state="results/mass/kappa/{point}/seed{seed}.nc",
+    output:
+        "results/drying/kappa/{point}/seed{seed}.nc",
+    params:
+        cli=CRAQUELURE,
+        overrides=KAPPA_JOBS.point_overrides,
+    log:
+        "logs/drying_kappa_run/{point}/seed{seed}.log",
+    benchmark:
+        "benchmarks/results/drying_kappa_run/{point}/seed{seed}.tsv"
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_run"],
+    shell:
+        "{params.cli} run {input.scene} --init {input.state} --out {output} --threads 1 "
+        "{params.overrides} > {log} 2>&1"
+
+
+rule drying_kappa:
+    input:
+        KAPPA_JOBS.runs(),
+    output:
+        "results/drying/kappa.nc",
+    log:
+        "logs/drying_kappa.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_kappa.py"
+
+
+rule drying_kappa_figure:
+    input:
+        "results/drying/kappa.nc",
+    output:
+        png=report(
+            "results/drying/figures/drying_kappa.png",
+            caption="../report/drying_kappa.rst",
+            category="Drying paste",
+            labels={"figure": "onset: kappa_max against the disorder"},
+        ),
+        pdf="results/drying/figures/drying_kappa.pdf",
+    params:
+        figure="kappa",
+        profile=config["profile"],
+    log:
+        "logs/drying_kappa_figure.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_dataset_figure.py"
+
+
+DRYING_KAPPA = [
+    "results/drying/kappa.nc",
+    "results/drying/figures/drying_kappa.png",
+    "results/drying/figures/drying_kappa.pdf",
+]
+
+
+# One target for the onset study: `snakemake drying_onset_study`.
+rule drying_onset_study:
+    localrule: True
+    input:
+        DRYING_KAPPA,
+
+
+if KAPPA_JOBS.labels():
+    TARGETS["drying_kappa"] = DRYING_KAPPA
+    DATASETS["drying"].append(DRYING_KAPPA[0])

@@ -1,18 +1,26 @@
-"""Snakemake script of rules drying_accuracy_figure, drying_thickness_figure and
-drying_speed_figure: one figure
+"""Snakemake script of rules drying_accuracy_figure, drying_thickness_figure,
+drying_speed_figure, drying_kappa_figure and drying_transition_figure: one figure
 (PNG + PDF) from one analysis dataset; nothing is simulated here.
 
 Outside Snakemake:
 ``python workflow/scripts/drying_dataset_figure.py FIGURE DATASET.nc OUT.png PROFILE``, FIGURE one
-of accuracy, thickness, speed.
+of accuracy, thickness, speed, kappa, transition.
 """
 
 import sys
 
-from craquelure.drying.figures import fig_accuracy, fig_speed, fig_thickness, save_figure
+from craquelure.drying.figures import (
+    fig_accuracy,
+    fig_kappa,
+    fig_speed,
+    fig_thickness,
+    fig_transition,
+    save_figure,
+)
 from craquelure.io import open_dataset
 
-FIGURES = {"accuracy": fig_accuracy, "thickness": fig_thickness, "speed": fig_speed}
+FIGURES = {"accuracy": fig_accuracy, "thickness": fig_thickness, "speed": fig_speed,
+           "kappa": fig_kappa, "transition": fig_transition}
 
 
 def main(figure: str, dataset: str, png: str, profile: str) -> None:

@@ -100,7 +100,7 @@ from craquelure.drying.binarise import (
     fragment_areas,
     snapshot_image,
 )
-from craquelure.drying.effects.fracture import SOURCE_MEASURE
+from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
 from craquelure.drying.field import mesh_spacing
 from craquelure.errors import CraquelureError, SceneError
 from craquelure.io import DatasetError, open_dataset, read_dataset, write_dataset, write_text_atomic
@@ -760,7 +760,32 @@ def _onset(campaign: xr.Dataset, tstar: float, x_intercept: float | None,
     def ratio(value: float | None) -> float | None:
         return None if value is None or not np.isfinite(value) else float(value / tstar)
 
+    def median(key: str) -> float | None:
+        if key not in campaign:
+            return None
+        v = campaign[key].values.astype(float)
+        v = v[np.isfinite(v)]
+        return float(np.median(v)) if v.size else None
+
+    kappa = {}
+    if "predicted_first_removal_time" in campaign:
+        predicted = campaign["predicted_first_removal_time"].values.astype(float)
+        actual = campaign["first_removal_time"].values.astype(float)
+        ok = np.isfinite(predicted) & np.isfinite(actual)
+        kappa = {
+            "kappa_max_median": median("kappa_max"),
+            "kappa_criterion_median": median("kappa_criterion"),
+            "kappa_note": ("kappa = max_I sigma_bar_I / F (criterion: max_I s_I / F) per seed: "
+                           "median over the records from F >= 20 a sigma_Y to the first "
+                           "removal; predicted first removal t*/kappa_criterion"),
+            "predicted_first_removal_median_over_t_star": ratio(
+                median("predicted_first_removal_time")),
+            "first_removal_over_predicted": ([float(v) for v in actual[ok] / predicted[ok]]
+                                             if ok.any() else []),
+        }
+
     return {
+        **kappa,
         "t_star": tstar,
         "median_first_removal_time": first_removal,
         "median_first_removal_over_t_star": ratio(first_removal),
@@ -819,9 +844,12 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
         check["pass"] = check["verdict"] == "reproduced"
     enough = (n_particles >= 40000 and n_seeds >= 100) or (n_particles >= 10000
                                                            and n_seeds >= 300)
+    measure = str(attrs.get("fracture_stress_measure", SOURCE_MEASURE))
     return {
         "profile": profile,
         "scene": scene_name or str(attrs.get("scene_name", "")),
+        "fracture_stress_measure": measure,
+        "criterion_departs_from_source": departure_note(measure) or None,
         "n_particles": n_particles,
         "box_length": float(attrs["box_length"]),
         "n_seeds": n_seeds,

@@ -3,9 +3,10 @@ wildcard labels and the inputs of the thickness sweep and the drying-speed study
 config's ``drying`` section (no module state).
 
 No physics here: a drying-speed run's drying rate, end and snapshot times come from the job of
-rule ``drying_speed_scene`` (:func:`craquelure.drying.speed.speed_run_settings`); the one scene
-value read while the DAG is built is the scene's own layer thickness H, so that the thickness
-sweep reuses the scene's runs at that H.
+rule ``drying_speed_scene`` (:func:`craquelure.drying.speed.speed_run_settings`); the scene
+values read while the DAG is built are the scene's own layer thickness H, so that the
+thickness sweep reuses the scene's runs at that H, and the onset study scene's L and h, which
+turn a point's h/Delta into its particle count.
 """
 
 from __future__ import annotations
@@ -141,3 +142,45 @@ class Jobs:
             ]
             for pi in study["pis"]
         }
+
+
+KAPPA_SCENE = f"{SCENE_DIR}/onset_fixed_f.yaml"
+KAPPA_PATTERN = r"gap(?P<gap>[0-9p]+)_hd(?P<hd>[0-9p]+)_(?P<method>truncated_cg|clamped_cg)"
+
+
+def kappa_label(gap: float, h_over_spacing: float, method: str) -> str:
+    return f"gap{label(gap)}_hd{label(h_over_spacing)}_{method}"
+
+
+class KappaJobs:
+    """Points of the onset study (config ``drying.kappa``, rules drying_kappa*): the minimum
+    gaps at h/Delta = 4 (clamped CG below 0.8, the truncated CG of the spec at 0.8) and the
+    h/Delta values at gap 0.8, each for every seed."""
+
+    def __init__(self, section: dict) -> None:
+        self.section = section["kappa"]
+
+    def labels(self) -> list[str]:
+        out = [kappa_label(g, 4.0, "truncated_cg" if g >= 0.8 else "clamped_cg")
+               for g in self.section["gaps"]]
+        out += [kappa_label(0.8, hd, "truncated_cg") for hd in self.section["h_over_spacing"]]
+        return list(dict.fromkeys(out))
+
+    def runs(self) -> list[str]:
+        return [f"results/drying/kappa/{point}/seed{seed}.nc" for point in self.labels()
+                for seed in self.section["seeds"]]
+
+    @staticmethod
+    def point_overrides(wildcards) -> str:
+        """`--set` arguments of one point: gap, N from h/Delta at the scene's L and h, mass
+        solve."""
+        match = re.fullmatch(KAPPA_PATTERN, wildcards.point)
+        if match is None:
+            raise ValueError(f"onset study point {wildcards.point!r} does not match "
+                             f"{KAPPA_PATTERN}")
+        gap, hd, method = match.group("gap"), match.group("hd"), match.group("method")
+        scene = load_scene(KAPPA_SCENE)
+        length, h = scene.get("domain.box_length"), scene.get("numerics.h")
+        n = int(round((label_value(hd) * length / h) ** 2))
+        return (f"--set particles.rsa_min_separation={label_value(gap):g} "
+                f"--set particles.n={n} --set numerics.mass_solve.method={method}")
