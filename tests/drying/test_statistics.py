@@ -127,7 +127,7 @@ def test_margins_are_half_what_the_named_drift_does():
     that a 25 % width drift produces on the first snapshot's distribution. Exponential X:
     Var X = 1, so <X^2>_t = 1 + w_t^2 with w_t from 1 to 0.75 over the 13 snapshots."""
     x = np.random.default_rng(3).exponential(1.0, 200_000)
-    m = checks.drift_margins(x, TIMES.size)
+    m = statistics.drift_margins(x, TIMES.size)
     w = 1.0 - 0.25 * np.arange(TIMES.size) / (TIMES.size - 1)
     x2 = 1.0 + w**2
     assert m["cv_drift"] == pytest.approx(np.std(x2, ddof=1) / np.mean(x2), rel=0.01)

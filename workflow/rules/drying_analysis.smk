@@ -24,6 +24,7 @@ localrules:
     drying_speed,
     drying_speed_figure,
     drying_criterion_summary,
+    drying_validation,
     drying_transition,
     drying_transition_figure,
 
@@ -331,14 +332,39 @@ CLAIM_SOURCES["drying"] += DRYING_CRITERION
 TARGETS["drying_criterion"] = DRYING_CRITERION
 
 
+# The drying rows of the validation report from the drying claim sources alone (a drying
+# campaign's rows without the other models' runs).
+def drying_claim_sources(wildcards):
+    """Every drying claim source, read when the job is planned (after all rules registered
+    theirs)."""
+    return CLAIM_SOURCES["drying"]
+
+
+rule drying_validation:
+    input:
+        drying_claim_sources,
+    output:
+        "results/drying/validation.json",
+    params:
+        profile=config["profile"],
+    log:
+        "logs/drying_validation.log",
+    threads: 1
+    resources:
+        mem_mb=config["drying"]["mem_mb"],
+        runtime=config["drying"]["runtime_init"],
+    script:
+        "../scripts/drying_validation.py"
+
+
 # One target for the criterion study: the source criterion's summary beside each other
-# criterion's, and the validation report that holds their rows.
+# criterion's, and their rows of the validation report.
 rule drying_criterion_study:
     localrule: True
     input:
         "results/drying/summary.json",
         DRYING_CRITERION,
-        "results/validation.json",
+        "results/drying/validation.json",
 
 
 # Damage-to-fragmentation transition (beyond the source; config drying.transition): m_max, its

@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from craquelure.io import open_dataset
 from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
+from craquelure.io import open_dataset
 from craquelure.validation import Claim, verdict_of
 
 MODEL = "drying"

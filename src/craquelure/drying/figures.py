@@ -28,8 +28,8 @@ import numpy as np
 import xarray as xr
 
 from craquelure.drying.analysis import ccdf_bands, drying_number, paper_t_star, window_of
-from craquelure.plotting import plt, save
 from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
+from craquelure.plotting import plt, save
 
 FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
 
