@@ -162,3 +162,60 @@ def test_labels_round_trip():
     for value in (0.022, 0.66, 1.0, 4.0, 0.316):
         assert workflow.label_value(workflow.label(value)) == value
     assert workflow.label(0.25) == "0p25" and workflow.label(2.0) == "2"
+
+
+def _merged(*files: str) -> dict:
+    """The drying section of config/config.yaml with the given overlays merged over it."""
+    def merge(base: dict, over: dict) -> dict:
+        out = dict(base)
+        for key, value in over.items():
+            out[key] = (merge(base[key], value) if isinstance(value, dict)
+                        and isinstance(base.get(key), dict) else value)
+        return out
+    data = yaml.safe_load((project_root() / "config" / "config.yaml").read_text())
+    for name in files:
+        data = merge(data, yaml.safe_load((project_root() / "config" / name).read_text()))
+    data["drying"].setdefault("criterion", {"measures": ["trace"], "n_seeds": 0})
+    data["drying"].setdefault("transition", {"variant": "", "scenes": ["a", "b"],
+                                             "n_seeds": [0, 0]})
+    return data["drying"]
+
+
+def test_criterion_campaign_takes_its_own_seed_count():
+    jobs = workflow.Jobs(_merged("faithful.yaml", "faithful_trace.yaml",
+                                 "faithful_trace_reduced.yaml"))
+    main = jobs.campaign_fragments(SimpleNamespace(scene="paper_speed"))
+    trace = jobs.campaign_fragments(SimpleNamespace(scene="paper_speed_Ctrace"))
+    assert len(main) == 37 and len(trace) == 2
+    assert trace[0] == "results/drying/paper_speed_Ctrace/fragments/seed1.nc"
+    assert jobs.criterion_folders() == ["paper_speed_Ctrace"]
+
+
+def test_table1_overlay_plans_eight_seeds_per_criterion_and_the_transition():
+    jobs = workflow.Jobs(_merged("faithful.yaml", "table1_l10.yaml"))
+    assert len(jobs.campaign_fragments(SimpleNamespace(scene="table1_rkc2"))) == 8
+    assert len(jobs.campaign_fragments(SimpleNamespace(scene="table1_rkc2_Ctrace"))) == 8
+    groups = jobs.transition_fragments()
+    assert list(groups) == ["paper_speed", "table1_rkc2"]
+    assert groups["table1_rkc2"][-1] == "results/drying/table1_rkc2_Ctrace/fragments/seed8.nc"
+
+
+def test_transition_groups_skip_sizes_without_seeds():
+    groups = workflow.Jobs(_merged("faithful.yaml", "transition.yaml")).transition_fragments()
+    assert list(groups) == ["paper_speed_tiny", "paper_speed_small"]
+    assert len(groups["paper_speed_small"]) == 8
+    assert groups["paper_speed_tiny"][0] == (
+        "results/drying/paper_speed_tiny_Pi0p22/fragments/seed1.nc")
+
+
+def test_kappa_points_and_their_overrides():
+    kappa = workflow.KappaJobs({"kappa": {"gaps": [0.6, 0.8], "h_over_spacing": [5],
+                                          "seeds": [1]}})
+    assert kappa.labels() == ["gap0p6_hd4_clamped_cg", "gap0p8_hd4_truncated_cg",
+                              "gap0p8_hd5_truncated_cg"]
+    args = kappa.point_overrides(SimpleNamespace(point="gap0p8_hd5_truncated_cg"))
+    # N from h/Delta at the scene's L = 2.5 and h = 0.2: (5 x 12.5)^2
+    assert "--set particles.n=3906" in args and "rsa_min_separation=0.8" in args
+    assert "numerics.mass_solve.method=truncated_cg" in args
+    with pytest.raises(ValueError, match="does not match"):
+        kappa.point_overrides(SimpleNamespace(point="gap0p8"))
