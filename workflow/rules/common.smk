@@ -28,6 +28,12 @@ def claim_sources(wildcards):
     return {model: paths for model, paths in CLAIM_SOURCES.items() if paths}
 
 
+def drying_claim_sources(wildcards):
+    """Every drying claim source (rule drying_validation), read when the job is planned, after
+    all rules registered theirs."""
+    return CLAIM_SOURCES["drying"]
+
+
 def claim_figures(wildcards):
     """Every figure the models register as targets: the validation summary shows, per claim,
     the one that decides it (craquelure.validation.figure_for)."""

@@ -334,12 +334,6 @@ TARGETS["drying_criterion"] = DRYING_CRITERION
 
 # The drying rows of the validation report from the drying claim sources alone (a drying
 # campaign's rows without the other models' runs).
-def drying_claim_sources(wildcards):
-    """Every drying claim source, read when the job is planned (after all rules registered
-    theirs)."""
-    return CLAIM_SOURCES["drying"]
-
-
 rule drying_validation:
     input:
         drying_claim_sources,

@@ -422,6 +422,9 @@ def fig_kappa(study: xr.Dataset, profile: str):
                    label="source's onset 0.40 t* needs kappa = 2.5")
         ax.set_xlabel(label)
         ax.legend(fontsize=7)
+    axes[0].text(0.02, 0.6, "placements the mass solve accepts only\n(spec check 13.3: Shepard "
+                 "field in [0.95, 1.05]);\nrefused points have no run", fontsize=7,
+                 transform=axes[0].transAxes)
     axes[0].set_ylabel("kappa_max = max sigma_bar / F")
     right = axes[1].secondary_yaxis("right", functions=(lambda k: 1 / np.maximum(k, 1e-3),
                                                         lambda p: 1 / np.maximum(p, 1e-3)))
@@ -432,7 +435,7 @@ def fig_kappa(study: xr.Dataset, profile: str):
         f"profile {profile}, scene {a.get('scene_name', '?')}: L = {a.get('box_length', '?')}, "
         f"F = {float(study['drying_stress'].values[0]):.3g} held, fracture off; "
         f"{study.sizes['point']} runs; error bars: the initial stress's largest shift of kappa",
-        "kappa_max: " + ", ".join(f"gap {g:g} h/D {h:g} {m.split('_')[0]}: {k:.2f}"
+        "kappa_max: " + ", ".join(f"gap {g:g} h/D {h:.3g} {m.split('_')[0]}: {k:.2f}"
                                   for g, h, m, k in zip(gap, hd, method, kappa, strict=True)),
     ])
     return fig
