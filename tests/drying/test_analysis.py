@@ -326,7 +326,13 @@ def test_changing_shape_fails_check15():
     assert not all(r["below_critical"] for r in col["per_time"])
     assert col["cv_mean_x2"] > 0.10
     c15 = s["checks"]["check15_scaling_collapse"]
-    assert c15["verdict"] == "not reproduced" and not c15["pass"]
+    # The bounds fail by far, but with the margins of the revised check (half of what a 25 %
+    # width drift does: KS 0.095, CV 0.030 here) an exact collapse of these 30 samples passes
+    # them too rarely for a miss to decide: inconclusive, naming the sample that would decide
+    # (the 100-sample case that decides "not reproduced" is in test_statistics.py).
+    assert c15["ks_scaled_first_last_upper95"] > 3 * c15["ks_margin"]
+    assert c15["confirmation_rate"] < 0.8 and not c15["pass"]
+    assert c15["verdict"] == "inconclusive" and c15["seeds_needed"] > 30
     # The fit itself is unaffected: the means follow the same law.
     assert all(s["checks"]["check14_inverse_mean_area_linear"]["conditions"].values())
 
