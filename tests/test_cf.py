@@ -130,3 +130,28 @@ def test_drying_speed_study_is_cf():
     for name, var in ds.variables.items():
         assert var.attrs.get("long_name"), name
         assert parses(var.attrs["units"]), (name, var.attrs.get("units"))
+
+
+# One small scene per model and arrangement (CI sizes): the initial states `craquelure init`
+# writes. The CI workflow writes only some of them (drying's masses); the end-to-end check
+# (tests/workflow/test_snakemake.py) covers every dataset the workflow writes.
+INITIAL_STATES = [("drying/ci", []), ("impact/ci", []), ("impact/ci3d", []),
+                  ("lattice/gravity_block", ["domain.nx=16", "domain.ny=6"]),
+                  ("softdyn/t1_single_ci", []), ("softdyn/two_sphere_separation", [])]
+
+
+@pytest.mark.parametrize(("scene", "overrides"), INITIAL_STATES,
+                         ids=[s for s, _ in INITIAL_STATES])
+def test_initial_states_describe_every_variable(scene, overrides, tmp_path):
+    """Every variable of an initial state has a long name; every numeric one units that UDUNITS
+    parses (softdyn's pair_i / pair_j included: indices along particle, units "1")."""
+    from craquelure import cli
+
+    args = [a for o in overrides for a in ("--set", o)]
+    assert cli.main(["init", scene, *args, "--seed", "1", "--out", str(tmp_path / "s.nc")]) == 0
+    with xr.open_dataset(tmp_path / "s.nc", decode_times=False) as ds:
+        assert ds.variables
+        for name, var in ds.variables.items():
+            assert var.attrs.get("long_name"), (scene, name)
+            if var.dtype.kind in "fiub":
+                assert parses(var.attrs.get("units", "")), (scene, name, var.attrs)

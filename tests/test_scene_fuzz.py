@@ -382,3 +382,19 @@ def test_check_reports_uncomputable_numbers_instead_of_raising(capsys):
 
     assert cli.main(["check", "softdyn/two_sphere_approach", "--set", "particles.h0=1e300"]) == 0
     assert "cannot be computed" in capsys.readouterr().out
+
+
+def test_check_reports_a_derived_number_whose_quadrature_fails(capsys):
+    """softdyn/t1_phase with an overflowing F~ in study.reduced_force: the T1 duration behind
+    the cost estimate cannot be solved (the deflection's root search does not converge); check
+    prints that, naming the force, and exits 0 instead of raising."""
+    from craquelure import cli
+
+    assert cli.main(["check", "softdyn/t1_phase", "--set",
+                     "study.reduced_force=[1e300, 1e-3]"]) == 0
+    out = capsys.readouterr().out
+    line = next(line for line in out.splitlines() if "cannot be computed" in line)
+    assert "T_sep quadrature" in line and "F~ = 1e+300" in line
+    # the same scene with representable forces still gets every number
+    assert cli.main(["check", "softdyn/t1_phase"]) == 0
+    assert "cannot be computed" not in capsys.readouterr().out

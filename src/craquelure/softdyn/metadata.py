@@ -26,6 +26,9 @@ METADATA = ModelMetadata(
         "zeta_t": ("tangential lubrication friction coefficient", "eta R"),
         "particle": ("sphere label", None),
         "pair": ("pair label", None),
+        # initial state: the two spheres of each pair, as indices along "particle"
+        "pair_i": ("index (along particle) of the first sphere of the pair", "1"),
+        "pair_j": ("index (along particle) of the second sphere of the pair", "1"),
         "dim": ("Cartesian component", None),
         "point": ("grid point of the sweep", "1"),
         "h0": ("initial gap h0", "R"),
