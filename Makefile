@@ -14,7 +14,7 @@ SNAKEMAKE := $(BIN)/snakemake $(if $(CORES),--cores $(CORES))
 # `make test`). NO_MKDOCS_2_WARNING silences the theme's banner.
 MKDOCS := NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
 
-.PHONY: install run test test-fast test-slurm lint bench docs clean-results
+.PHONY: install run test test-fast test-slurm lint bench docs reference clean-results
 
 $(BIN)/.installed: pyproject.toml requirements.lock
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -55,6 +55,16 @@ lint: install
 
 bench: install
 	$(BIN)/python benchmarks/neighbours.py
+
+# The CI reference (tests/reference/ci/) that `make test` compares the CI run's summary.json
+# files and verdicts with: regenerated from a fresh CI-profile run (several minutes) or from a
+# finished one (RESULTS=workflow folder or its archive, e.g. the one `make test` leaves in
+# results/archive/), with the CHANGELOG.md line saying why. Commit both with the change.
+reference: install
+	@test -n "$(REASON)" || { echo "usage: make reference REASON='why the numbers moved'" \
+		"[RESULTS=<CI run folder or results/archive/craquelure-ci-<date>.tar.gz>]"; exit 2; }
+	$(BIN)/python -m tests.reference.regenerate --reason "$(REASON)" \
+		$(if $(RESULTS),--from $(RESULTS))
 
 clean-results:
 	find results -mindepth 1 ! -name README.md -delete

@@ -17,6 +17,12 @@ Verdicts are computed from the criterion's conditions, never typed in:
   the row says what cannot be decided and the sample it would need. A small profile therefore
   never prints ``reproduced`` on a claim its sample cannot decide.
 
+Verdicts follow from the data alone, so the same analysis outputs give the same report byte
+for byte whatever the machine's load: no claim is judged on a timing. A claim whose only
+measurement is a timing (a speed target) is judged by a script in ``benchmarks/`` instead; its
+model lists it in ``BENCHMARKED`` and the report names it with that script
+(:func:`benchmarked`).
+
 Helpers for sample-size decisions shared by the models: :func:`fraction_decision` (a fraction of
 samples against a threshold, exact binomial interval), :func:`fraction_power` (its power against
 a named alternative fraction, by simulation at a given sample size) and
@@ -188,6 +194,23 @@ def collect(sources: Mapping[str, Sequence[str | Path]]) -> list[Claim]:
     return claims
 
 
+def benchmarked(models: Sequence[str] = MODELS) -> list[dict[str, str]]:
+    """Claims a model leaves out of the report because their only measurement is a timing
+    (``BENCHMARKED = {claim: benchmark script}`` in its claims module): a verdict must follow
+    from the data, and a timing follows from the machine's load as well. The report lists them
+    with the benchmark that judges them."""
+    out = []
+    for model in models:
+        table = getattr(import_module(f"craquelure.{model}.claims"), "BENCHMARKED", {})
+        out += [{"model": model, "claim": claim, "judged_by": script}
+                for claim, script in table.items()]
+    return out
+
+
+def _models_of(claims: Sequence[Claim]) -> list[str]:
+    return [m for m in MODELS if any(c.model == m for c in claims)]
+
+
 def tally(claims: Sequence[Claim]) -> dict[str, dict[str, int]]:
     """Counts of each verdict per model and in all."""
     out: dict[str, dict[str, int]] = {}
@@ -200,6 +223,7 @@ def tally(claims: Sequence[Claim]) -> dict[str, dict[str, int]]:
 def write_json(claims: Sequence[Claim], path: str | Path, profile: str,
                sources: Mapping[str, Sequence[str | Path]] | None = None) -> Path:
     doc = {"profile": profile, "tally": tally(claims), "claims": [asdict(c) for c in claims],
+           "benchmarked": benchmarked(_models_of(claims)),
            "provenance": {"git_commit": git_commit(), **library_versions(),
                           "sources": {m: [str(p) for p in paths]
                                       for m, paths in (sources or {}).items()}}}
@@ -374,6 +398,12 @@ def render_summary(claims: Sequence[Claim], profile: str,
                            f'{html.escape(path.name)}</figcaption></figure>')
     keys = (f'<h3>Key figures</h3><div class="cq-keyfigs">{"".join(keyfigs)}</div>'
             if keyfigs else "")
+    timed = "; ".join(f"{html.escape(b['model'])}: {html.escape(b['claim'])}, judged by "
+                      f"<code>{html.escape(b['judged_by'])}</code>"
+                      for b in benchmarked(_models_of(claims)))
+    timed = (f'<p class="cq-tally">Not judged here (the only measurement is a timing, which '
+             f'depends on the machine\'s load; a verdict must follow from the data): {timed}.'
+             f'</p>\n' if timed else "")
     return (f'<section class="{SUMMARY_CLASS}"><style>{_STYLE}\n' + "\n".join(styles) +
             f'</style>\n<h2>Validation, profile {html.escape(profile)}</h2>\n'
             f'<p class="cq-tally">{len(claims)} claims: {total["reproduced"]} '
@@ -382,7 +412,7 @@ def render_summary(claims: Sequence[Claim], profile: str,
             f'{_badge("inconclusive")}. Verdicts are computed from each criterion\'s conditions: '
             f'"partly" names the conditions that fail, "inconclusive" means none fails but the '
             f'sample cannot decide (the row names the sample it would need).</p>\n'
-            f'<div class="cq-grid">{tables}</div>\n{keys}</section>\n')
+            f'<div class="cq-grid">{tables}</div>\n{timed}{keys}</section>\n')
 
 
 def render_html(claims: Sequence[Claim], profile: str,

@@ -235,6 +235,60 @@ def test_ci_validation_report_covers_every_model(ci_run):
     assert summary.startswith('<section class="cq-summary">') and summary in html
 
 
+def test_ci_numbers_match_the_reference(ci_run):
+    """The CI run's summary.json files and validation claims equal tests/reference/ci/ (exact;
+    timings and provenance left out: tests/reference/guard.py states why per quantity). A
+    change that moves a number fails here, naming the keys, until the reference is regenerated
+    with the CHANGELOG.md line (tests/reference/test_guard.py checks that line)."""
+    from tests.reference import guard
+
+    work, proc = ci_run
+    assert proc.returncode == 0
+    reference, _ = guard.load_reference()
+    diffs = guard.differences(reference, guard.snapshot(work))
+    assert not diffs, guard.report(diffs)
+
+
+BUSY_LOOP = "import time\nend = time.monotonic() + 600\nwhile time.monotonic() < end:\n    pass\n"
+
+
+def validation_report(sources: dict, out: Path) -> tuple[bytes, bytes]:
+    """validation.json and .html of ``sources`` made by a fresh interpreter (no cache shared
+    with an earlier report)."""
+    code = ("import json, sys\nfrom craquelure import validation\n"
+            "sources = json.loads(sys.argv[1])\nclaims = validation.collect(sources)\n"
+            "validation.write_json(claims, sys.argv[2] + '.json', 'ci', sources)\n"
+            "validation.write_html(claims, sys.argv[2] + '.html', 'ci')\n")
+    proc = subprocess.run([sys.executable, "-c", code, json.dumps(sources), str(out)],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    return out.with_suffix(".json").read_bytes(), out.with_suffix(".html").read_bytes()
+
+
+def test_ci_validation_report_does_not_depend_on_the_load(ci_run, tmp_path):
+    """The validation report of a fixed set of analysis outputs (the CI run's) is byte-identical
+    whether the machine is idle or loaded: two busy-loop processes per core run during the
+    second report. A claim that timed something, or read a clock, would differ."""
+    work, proc = ci_run
+    assert proc.returncode == 0
+    sources = json.loads((work / "results" / "validation.json").read_text())
+    sources = {m: [str(work / p) for p in paths]
+               for m, paths in sources["provenance"]["sources"].items()}
+    first = validation_report(sources, tmp_path / "first")
+    hogs = [subprocess.Popen([sys.executable, "-c", BUSY_LOOP])
+            for _ in range(2 * (os.cpu_count() or 1))]
+    try:
+        second = validation_report(sources, tmp_path / "second")
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()
+    assert first == second
+    # and both equal the report the workflow wrote, but for the source paths of this copy
+    made = (work / "results" / "validation.html").read_bytes()
+    assert first[1] == made
+
+
 def test_ci_report_builds(ci_run):
     work, proc = ci_run
     assert proc.returncode == 0
@@ -340,9 +394,17 @@ def test_ci_archive_verifies(ci_run):
     with tarfile.open(archives[0]) as tar:
         names = {n.split("/", 1)[1] for n in tar.getnames() if "/" in n}
     assert {"MANIFEST.sha256", "resolved-config.yaml", "config/ci.yaml",
-            "results/validation.json", "profiles/slurm/config.yaml"} <= names
+            "results/validation.json", "results/validation.html", "results/report.html",
+            "profiles/slurm/config.yaml"} <= names
     assert any(n.startswith("results/impact/ci/") and n.endswith(".nc") for n in names)
-    assert any(n.endswith(".png") for n in names)
+    # What a reviewer opens: every figure the run made, the report and the validation page.
+    figures = {p.relative_to(work).as_posix() for p in (work / "results").rglob("*.png")}
+    assert figures and figures <= names, sorted(figures - names)
+    # The CI artefact: the archive under the checkout's results/archive/ (git-ignored).
+    artefact = ROOT / "results" / "archive" / archives[0].name
+    artefact.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copy2(archives[0], artefact)
+    shutil.copy2(f"{archives[0]}.sha256", f"{artefact}.sha256")
 
 
 def test_ci_runs_export_for_viewers(ci_run, tmp_path):

@@ -1,5 +1,6 @@
 # Archive (last stage, not part of `rule all`; `make run` calls it after the report): final
-# datasets, figures, reports, the resolved configuration, the config and scene files and the
+# datasets, figures, the validation report and the Snakemake report (results/report.html, when
+# it was built first), the resolved configuration, the config and scene files and the
 # profiles, with a SHA-256 manifest, in results/archive/craquelure-<profile>-<date>.tar.gz.
 # `craquelure verify <archive or unpacked folder>` checks it later.
 from datetime import UTC, datetime
@@ -15,6 +16,7 @@ localrules:
 rule archive:
     input:
         outputs=archive_outputs(),
+        reports=archive_reports(),
         configs=archive_configs(),
     output:
         archive=ARCHIVE,

@@ -52,6 +52,12 @@ def archive_outputs():
     )
 
 
+def archive_reports():
+    """The Snakemake report, when it was built before the archive (`make run` builds it
+    first): packed with the figures so a reviewer can open both."""
+    return [path for path in ("results/report.html",) if Path(path).is_file()]
+
+
 def archive_configs():
     """Config files, scenes and workflow profiles (what the outputs were made from)."""
     paths = [*Path("config").rglob("*.yaml"), *Path("profiles").glob("*/config.yaml")]

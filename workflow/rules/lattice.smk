@@ -170,9 +170,11 @@ TARGETS["lattice"] = LATTICE_JOBS.targets()
 CLAIM_SOURCES["lattice"] = [
     *(path for path in TARGETS["lattice"] if path.endswith("summary.json")),
     "results/lattice/accuracy/summary.json",
-    "results/lattice/scaling/scaling.tsv",
 ]
+# The scaling table is a timing: no claim is judged on it (benchmarks/lattice_scaling.py
+# judges spec check 12); the archive packs it with the figure.
 DATASETS["lattice"] = [
+    "results/lattice/scaling/scaling.tsv",
     *LATTICE_JOBS.glen_points("glen"),
     *LATTICE_JOBS.glen_points("frozen"),
     *(f"results/lattice/{scene}/run.nc" for scene in LATTICE["runs"]),

@@ -13,6 +13,7 @@ texts = {
     ),
 }
 with open(sm.log[0], "w") as log:
-    out = build_archive(sm.output.archive, [*sm.input.outputs, *sm.input.configs], texts)
-    n = len(sm.input.outputs) + len(sm.input.configs) + len(texts)
+    files = [*sm.input.outputs, *sm.input.reports, *sm.input.configs]
+    out = build_archive(sm.output.archive, files, texts)
+    n = len(files) + len(texts)
     print(f"wrote {out}: {n} files and MANIFEST.sha256", file=log)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import time
 
+import numba
 import numpy as np
 
 from craquelure.lattice import beam
@@ -56,13 +57,21 @@ def timings(engine: Engine, steps: int, repeats: int = 3) -> tuple[float, float]
 
 
 def scaling(particles, steps: int, effects=("beams",)) -> list[dict]:
+    """One row per size: wall and CPU time per step, per particle, and the CPU time per thread
+    per step per particle (process CPU time / threads the kernel ran on: numba's thread count
+    for the parallel kernel, 1 for the serial one), the figure that does not count the time
+    spent waiting for a core on a loaded machine."""
     rows = []
     for n in particles:
         eng = block_engine(int(n), effects)
         t, cpu = timings(eng, steps)
         nb = int(eng.system.bi.size)
+        parallel = bool(eng.flags["PARALLEL"])
+        threads = numba.get_num_threads() if parallel else 1
         rows.append({"particles": eng.system.n, "bonds": nb, "time_per_step": t,
                      "time_per_step_per_particle": t / eng.system.n,
                      "bond_updates_per_s": nb / t, "cpu_per_step": cpu,
-                     "bond_updates_per_cpu_s": nb / cpu, "parallel": bool(eng.flags["PARALLEL"])})
+                     "cpu_per_thread_per_step_per_particle": cpu / threads / eng.system.n,
+                     "bond_updates_per_cpu_s": nb / cpu, "threads": threads,
+                     "parallel": parallel})
     return rows

@@ -2,20 +2,30 @@
 (:mod:`craquelure.validation`).
 
 Sources: the ``summary.json`` files of :mod:`craquelure.lattice.analysis` (folder name = what
-it summarises: ``glen``, ``gravity_block``, ``calving``, ``fretting``, ``accuracy``) and
-``results/lattice/scaling/scaling.tsv``.
+it summarises: ``glen``, ``gravity_block``, ``calving``, ``fretting``, ``accuracy``).
+
+Spec check 12 (weak scaling: time per step per particle constant within 30 % from 1e3 to 1e5
+particles) is a speed target of the implementation, not a finding of the source, and its only
+measurement is a timing: the same code and scenes gave "reproduced" idle (spread 13 %) and "not
+reproduced" with other work on the machine (72 %). CPU time per thread removes the waiting but
+not the sharing of caches, memory bandwidth and SMT cores, so a verdict on it would still
+depend on the machine's load. It is therefore judged by ``benchmarks/lattice_scaling.py``
+(both measures side by side in one run) and listed in :data:`BENCHMARKED`, not in the report;
+the workflow's scaling figure (``results/lattice/scaling/``) stays a measurement without a
+verdict.
 """
 
 from __future__ import annotations
 
-import csv
 import json
 from pathlib import Path
 
 from craquelure.validation import Claim
 
 MODEL = "lattice"
-WEAK_SCALING_SPREAD = 0.30  # spec check 12
+# Claims judged by a benchmark instead of the report (their measurement is a timing).
+BENCHMARKED = {"cost per particle and step is independent of the system size (lattice spec "
+               "check 12, weak scaling)": "benchmarks/lattice_scaling.py"}
 CALVING_MIN_FRAGMENTS = 20  # spec check 11: fewer cannot decide the exponent
 
 
@@ -97,23 +107,6 @@ def accuracy_claim(s: dict) -> Claim:
                         figure="accuracy/accuracy.png")
 
 
-def scaling_claim(path: Path) -> Claim:
-    with path.open() as fh:
-        rows = list(csv.DictReader(fh, delimiter="\t"))
-    per = [float(r["time_per_step_per_particle_s"]) for r in rows]
-    spread = max(per) / min(per) - 1
-    sizes = ", ".join(r["particles"] for r in rows)
-    return Claim.judged(MODEL, "cost per particle and step is independent of the system size",
-                        "lattice spec check 12 (weak scaling)",
-                        f"time per step per particle within {WEAK_SCALING_SPREAD:.0%} from the "
-                        f"smallest to the largest lattice",
-                        f"{min(per):.3g}-{max(per):.3g} s (spread {spread:.0%}) at {sizes} "
-                        "particles", {f"spread <= {WEAK_SCALING_SPREAD:.0%}":
-                                      spread <= WEAK_SCALING_SPREAD},
-                        deciding=f"spread {spread:.0%} (<= {WEAK_SCALING_SPREAD:.0%})",
-                        figure="scaling/scaling.png")
-
-
 _BY_FOLDER = {"glen": glen_claims, "gravity_block": lambda s: [gravity_claim(s)],
               "calving": lambda s: [calving_claim(s)],
               "fretting": lambda s: [fretting_claim(s)],
@@ -123,11 +116,10 @@ _BY_FOLDER = {"glen": glen_claims, "gravity_block": lambda s: [gravity_claim(s)]
 def claims(sources: list[Path]) -> list[Claim]:
     out: list[Claim] = []
     for path in sources:
-        if path.name == "scaling.tsv":
-            out.append(scaling_claim(path))
-        elif path.name == "summary.json" and path.parent.name in _BY_FOLDER:
+        if path.name == "summary.json" and path.parent.name in _BY_FOLDER:
             out += _BY_FOLDER[path.parent.name](json.loads(path.read_text()))
         else:
             raise ValueError(f"lattice claims: unexpected source {path} (summary.json of "
-                             f"{', '.join(_BY_FOLDER)}, or scaling.tsv)")
+                             f"{', '.join(_BY_FOLDER)}; the scaling timings are judged by "
+                             f"{BENCHMARKED[next(iter(BENCHMARKED))]})")
     return out
