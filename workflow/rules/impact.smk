@@ -50,7 +50,7 @@ rule impact_run:
         mem_mb=impact_workflow.run_resource(IMPACT, "mem_mb"),
         runtime=impact_workflow.run_resource(IMPACT, "runtime_run"),
     shell:
-        "{params.cli} run {input.scene} --seed {wildcards.seed} --out {output} "
+        "{params.cli} run {input.scene} --seed {wildcards.seed} --out {output} --resume "
         "--threads {threads} {params.variant} {params.overrides} {params.three_d} "
         "> {log} 2>&1"
 
