@@ -47,9 +47,9 @@ class Progress:
         return (f"[{self.desc}] {self.value:.6g}/{self.total:.6g} {self.unit} ({frac:5.1f} %) "
                 f"elapsed {elapsed:7.1f} s, eta {eta:7.1f} s {info}").rstrip()
 
-    def close(self) -> None:
+    def close(self, info: str = "done") -> None:
         if self._bar is not None:
             self._bar.close()
         else:
-            self.stream.write(self._line(time.perf_counter(), "done") + "\n")
+            self.stream.write(self._line(time.perf_counter(), info) + "\n")
             self.stream.flush()

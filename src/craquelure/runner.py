@@ -417,7 +417,7 @@ def run(engine: Engine, scene, seed: int, *, t_end: float, desc: str, out: Path 
         monitor.uninstall()
         _ACTIVE.remove(monitor)
         if bar is not None:
-            bar.close()
+            bar.close("done" if engine.done() else "stopped")
     wall = time.perf_counter() - t0
     summary = Summary(engine.steps, engine.time * time_scale, wall_before + clock.elapsed,
                       (engine.steps - steps0) * engine.n_particles / max(wall, 1e-9),
