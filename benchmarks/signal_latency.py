@@ -29,7 +29,7 @@ SCENES = {
     "drying": ["drying/ci", "--seed", "1"],
     "impact": ["impact/ci", "--seed", "1", "--set", "outputs.t_end=1.0e-3"],
     "lattice": ["lattice/calving", "--seed", "4", *[a for s in LATTICE for a in ("--set", s)]],
-    "softdyn": ["softdyn/t1_phase"],
+    "softdyn": ["softdyn/t1_sweep"],
 }
 
 
