@@ -1,9 +1,10 @@
-"""The CI workflow under faults, on a subset of its targets (a drying, a lattice and an impact
-run and the mass-consistency dataset the drying run reads): stopped by SIGTERM (as a scheduler stops a job
-at its time limit: every process of it), one random simulation job killed (SIGKILL), Snakemake
-itself killed (SIGKILL). After a restart every dataset must equal that of the uninterrupted CI
-run (the session's ``ci_run``, also used by test_snakemake), no temporary or checkpoint may be
-left, and an output whose job was cut short is never used: Snakemake redoes it.
+"""The CI workflow under faults, on a subset of its targets (a drying, a lattice and an
+impact run and the mass-consistency dataset the drying run reads): stopped by SIGTERM (as a
+scheduler stops a job at its time limit: every process of it), one random simulation job
+killed (SIGKILL), Snakemake itself killed (SIGKILL). After a restart every dataset must equal
+that of the uninterrupted CI run (the session's ``ci_run``, also used by test_snakemake), no
+temporary or checkpoint may be left, and an output whose job was cut short is never used:
+Snakemake redoes it.
 """
 
 from __future__ import annotations
