@@ -9,7 +9,7 @@ from craquelure.commands import add_scene_arguments
 from craquelure.models import model_api
 from craquelure.registry import known_effects
 from craquelure.scene import load_scene
-from craquelure.throughput import ENGINES, long_run_warning
+from craquelure.throughput import long_run_warning
 
 NAME = "check"
 HELP = "validate a scene and print it resolved, with its effects and derived numbers"
@@ -40,7 +40,7 @@ def warn_if_long(api, scene, threads: int) -> None:
     """Print :func:`~craquelure.throughput.long_run_warning` on stderr when the scene's
     predicted wall time exceeds an hour (nothing when it cannot be predicted: the derived
     numbers say why)."""
-    if scene.model not in ENGINES or not hasattr(api, "workload"):
+    if not hasattr(api, "workload"):
         return
     try:
         with np.errstate(all="ignore"):
