@@ -17,6 +17,8 @@ import sys
 import time
 from pathlib import Path
 
+import yaml
+
 from craquelure.io import open_dataset
 from tests.killed_run import same_dataset
 from tests.workflow.test_snakemake import snakemake, workflow_copy
@@ -140,3 +142,20 @@ def test_snakemake_killed_then_restart(ci_run, tmp_path):
     for out in in_progress:
         assert f"output: {out}" in again.stdout + again.stderr, out
     assert_as_uninterrupted(work, ci_run)
+
+
+def test_slurm_jobs_get_a_grace_signal_and_resume(tmp_path):
+    """Through the SLURM profile every job's sbatch gets ``--signal=TERM@<s>`` (slurm_extra)
+    and is retried; every simulation job's command line passes --resume (dry run of the CI
+    DAG, all jobs forced)."""
+    work = workflow_copy(tmp_path)
+    proc = snakemake(work, "-n", "-F", "--workflow-profile", "profiles/slurm", "--configfile",
+                     "config/ci.yaml")
+    text = proc.stdout + proc.stderr
+    assert proc.returncode == 0, text[-3000:]
+    resources = [line for line in text.splitlines() if line.strip().startswith("resources:")]
+    assert resources and all("slurm_extra=--signal=TERM@120" in r for r in resources)
+    runs = [line for line in text.splitlines() if "-m craquelure run " in line]
+    assert len(runs) >= 20 and all(" --resume " in line for line in runs), runs[:3]
+    settings = yaml.safe_load((work / "profiles" / "slurm" / "config.yaml").read_text())
+    assert settings["retries"] >= 1
