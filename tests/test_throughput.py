@@ -78,3 +78,36 @@ def test_impact_neighbour_count_matches_the_grid_in_2d_and_3d(dim):
     exact = np.mean([np.count_nonzero(r2 < r * r) - 1 for r in radii])
     model = np.mean([listed_neighbours(r, dim) for r in radii])
     assert model == pytest.approx(exact, rel=0.05)
+
+
+def test_long_run_warning_states_figure_and_model():
+    """Above an hour: the predicted figure (equal to predicted_wall_time), the workload and
+    the throughput model it came from; none below an hour."""
+    from craquelure.throughput import LONG_RUN_S, long_run_warning
+
+    work = {"units": 1e8, "particles": 1000, "neighbours": 6.0}
+    seconds = predicted_wall_time("lattice", work)
+    assert seconds > LONG_RUN_S
+    message = long_run_warning("lattice", work)
+    assert message.startswith(f"warning: predicted wall time {seconds / 3600:.3g} h "
+                              f"({seconds:.3g} s) with 1 thread(s) exceeds an hour")
+    assert "1e+08 steps x 1000 particles x 6 neighbours" in message
+    assert "throughput.yaml (measured " in message and "\n" not in message
+    assert long_run_warning("lattice", {**work, "units": 10}) is None
+
+
+def test_check_and_run_warn_of_a_run_longer_than_an_hour(capsys, tmp_path, monkeypatch):
+    """One of the accepted-but-slow scenes of the fuzzing (a lattice step 1e-5 of the stable
+    one: ~1e8 steps): `check` warns on stderr; a CI scene does not. `run` warns before it
+    starts (the threshold lowered so that a seconds-long run is "long")."""
+    from craquelure import cli, throughput
+
+    assert cli.main(["check", "lattice/calving", "--set", "numerics.dt_factor=1e-5"]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("warning: predicted wall time ") and "exceeds an hour" in err
+    assert cli.main(["check", "softdyn/t1_single_ci"]) == 0
+    assert "warning" not in capsys.readouterr().err
+    monkeypatch.setattr(throughput, "LONG_RUN_S", 0.01)
+    assert cli.main(["run", "softdyn/t1_single_ci", "--out", str(tmp_path / "r.nc")]) == 0
+    err = capsys.readouterr().err
+    assert err.splitlines()[0].startswith("warning: predicted wall time ")

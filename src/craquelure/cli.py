@@ -12,7 +12,7 @@ import pkgutil
 import sys
 
 from craquelure import __version__
-from craquelure.errors import CraquelureError
+from craquelure.errors import INTERRUPTED_EXIT, CraquelureError, RunInterrupted
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -40,6 +40,9 @@ def main(argv: list[str] | None = None) -> int:
 
             numba.set_num_threads(args.threads)
         return int(args._main(args) or 0)
+    except RunInterrupted as exc:  # checkpoint written: resume with --resume
+        _fail(args.command, str(exc), "interrupted")
+        return INTERRUPTED_EXIT
     except CraquelureError as exc:  # scene, dataset, guard (SimulationDiverged)
         return _fail(args.command, str(exc))
     except MemoryError:
@@ -55,13 +58,13 @@ def main(argv: list[str] | None = None) -> int:
         return _fail(args.command, str(exc))
 
 
-def _fail(command: str, message: str) -> int:
+def _fail(command: str, message: str, what: str = "error") -> int:
     """One line on stderr (a multi-line message's items joined by "; "); exit 2."""
     head, *items = [line.strip() for line in message.splitlines() if line.strip()] or [""]
     if items:
         head = f"{head} {'; '.join(items)}" if head.endswith(":") else \
             "; ".join([head, *items])
-    print(f"craquelure {command}: error: {head}", file=sys.stderr)
+    print(f"craquelure {command}: {what}: {head}", file=sys.stderr)
     return 2
 
 

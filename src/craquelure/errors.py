@@ -11,3 +11,19 @@ class SceneError(CraquelureError):
 
 class SimulationDiverged(CraquelureError):
     """A run produced NaN/inf or a runaway energy; the message says when and what."""
+
+
+class RunInterrupted(CraquelureError):
+    """SIGTERM or SIGINT stopped a run; the message names the checkpoint it wrote. The CLI
+    exits with :data:`INTERRUPTED_EXIT`, not 2, so a scheduler can tell "resume me" from
+    "this run cannot work"."""
+
+
+# exit status of a run stopped by SIGTERM/SIGINT after writing its checkpoint (1: an
+# unexpected error with a traceback; 2: a clear error, as for every CraquelureError)
+INTERRUPTED_EXIT = 3
+
+
+class WriteError(CraquelureError):
+    """A file could not be written (full disk, read-only or forbidden folder); the message
+    names the file and the cause; what was there before is left intact."""

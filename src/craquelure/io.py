@@ -4,7 +4,9 @@ Writing: compressed netCDF4 with CF-1.11 metadata (:mod:`craquelure.cf`), writte
 temporary name ``.<name>.tmp-<pid>`` and renamed, so a killed job never leaves a file that
 looks finished; the temporaries a killed job left
 next to the same output are removed by the next write of that output
-(:func:`remove_stale_temporaries`).
+(:func:`remove_stale_temporaries`). A write that fails (full disk, read-only or forbidden
+folder) removes its temporary, leaves the file that was there before untouched and raises
+:class:`~craquelure.errors.WriteError` naming the file and the cause (:func:`atomic_write`).
 
 Reading: :func:`open_dataset` names the file and what is wrong with it (not found, not a
 netCDF file, truncated, damaged); :func:`read_dataset` also checks that it is a dataset of the
@@ -13,16 +15,18 @@ expected model and kind and holds the variables the caller needs (:class:`Datase
 
 from __future__ import annotations
 
+import errno
 import os
 import struct
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from craquelure import cf
-from craquelure.errors import CraquelureError
+from craquelure.errors import CraquelureError, WriteError
 
 HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 CLASSIC_SIGNATURES = (b"CDF\x01", b"CDF\x02", b"CDF\x05")
@@ -71,20 +75,70 @@ def _clean_attrs(attrs: dict) -> dict:
 def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
     """Write ``ds`` to ``path`` atomically (temporary file in the same folder, then rename)."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     ds = cf.apply(ds.copy())
     ds.attrs = _clean_attrs(ds.attrs)
     for var in ds.variables.values():
         var.attrs = _clean_attrs(var.attrs)
-    remove_stale_temporaries(path)
+    with atomic_write(path, "dataset") as tmp:
+        ds.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(ds))
+    return path
+
+
+def write_cause(exc: BaseException, folder: Path) -> str:
+    """Why a write into ``folder`` failed: a read-only file system if the folder's is, else the
+    OS's reason when the error carries one (no space left, permission denied), else (the netCDF
+    library reports a full disk as "HDF error") what the folder's file system says (no space
+    left, permission denied), else the error itself."""
+    try:
+        fs = os.statvfs(folder)
+    except OSError:
+        fs = None
+    if fs is not None and fs.f_flag & os.ST_RDONLY:  # netCDF says "Permission denied"
+        return os.strerror(errno.EROFS)
+    code = getattr(exc, "errno", None)
+    if isinstance(code, int) and code > 0:
+        return os.strerror(code)
+    if fs is not None and fs.f_bavail * fs.f_frsize < 1 << 20:
+        return os.strerror(errno.ENOSPC)
+    if not os.access(folder, os.W_OK):
+        return os.strerror(errno.EACCES)
+    return f"{type(exc).__name__}: {exc}"
+
+
+@contextmanager
+def atomic_write(path: str | Path, what: str = "file") -> Iterator[Path]:
+    """Yield a temporary path next to ``path`` to write to; rename it to ``path`` when the
+    block ends. If anything fails the temporary is removed and ``path`` keeps its old content;
+    a failure of the file system (OSError; the netCDF library's RuntimeError) becomes a
+    :class:`WriteError` "cannot write <what> <path>: <cause>"."""
+    path = Path(path)
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     try:
-        ds.to_netcdf(tmp, engine="netcdf4", encoding=_encoding(ds))
+        path.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale_temporaries(path)
+        yield tmp
         os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
+    except (OSError, RuntimeError) as exc:
+        _discard(tmp)
+        raise WriteError(f"cannot write {what} {path}: "
+                         f"{write_cause(exc, _existing_folder(path))}") from exc
+    except BaseException:
+        _discard(tmp)
+        raise
+
+
+def _discard(tmp: Path) -> None:
+    try:
+        tmp.unlink(missing_ok=True)
+    except OSError:  # nothing was written there (read-only folder)
+        pass
+
+
+def _existing_folder(path: Path) -> Path:
+    folder = path.parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    return folder
 
 
 def _pid_alive(pid: int) -> bool:
@@ -112,11 +166,8 @@ def remove_stale_temporaries(path: str | Path) -> list[Path]:
 
 def write_text_atomic(path: str | Path, text: str) -> Path:
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    remove_stale_temporaries(path)
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    tmp.write_text(text)
-    os.replace(tmp, path)
+    with atomic_write(path) as tmp:
+        tmp.write_text(text)
     return path
 
 

@@ -1,5 +1,6 @@
 """Progress reporting: a tqdm bar with ETA on a terminal, plain log lines otherwise
-(Snakemake logs), at most one line per ``log_every_s`` seconds."""
+(Snakemake logs): the first ``first_line_s`` seconds after the start (so that a run shows its
+rate and ETA at once), then at most one line per ``log_every_s`` seconds."""
 
 from __future__ import annotations
 
@@ -9,13 +10,13 @@ import time
 
 class Progress:
     def __init__(self, total: float, desc: str, unit: str = "t", log_every_s: float = 30.0,
-                 stream=None, initial: float = 0.0) -> None:
+                 stream=None, initial: float = 0.0, first_line_s: float = 2.0) -> None:
         self.total, self.desc, self.unit = float(total), desc, unit
         self.stream = stream or sys.stderr
         self.value = float(initial)
         self._t0 = time.perf_counter()
         self._v0 = float(initial)
-        self._last_log = self._t0
+        self._next_log = self._t0 + first_line_s
         self.log_every_s = log_every_s
         self._bar = None
         if hasattr(self.stream, "isatty") and self.stream.isatty():
@@ -32,8 +33,8 @@ class Progress:
                 self._bar.set_postfix_str(info, refresh=False)
             return
         now = time.perf_counter()
-        if now - self._last_log >= self.log_every_s:
-            self._last_log = now
+        if now >= self._next_log:
+            self._next_log = now + self.log_every_s
             self.stream.write(self._line(now, info) + "\n")
             self.stream.flush()
 
@@ -46,9 +47,9 @@ class Progress:
         return (f"[{self.desc}] {self.value:.6g}/{self.total:.6g} {self.unit} ({frac:5.1f} %) "
                 f"elapsed {elapsed:7.1f} s, eta {eta:7.1f} s {info}").rstrip()
 
-    def close(self) -> None:
+    def close(self, info: str = "done") -> None:
         if self._bar is not None:
             self._bar.close()
         else:
-            self.stream.write(self._line(time.perf_counter(), "done") + "\n")
+            self.stream.write(self._line(time.perf_counter(), info) + "\n")
             self.stream.flush()

@@ -17,16 +17,28 @@ or ``minutes`` of wall time, each with a fingerprint of the resolved scene, the 
 package's source code (a checkpoint that is damaged or of another scene, seed or code is
 refused with the reason, :func:`usable_checkpoint`); it raises
 :class:`~craquelure.errors.SimulationDiverged` with one message format (check, step, time,
-worst particle); it logs progress lines with throughput and ETA and ends with a summary (steps,
-simulated time, wall time, particle-steps per second) that goes into the run dataset.
+worst particle); it logs progress lines with throughput and ETA (the first after a few
+seconds) and ends with a summary (steps, simulated time, wall time, particle-steps per second)
+that goes into the run dataset.
+
+SIGTERM and SIGINT (a scheduler's time limit or preemption, Ctrl-C) do not kill a run: the
+runner notes the signal, lets the current advance reach its next safe point, writes a
+checkpoint and raises :class:`~craquelure.errors.RunInterrupted` naming it (``craquelure run``
+exits with status 3); ``--resume`` continues bit-identically. An advance that can take long
+(a lattice frame, a Soft Dynamics integration) calls :func:`heartbeat` between its safe
+sub-steps: it prints the progress line when due and raises :class:`Interrupted` once a signal
+came, leaving the adapter's ``state()`` consistent (lattice: the step reached inside the frame;
+Soft Dynamics: the finished points, the point in progress is redone on resume). A second signal
+acts as it would without the runner (SIGINT: KeyboardInterrupt; SIGTERM: the process ends).
 """
 
 from __future__ import annotations
 
 import hashlib
-import os
+import signal
 import sys
 import tempfile
+import threading
 import time
 from dataclasses import dataclass
 from functools import cache
@@ -35,12 +47,14 @@ from typing import Protocol
 
 import numpy as np
 
-from craquelure.errors import SimulationDiverged
+from craquelure.errors import RunInterrupted, SimulationDiverged
 from craquelure.progress import Progress
 from craquelure.provenance import WallClock, provenance_attrs
 
 # wall-time checkpoint interval when a scene gives none (minutes)
 DEFAULT_CHECKPOINT_MINUTES = 10.0
+# the signals that make a run checkpoint and stop
+STOP_SIGNALS = (signal.SIGTERM, signal.SIGINT)
 
 
 @dataclass(frozen=True)
@@ -211,13 +225,10 @@ def checkpoint_path(out: Path) -> Path:
 
 
 def write_checkpoint(path: Path, state: dict[str, np.ndarray]) -> None:
-    from craquelure.io import remove_stale_temporaries
+    from craquelure.io import atomic_write
 
-    remove_stale_temporaries(path)  # of a run of this output killed while checkpointing
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    with open(tmp, "wb") as fh:
+    with atomic_write(path, "checkpoint") as tmp, open(tmp, "wb") as fh:
         np.savez(fh, **{k: np.asarray(v) for k, v in state.items()})
-    os.replace(tmp, path)
 
 
 def read_checkpoint(path: Path) -> dict[str, np.ndarray]:
@@ -279,6 +290,66 @@ class Stopped(Exception):
     """Raised by :func:`run` after ``stop_after_checkpoints`` checkpoints (resume tests)."""
 
 
+class Interrupted(Exception):
+    """Raised by :func:`heartbeat` inside an advance once a stop signal came."""
+
+
+class _Monitor:
+    """The run in progress as :func:`heartbeat` sees it: the stop signal received (if any)
+    and the progress bar with its rate."""
+
+    def __init__(self, engine, bar: Progress | None, t_end: float, time_scale: float) -> None:
+        self.engine, self.bar, self.t_end, self.time_scale = engine, bar, t_end, time_scale
+        self.signal: int | None = None
+        self.steps0, self.t0 = engine.steps, time.perf_counter()
+        self._previous: dict[int, object] = {}
+
+    def install(self) -> None:
+        if threading.current_thread() is not threading.main_thread():
+            return  # signal handlers can only be set in the main thread
+        for sig in STOP_SIGNALS:
+            self._previous[sig] = signal.signal(sig, self._received)
+
+    def uninstall(self) -> None:
+        for sig, handler in self._previous.items():
+            signal.signal(sig, handler)
+        self._previous = {}
+
+    def _received(self, signum, frame) -> None:
+        self.signal = signum
+        self.uninstall()  # a second signal acts as without the runner
+
+    def progress(self) -> None:
+        if self.bar is None:
+            return
+        engine = self.engine
+        rate = (engine.steps - self.steps0) * engine.n_particles / max(
+            time.perf_counter() - self.t0, 1e-9)
+        self.bar.update_to(min(engine.time, self.t_end) * self.time_scale,
+                           f"{rate:.3g} particle-steps/s")
+
+    def beat(self) -> None:
+        self.progress()
+        if self.signal is not None:
+            raise Interrupted
+
+
+_ACTIVE: list[_Monitor] = []
+
+
+def heartbeat() -> None:
+    """For long advances, between safe sub-steps: print the run's progress line when due and
+    raise :class:`Interrupted` when a stop signal came (no-op outside :func:`run`)."""
+    if _ACTIVE:
+        _ACTIVE[-1].beat()
+
+
+def stop_requested() -> bool:
+    """True once a stop signal came to the run in progress (for loops that stop by
+    themselves)."""
+    return bool(_ACTIVE) and _ACTIVE[-1].signal is not None
+
+
 def run(engine: Engine, scene, seed: int, *, t_end: float, desc: str, out: Path | None = None,
         resume: bool = False, every: int = 0, minutes: float = DEFAULT_CHECKPOINT_MINUTES,
         time_unit: str = "", time_scale: float = 1.0, extra_fingerprint: bytes = b"",
@@ -307,39 +378,65 @@ def run(engine: Engine, scene, seed: int, *, t_end: float, desc: str, out: Path 
         engine.start()
     bar = Progress(t_end * time_scale, desc, unit=time_unit or "t",
                    initial=engine.time * time_scale) if progress else None
-    steps0, t0 = engine.steps, time.perf_counter()
+    monitor = _Monitor(engine, bar, t_end, time_scale)
+    steps0, t0 = engine.steps, monitor.t0
     last_ck, written = t0, 0
-    while not engine.done():
-        engine.advance()
-        bad = engine.divergence()
-        if bad is not None:
-            if bar is not None:
-                bar.close()
-            raise diverged(desc, bad, engine.steps, engine.time * time_scale, time_unit)
-        engine.sample()
-        advances += 1
-        now = time.perf_counter()
+
+    def save() -> None:
+        write_checkpoint(ck_path, {**engine.state(), "runner_fingerprint": fp,
+                                   "runner_wall_time": wall_before + clock.elapsed,
+                                   "runner_advances": advances})
+
+    _ACTIVE.append(monitor)
+    monitor.install()
+    try:
+        while not engine.done():
+            try:
+                engine.advance()
+            except Interrupted:
+                pass  # the adapter's state is that of the last safe sub-step
+            else:
+                bad = engine.divergence()
+                if bad is not None:
+                    raise diverged(desc, bad, engine.steps, engine.time * time_scale,
+                                   time_unit)
+                engine.sample()
+                advances += 1
+                monitor.progress()
+            now = time.perf_counter()
+            if monitor.signal is not None and not engine.done():
+                raise _interrupted(monitor.signal, engine, ck_path, save, time_scale,
+                                   time_unit)
+            due = (every and advances % every == 0) or (minutes and now - last_ck >= 60 * minutes)
+            if ck_path is not None and due and not engine.done():
+                save()
+                last_ck, written = now, written + 1
+                if stop_after_checkpoints is not None and written >= stop_after_checkpoints:
+                    raise Stopped(str(ck_path))
+    finally:
+        monitor.uninstall()
+        _ACTIVE.remove(monitor)
         if bar is not None:
-            rate = (engine.steps - steps0) * engine.n_particles / max(now - t0, 1e-9)
-            bar.update_to(min(engine.time, t_end) * time_scale, f"{rate:.3g} particle-steps/s")
-        due = (every and advances % every == 0) or (minutes and now - last_ck >= 60 * minutes)
-        if ck_path is not None and due and not engine.done():
-            write_checkpoint(ck_path, {**engine.state(), "runner_fingerprint": fp,
-                                       "runner_wall_time": wall_before + clock.elapsed,
-                                       "runner_advances": advances})
-            last_ck, written = now, written + 1
-            if stop_after_checkpoints is not None and written >= stop_after_checkpoints:
-                if bar is not None:
-                    bar.close()
-                raise Stopped(str(ck_path))
-    if bar is not None:
-        bar.close()
+            bar.close("done" if engine.done() else "stopped")
     wall = time.perf_counter() - t0
     summary = Summary(engine.steps, engine.time * time_scale, wall_before + clock.elapsed,
                       (engine.steps - steps0) * engine.n_particles / max(wall, 1e-9),
                       resumed_at, time_unit, wall_before)
     print(f"[{desc}] done: {summary.line()}", file=sys.stderr)
     return summary
+
+
+def _interrupted(signum: int, engine, ck_path: Path | None, save, time_scale: float,
+                 time_unit: str) -> RunInterrupted:
+    """Write the checkpoint (if the run has an output) and the one-line message."""
+    where = f"t = {engine.time * time_scale:.6g}{' ' + time_unit if time_unit else ''} " \
+        f"(step {engine.steps})"
+    name = signal.Signals(signum).name
+    if ck_path is None:
+        return RunInterrupted(f"{name} at {where}; no output file, so no checkpoint")
+    save()
+    return RunInterrupted(f"{name} at {where}: checkpoint written to {ck_path}; run again "
+                          f"with --resume to continue")
 
 
 def write_run(ds, out: Path, scene, seed: int | None, summary: Summary,

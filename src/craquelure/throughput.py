@@ -100,3 +100,24 @@ def prediction_lines(engine: str, workload: dict) -> dict[str, object]:
             round(predicted_wall_time(engine, workload, 2), 1)),
         "throughput model": f"{TABLE.name}, measured {meta['measured']} ({meta['machine']})",
     }
+
+
+# `craquelure check` and `craquelure run` warn above this predicted wall time (s)
+LONG_RUN_S = 3600.0
+
+
+def long_run_warning(engine: str, workload: dict, threads: int = 1) -> str | None:
+    """A one-line warning when the predicted wall time of a run exceeds :data:`LONG_RUN_S`:
+    the figure, the workload it was predicted from and the throughput model; else None."""
+    fixed, compute = predicted_parts(engine, workload, threads)
+    seconds = fixed + compute
+    if not seconds > LONG_RUN_S:
+        return None
+    model, meta = cost_model(engine), table()
+    threads = 1 if workload.get("serial") else max(1, int(threads))
+    return (f"warning: predicted wall time {seconds / 3600:.3g} h ({seconds:.3g} s) with "
+            f"{threads} thread(s) exceeds an hour; predicted from {workload['units']:.4g} "
+            f"{model.unit} x {workload['particles']:.4g} particles x "
+            f"{float(workload['neighbours']):.3g} neighbours by the throughput model "
+            f"T = T_0 + units (c_unit + particles (c_particle + neighbours c_pair)) / S(threads) "
+            f"of {TABLE.name} (measured {meta['measured']}, {meta['machine']})")

@@ -140,11 +140,24 @@ def test_killed_cli_run_resumes_bit_identically(tmp_path):
     """SIGKILL after the first checkpoint, then ``--resume``: the uninterrupted dataset."""
     from ..killed_run import kill_and_resume, same_dataset
 
-    full, resumed, err = kill_and_resume(tmp_path, [
-        "drying/ci", "--seed", "2", "--set", "outputs.t_end=1.0",
-        "--set", "outputs.times=[0.5, 1.0]", "--set", "domain.box_length=1.0",
-        "--set", "particles.n=400",
-        "--set", "numerics.checkpoint_every=25"])
+    full, resumed, err = kill_and_resume(tmp_path, KILLED_RUN)
     assert "resumed from" in err
     assert resumed.attrs["run_resumed_at_step"] > 0
     same_dataset(full, resumed)
+
+
+KILLED_RUN = ["drying/ci", "--seed", "2", "--set", "outputs.t_end=1.0",
+              "--set", "outputs.times=[0.5, 1.0]", "--set", "domain.box_length=1.0",
+              "--set", "particles.n=400", "--set", "numerics.checkpoint_every=25"]
+
+
+def test_sigterm_run_checkpoints_and_resumes_bit_identically(tmp_path):
+    """SIGTERM: a checkpoint at the next step (not the last periodic one), exit 3 with one
+    line naming it; --resume gives the uninterrupted dataset (shared with the test above)."""
+    from ..killed_run import check_message, same_dataset, stop_and_resume
+
+    stopped = stop_and_resume(tmp_path, KILLED_RUN)
+    step = check_message(stopped, tmp_path)
+    assert int(stopped.checkpoint["engine_step_count"]) == step >= 25
+    assert stopped.resumed.attrs["run_resumed_at_step"] == step
+    same_dataset(stopped.full, stopped.resumed)

@@ -1,6 +1,6 @@
 """Impact runs checkpoint through the runner: a killed run resumes bit-identically."""
 
-from ..killed_run import kill_and_resume, same_dataset
+from ..killed_run import check_message, kill_and_resume, same_dataset, stop_and_resume
 
 
 def test_killed_cli_run_resumes_bit_identically(tmp_path):
@@ -21,3 +21,15 @@ def test_killed_3d_run_resumes_bit_identically(tmp_path):
     assert "resumed from" in err
     assert resumed.attrs["run_resumed_at_step"] > 0 and resumed.attrs["dim"] == 3
     same_dataset(full, resumed)
+
+
+def test_sigterm_run_checkpoints_and_resumes_bit_identically(tmp_path):
+    """SIGTERM (a scheduler's time limit): a checkpoint at the next step, exit 3 with one
+    line naming it; --resume gives the uninterrupted dataset (shared with the test above)."""
+    stopped = stop_and_resume(tmp_path, [
+        "impact/ci", "--seed", "1", "--set", "outputs.t_end=1.0e-4",
+        "--set", "outputs.snapshot_times=[5.0e-5]", "--checkpoint-every", "40"])
+    step = check_message(stopped, tmp_path)
+    assert step > 0 and int(stopped.checkpoint["engine_step_count"]) == step
+    assert stopped.resumed.attrs["run_resumed_at_step"] == step
+    same_dataset(stopped.full, stopped.resumed)

@@ -79,3 +79,23 @@ def test_killed_cli_run_resumes_bit_identically(tmp_path):
         tmp_path, ["lattice/calving", "--seed", "4", *[a for s in sets for a in ("--set", s)]])
     assert "resumed from" in err and resumed.attrs["run_resumed_at_step"] > 0
     same_dataset(full, resumed)
+
+
+def test_sigterm_inside_a_long_frame_checkpoints_and_resumes(tmp_path):
+    """One frame of ~20,000 steps (seconds): SIGTERM once the first progress line is out (it
+    comes from inside the frame) stops the run inside the frame with a checkpoint at the
+    step it reached, exit 3; --resume gives the uninterrupted dataset."""
+    from ..killed_run import check_message, stop_and_resume
+
+    sets = ["domain.nx=48", "domain.ny=12", "domain.water_level=7.0", "material.g=0.02",
+            "fracture.start_time=30.0", "numerics.mass_damping_until=30.0",
+            "outputs.t_end=2000.0", "outputs.frames=1"]
+    stopped = stop_and_resume(tmp_path, ["lattice/calving", "--seed", "4",
+                                         "--checkpoint-minutes", "0",
+                                         *[a for s in sets for a in ("--set", s)]],
+                              after="progress")
+    step = check_message(stopped, tmp_path)
+    # inside the one frame: past its start (frame 0 only recorded), before its end
+    assert len(stopped.checkpoint["model_frames.time"]) == 1
+    assert 0 < int(stopped.checkpoint["engine_step"]) == step < stopped.full.attrs["steps"]
+    same_dataset(stopped.full, stopped.resumed)

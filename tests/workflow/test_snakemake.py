@@ -167,11 +167,7 @@ def test_lint_reports_only_conda_and_container(fresh):
 # --- end to end on the CI profile ---------------------------------------------------------
 
 
-@pytest.fixture(scope="module")
-def ci_run(tmp_path_factory) -> tuple[Path, subprocess.CompletedProcess]:
-    work = workflow_copy(tmp_path_factory.mktemp("e2e"))
-    proc = snakemake(work, "--cores", "2", "--configfile", "config/ci.yaml", timeout=1500)
-    return work, proc
+# ci_run (tests/workflow/conftest.py): the uninterrupted run, also the reference of test_faults
 
 
 def test_ci_workflow_runs(ci_run):

@@ -50,7 +50,7 @@ rule impact_run:
         mem_mb=impact_workflow.run_resource(IMPACT, "mem_mb"),
         runtime=impact_workflow.run_resource(IMPACT, "runtime_run"),
     shell:
-        "{params.cli} run {input.scene} --seed {wildcards.seed} --out {output} "
+        "{params.cli} run {input.scene} --seed {wildcards.seed} --out {output} --resume "
         "--threads {threads} {params.variant} {params.overrides} {params.three_d} "
         "> {log} 2>&1"
 
@@ -181,8 +181,8 @@ rule impact_regime_run:
         mem_mb=impact_workflow.regime_resource(IMPACT, "mem_mb"),
         runtime=impact_workflow.regime_resource(IMPACT, "runtime_run"),
     shell:
-        "{params.cli} run {input.scene} --seed 0 --out {output} --threads {threads} "
-        "{params.variant} {params.overrides} > {log} 2>&1"
+        "{params.cli} run {input.scene} --seed 0 --out {output} --resume "
+        "--threads {threads} {params.variant} {params.overrides} > {log} 2>&1"
 
 
 # The regime map in 2D (impact.regime) and, with impact.regime.three_d, in 3D: one figure with

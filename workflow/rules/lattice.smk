@@ -84,7 +84,7 @@ rule lattice_run:
     wildcard_constraints:
         scene="gravity_block|calving|fretting",
     shell:
-        "{params.cli} run {input.scene} --seed {params.seed} --out {output} "
+        "{params.cli} run {input.scene} --seed {params.seed} --out {output} --resume "
         "--threads {threads} {params.overrides} > {log} 2>&1"
 
 

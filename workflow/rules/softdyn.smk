@@ -40,7 +40,7 @@ rule softdyn_run:
         mem_mb=config["softdyn"]["mem_mb"],
         runtime=config["softdyn"]["runtime"],
     shell:
-        "{params.cli} run {input.scene} --out {output} {params.overrides} > {log} 2>&1"
+        "{params.cli} run {input.scene} --out {output} --resume {params.overrides} > {log} 2>&1"
 
 
 # A single grid point (not in the default DAG; for rerunning one point by its output path).

@@ -15,4 +15,4 @@ if "snakemake" in globals():
     numba.set_num_threads(smk.threads)
     scene = glen_point_scene(smk.input.scene, smk.params.lattice, smk.wildcards.kind,
                              int(smk.wildcards.k))
-    print(f"wrote {run(scene, smk.output[0], seed=smk.params.seed)}")
+    print(f"wrote {run(scene, smk.output[0], seed=smk.params.seed, resume=True)}")

@@ -13,5 +13,5 @@ numba.set_num_threads(sm.threads)
 scene = load_scene(sm.input.scene, sm.params.overrides)
 batches = sweep_batches(scene, sm.params.n_batches)
 points = batches[int(sm.wildcards.b)] if int(sm.wildcards.b) < len(batches) else []
-run(scene, sm.output[0], seed=None, batch=points,
+run(scene, sm.output[0], seed=None, batch=points, resume=True,
     attrs={"batch": f"{int(sm.wildcards.b)} of {sm.params.n_batches}"})

@@ -9,4 +9,4 @@ from craquelure.softdyn.api import run
 sm = snakemake  # noqa: F821
 numba.set_num_threads(sm.threads)
 run(load_scene(sm.input.scene, sm.params.overrides), sm.output[0], seed=None,
-    batch=[(int(sm.wildcards.i), int(sm.wildcards.j))])
+    batch=[(int(sm.wildcards.i), int(sm.wildcards.j))], resume=True)

@@ -1,12 +1,15 @@
 """``craquelure check SCENE``: validate, print the resolved scene, the effects and derived
 numbers (neighbours, stable step, step count, wall-time estimate)."""
 
+import sys
+
 import numpy as np
 
 from craquelure.commands import add_scene_arguments
 from craquelure.models import model_api
 from craquelure.registry import known_effects
 from craquelure.scene import load_scene
+from craquelure.throughput import long_run_warning
 
 NAME = "check"
 HELP = "validate a scene and print it resolved, with its effects and derived numbers"
@@ -29,7 +32,23 @@ def main(args) -> int:
         print("\n# derived numbers")
         for key, value in derived_numbers(api, scene).items():
             print(f"  {key}: {format_number(value)}")
+    warn_if_long(api, scene, threads=1)
     return 0
+
+
+def warn_if_long(api, scene, threads: int) -> None:
+    """Print :func:`~craquelure.throughput.long_run_warning` on stderr when the scene's
+    predicted wall time exceeds an hour (nothing when it cannot be predicted: the derived
+    numbers say why)."""
+    if not hasattr(api, "workload"):
+        return
+    try:
+        with np.errstate(all="ignore"):
+            message = long_run_warning(scene.model, api.workload(scene), threads)
+    except Exception:  # noqa: BLE001 - advisory only; derived_numbers reports the failure
+        return
+    if message:
+        print(message, file=sys.stderr)
 
 
 def derived_numbers(api, scene) -> dict[str, object]:

@@ -1,10 +1,15 @@
 """``craquelure run SCENE --out RUN.nc [--init STATE.nc] [--seed N] [--resume]``: simulate a
-scene and write the run dataset (checkpointing as it goes)."""
+scene and write the run dataset (checkpointing as it goes).
+
+Exit status: 0 done; 2 a clear error (bad scene or input, a file that cannot be written, a
+diverged run); 3 stopped by SIGTERM or SIGINT after writing its checkpoint (run again with
+``--resume``, which also starts from the beginning when there is no checkpoint)."""
 
 from pathlib import Path
 
 from craquelure.commands import add_scene_arguments
-from craquelure.models import stage
+from craquelure.commands.check import warn_if_long
+from craquelure.models import model_api, stage
 from craquelure.scene import load_scene
 
 NAME = "run"
@@ -28,6 +33,9 @@ def add_arguments(parser) -> None:
 
 def main(args) -> int:
     scene = load_scene(args.scene, args.overrides)
+    import numba
+
+    warn_if_long(model_api(scene.model), scene, args.threads or numba.get_num_threads())
     out = stage(scene.model, "run")(scene, Path(args.out), seed=args.seed,
                                     init=Path(args.init) if args.init else None,
                                     resume=args.resume, checkpoint_every=args.checkpoint_every,

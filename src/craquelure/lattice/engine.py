@@ -13,6 +13,7 @@ omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, 
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numba
@@ -22,7 +23,7 @@ from craquelure.codegen import effect_flags, pack_parameters, specialise
 from craquelure.lattice.geometry import INTACT, find_bonds
 from craquelure.lattice.kernel_template import PARAMS
 from craquelure.periodic import minimum_image
-from craquelure.runner import Divergence, diverged, non_finite
+from craquelure.runner import Divergence, diverged, heartbeat, non_finite
 from craquelure.sph.neighbours import Box, neighbour_list
 
 # Waiting OpenMP threads sleep instead of spinning: set for every engine by
@@ -309,22 +310,39 @@ class Engine:
         if bad is not None:
             raise diverged("lattice", bad, self.step, self.time)
 
+    # wall time of one kernel call (s): between calls the runner's heartbeat prints progress
+    # and stops the run at a signal, so that a long frame is interrupted inside
+    HEARTBEAT_S = 0.5
+
     def advance(self, n_steps: int) -> Divergence | None:
         """Advance n_steps (fewer when the kernel's NaN/runaway guard stops it: then the
-        failed check is returned)."""
+        failed check is returned).
+
+        The steps of a chunk run in kernel calls of about :attr:`HEARTBEAT_S` of wall time,
+        with :func:`~craquelure.runner.heartbeat` before each (it raises
+        :class:`~craquelure.runner.Interrupted` at a stop signal, the state then being that of
+        the last call's end). Only the call that ends a chunk records the end-of-call series
+        row, so where the calls end changes nothing in the trajectory or the series."""
         k = self.kernel
         remaining = int(n_steps)
         buf = np.zeros((remaining // self.series_every + 2, k.N_SERIES))
+        per_call = 8
         while remaining > 0:
+            heartbeat()
             chunk = remaining
             if self.freeze_every and self.flags["MELTING"]:
                 chunk = min(chunk, self.freeze_every - self.step % self.freeze_every)
+            call = min(chunk, per_call)
+            began = time.perf_counter()
             try:
-                status, done, rows = self._advance(chunk, buf)
+                status, done, rows = self._advance(call, buf, call == chunk)
             except ArithmeticError as exc:  # numba raises division by zero as Python does
                 return Divergence("finite", f"the state can no longer be computed "
                                   f"({type(exc).__name__}: {exc}) at dt = {self.dt:.6g}; "
                                   f"check the loads and numerics.dt_factor")
+            if done == call:  # aim the next call at HEARTBEAT_S (at most 4x longer)
+                spent = max(time.perf_counter() - began, 1e-6)
+                per_call = max(1, min(4 * call, int(call * self.HEARTBEAT_S / spent)))
             self.series.extend(buf[:rows].copy())
             self.step += done
             remaining -= done
@@ -358,7 +376,7 @@ class Engine:
         return Divergence("runaway", f"energy ran away: E_tot = {last[10]:.6g} vs E_0 = "
                           f"{self.acc[6]:.6g}" + hint, int(np.argmax(ke)))
 
-    def _advance(self, chunk: int, buf: np.ndarray):
+    def _advance(self, chunk: int, buf: np.ndarray, ends_chunk: bool = True):
         s, k = self.system, self.kernel
         return k.advance(
             self.qm, self.q, self.qref, self.qbuild, s.mass, s.inertia,
@@ -366,7 +384,7 @@ class Engine:
             s.unbreakable, self.bprev, self.bforce, self.benergy, self.bratio, self.tbreak,
             self.poff, self.pidx, self.cb, self.crange, self.cn, self.fn, self.cpi,
             self.cpj, self.fc, self.p, self.acc, self.seed, self.step, chunk,
-            self.series_every, buf)
+            self.series_every, int(ends_chunk), buf)
 
     # bond-indexed arrays of the engine (rows, bond) and of the system (bond) in a checkpoint
     BOND_STATE = ("bref", "bk", "bprev", "bforce", "benergy", "bratio", "tbreak")

@@ -407,8 +407,10 @@ def _particle_chunk(lo, hi, qm, q, qref, qbuild, mass, inertia, diam, fix, drive
 def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
             bi, bj, bref, bk, state, unbreak, bprev, bforce, benergy, bratio, tbreak,
             poff, pidx, cb, crange, cn, fn, cpi, cpj, fc, p, acc, seed, step0, n_steps,
-            series_every, series):
+            series_every, record_last, series):
     """Advance up to n_steps; returns (status, steps done, series rows written).
+
+    A series row is written every series_every steps and, if record_last, at the last step.
 
     qm, q: configurations (x, y, theta rows) at t - dt and t on entry, at the new
     (t - dt, t) on exit. cb (NCHUNK + 1): bond chunk bounds; crange (2, NCHUNK): node range
@@ -543,7 +545,7 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
         acc[A_WORK] += psum[P_WORK]
         done = k + 1
         # 5. energy sample and checks
-        if (gstep + 1) % series_every == 0 or k == n_steps - 1:
+        if (gstep + 1) % series_every == 0 or (record_last and k == n_steps - 1):
             # work and dissipation up to t (the trapezoidal sums that make 1/2 m v- v+ + U
             # exact): drop the forward half-steps booked in this step
             w_t = acc[A_WORK] - psum[P_WORK_FWD]

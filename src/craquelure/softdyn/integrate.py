@@ -27,7 +27,7 @@ from scipy.optimize import brentq
 
 from craquelure.errors import CraquelureError, SimulationDiverged
 from craquelure.progress import Progress
-from craquelure.runner import Divergence, diverged
+from craquelure.runner import Divergence, Interrupted, diverged, stop_requested
 
 ADAPTIVE = {"LSODA": LSODA, "BDF": BDF, "Radau": Radau}
 METHODS = (*ADAPTIVE, "heun")
@@ -221,6 +221,8 @@ def _adaptive(system, cls, t_end, rtol, atol, event, rec, guard, max_steps, prog
                 return event.t, event.y, n_steps, n_rej
             t, y = t_new, np.array(y_new)
             progress.update_to(t / unit)
+            if stop_requested():  # SIGTERM/SIGINT: the runner keeps the finished points
+                raise Interrupted
             if n_steps >= max_steps:
                 raise CraquelureError(f"numerics.max_steps = {max_steps} reached "
                                       f"{guard.where(t, n_steps)}")
@@ -267,4 +269,6 @@ def _heun(system, t_end, dt, event, rec, guard, max_steps, progress, unit):
             t, y = t_new, y_new
             if step % 1000 == 0:
                 progress.update_to(t / unit)
+                if stop_requested():
+                    raise Interrupted
     return t, y, n_total, 0
