@@ -27,6 +27,7 @@ localrules:
     drying_validation,
     drying_transition,
     drying_transition_figure,
+    drying_kappa_figure,
 
 
 rule drying_fragments:
