@@ -13,8 +13,8 @@ drying time, ``"R/tau"`` for a Soft Dynamics velocity). Wall times (``"s"``), an
 (2D): masses kg/m, energies J/m, forces N/m; a 3D impact dataset (attribute ``dim`` = 3) takes
 the whole-body units instead (kg, J, N; :func:`per_body`).
 
-A model writer's own ``long_name``/``units`` attributes win over the table below, which fills
-in the variables a writer leaves bare. Strings (labels) get a long name but no units.
+A model writer's own ``long_name``/``units`` attributes win over the model's table
+(``<model>/metadata.py``), which fills in the rest. Strings (labels) get a long name, no units.
 """
 
 from __future__ import annotations

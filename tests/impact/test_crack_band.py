@@ -1,11 +1,11 @@
 """Check 7 (spec section 10): crack band in SPH, G_F ± 20 % at Δ = 4 and 2 mm.
 
-Notched bar of :func:`craquelure.impact.experiments.crack_band_bar` at end speed 0.05 m/s (the
-spec's bound). Δ = 4 mm: the spec's 200 × 40 mm bar (10 rows). Δ = 2 mm: a 200 × 20 mm bar (10
-rows): in uniaxial tension the dissipation per crack area does not depend on the height, the
-crack crosses the net section whatever its height, and halving it keeps the run at ~15 s; what
-must converge with Δ (band width in columns, ℓ_c = 2Δ) is resolved along the bar, which keeps
-its spec length. κ = 1.5 checks the 3-column band (ℓ_c = 3Δ) of the crack-band rule.
+Notched bar :func:`craquelure.impact.experiments.crack_band_bar` at end speed 0.05 m/s (the spec's
+bound). Δ = 4 mm: the spec's 200 × 40 mm bar (10 rows). Δ = 2 mm: a 200 × 20 mm bar (10 rows):
+in uniaxial tension the dissipation per crack area does not depend on the height, the crack
+crosses the net section whatever its height, and halving it keeps the run at ~15 s; what must
+converge with Δ (band width in columns, ℓ_c = 2Δ) is resolved along the bar, which keeps its
+spec length. κ = 1.5 checks the 3-column band (ℓ_c = 3Δ) of the crack-band rule.
 Measured 2026-11-22: 1.048 (4 mm), 1.041 (2 mm), κ = 1.5 at 4 mm 1.140; ~30 s for the three.
 """
 

@@ -83,13 +83,9 @@ def memory_estimate(data: dict) -> tuple[float, str]:
 
 
 def initial_state_problems(scene, ds, path) -> list[str]:
-    """An ``--init`` state must be of the scene's model and hold the scene's particles in the
-    scene's box (its provenance would otherwise describe another run)."""
+    """An ``--init`` state (of the drying model: :func:`craquelure.io.read_dataset` checks) must
+    hold the scene's particles in the scene's box (else its provenance describes another run)."""
     out = []
-    model = ds.attrs.get("model")
-    if model is not None and model != scene.model:
-        out.append(f"{path}: an initial state of model {model!r}, not {scene.model!r}")
-        return out
     n, length = int(scene.get("particles.n")), float(scene.get("domain.box_length"))
     n_file = int(ds.sizes.get("particle", 0))
     if n_file != n:
