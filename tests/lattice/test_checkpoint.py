@@ -82,14 +82,15 @@ def test_killed_cli_run_resumes_bit_identically(tmp_path):
 
 
 def test_sigterm_inside_a_long_frame_checkpoints_and_resumes(tmp_path):
-    """One frame of ~20,000 steps (seconds): SIGTERM once the first progress line is out (it
-    comes from inside the frame) stops the run inside the frame with a checkpoint at the
-    step it reached, exit 3; --resume gives the uninterrupted dataset."""
+    """One frame of ~140,000 steps (about 7 s on an idle core; dt_factor 0.03 so that the
+    frame outlasts the first progress line, which comes after 2 s): SIGTERM once the first
+    progress line is out (it comes from inside the frame) stops the run inside the frame with
+    a checkpoint at the step it reached, exit 3; --resume gives the uninterrupted dataset."""
     from ..killed_run import check_message, stop_and_resume
 
     sets = ["domain.nx=48", "domain.ny=12", "domain.water_level=7.0", "material.g=0.02",
             "fracture.start_time=30.0", "numerics.mass_damping_until=30.0",
-            "outputs.t_end=2000.0", "outputs.frames=1"]
+            "outputs.t_end=2000.0", "outputs.frames=1", "numerics.dt_factor=0.03"]
     stopped = stop_and_resume(tmp_path, ["lattice/calving", "--seed", "4",
                                          "--checkpoint-minutes", "0",
                                          *[a for s in sets for a in ("--set", s)]],
