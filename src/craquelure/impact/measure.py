@@ -286,3 +286,240 @@ def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, crac
             "precrack_tip_extension_low": max(beyond_lo, 0.0),
             "precrack_tip_extension_high": max(beyond_hi, 0.0),
             "main_cracks_elsewhere": int(elsewhere)}
+
+
+# --- cracks measured by their opening (spec section 6, revised 2026-12-02) -----------------
+# A crack is what opened. Neighbour pairs of the plane (2D) or the mid-thickness layer (3D):
+# massive particles whose reference distance is <= 1.5 Delta, plus "bridges" across a
+# zero-mass particle (massive i, j at reference distance <= 2.5 Delta whose midpoint lies
+# within 0.6 Delta of a zero-mass particle): a zero-mass particle is a passive tracer, the
+# material is the massive particles on either side of it. The opening of a pair is the growth
+# of its separation, w = |x_j - x_i| - |X_j - X_i| (current minus reference; rigid motions
+# give 0; across a crack of opening vector delta, w = delta . e, e the pair direction, so the
+# pair normal to the crack measures the normal opening). A pair is opened if w > w_c, with
+# w_c = 2 G_F / f_t (0.052 mm for the spec's concrete): the crack band's full-softening
+# opening, l_c kappa_f = 2 G_F/f_t, where linear softening leaves no tensile strength (a
+# stress-free crack); a band still softening has w < w_c. Pairs with both particles crushed
+# are the crushed zone, not a crack. A crack is a connected set of opened pairs (two opened
+# pairs are adjacent if their midpoints are within 1.5 Delta). Along the centre row, the
+# opened gaps between consecutive row particles form runs separated by closed gaps; the crack
+# band softens two particle columns (:mod:`.effects.damage`), so a crack's opening may split
+# over two adjacent gaps, and a run of k opened gaps is ceil(k/2) cracks (a rigid split opens
+# one gap: one crack; a fully cracked row is many cracks, not one). A main crack is a crack
+# that starts at the contact zone (the crushed zone and the two lowest rows, within 1.5 Delta
+# of its pairs) and reaches at least 0.5 D towards the far rim (vertical extent of its pair
+# midpoints + Delta); N_main is the number of centre-row cracks (as above) of main cracks.
+
+def neighbour_pairs(x0, y0, mass, spacing) -> np.ndarray:
+    """(n, 2) index pairs of the opening measure (module comment above)."""
+    pts = np.column_stack([x0, y0])
+    massive = mass > 0
+    tree = cKDTree(pts)
+    pairs = tree.query_pairs(1.5 * spacing * (1 + 1e-9), output_type="ndarray")
+    if len(pairs):
+        pairs = pairs[massive[pairs[:, 0]] & massive[pairs[:, 1]]]
+    if (~massive).any() and massive.any():
+        far = tree.query_pairs(2.5 * spacing * (1 + 1e-9), output_type="ndarray")
+        far = far[massive[far[:, 0]] & massive[far[:, 1]]]
+        mid = 0.5 * (pts[far[:, 0]] + pts[far[:, 1]])
+        d, _ = cKDTree(pts[~massive]).query(mid)
+        bridges = far[(d <= 0.6 * spacing) & (np.hypot(*(pts[far[:, 1]] - pts[far[:, 0]]).T)
+                                              > 1.5 * spacing * (1 + 1e-9))]
+        pairs = np.concatenate([pairs.reshape(-1, 2), bridges]) if len(bridges) else pairs
+    return np.asarray(pairs, int).reshape(-1, 2)
+
+
+def pair_openings(pairs, x0, y0, x, y) -> np.ndarray:
+    """w = |x_j - x_i| - |X_j - X_i| per pair."""
+    i, j = pairs[:, 0], pairs[:, 1]
+    return (np.hypot(x[j] - x[i], y[j] - y[i]) - np.hypot(x0[j] - x0[i], y0[j] - y0[i]))
+
+
+def full_softening_opening(G_F: float, f_t: float) -> float:
+    """w_c = 2 G_F / f_t: the crack band's opening at full softening (l_c kappa_f)."""
+    return 2.0 * G_F / f_t
+
+
+def _row_gaps(x0, y0, x, y, mass, spacing, centre_y):
+    """Consecutive massive particles of the centre row (sorted by X): (index pairs, X of the
+    gap midpoints, openings) — the row's horizontal gaps; a zero-mass particle is bridged."""
+    idx = np.flatnonzero(_centre_row(y0, centre_y, spacing) & (mass > 0))
+    idx = idx[np.argsort(x0[idx])]
+    if idx.size < 2:
+        return np.zeros((0, 2), int), np.zeros(0), np.zeros(0)
+    pairs = np.column_stack([idx[:-1], idx[1:]])
+    close = (x0[pairs[:, 1]] - x0[pairs[:, 0]]) <= 2.5 * spacing * (1 + 1e-9)
+    pairs = pairs[close]
+    return (pairs, 0.5 * (x0[pairs[:, 0]] + x0[pairs[:, 1]]),
+            pair_openings(pairs, x0, y0, x, y))
+
+
+def _runs_of(flags: np.ndarray) -> list[np.ndarray]:
+    """Index arrays of the runs of consecutive True in ``flags``."""
+    out, start = [], None
+    for k, f in enumerate(list(flags) + [False]):
+        if f and start is None:
+            start = k
+        elif not f and start is not None:
+            out.append(np.arange(start, k))
+            start = None
+    return out
+
+
+def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
+                   crushed=0.0035, precrack=None) -> dict:
+    """Cracks by opening (module comment above) of one plane/layer: per crack its centre-row
+    crossings, angle to the vertical, length, largest opening and whether it is a main crack;
+    N_main, the centre row's opened runs with their openings, the share of the row's opening
+    the largest run carries (localisation), and with ``precrack`` (mask of the zero-mass line)
+    the line's coverage and whether the largest opening lies on it."""
+    x0, y0, x, y = (np.asarray(a, float) for a in (x0, y0, x, y))
+    mass, plastic = np.asarray(mass, float), np.asarray(plastic, float)
+    if centre_y is None:
+        centre_y = 0.5 * (y0.min() + y0.max())
+    diameter = float(np.ptp(y0)) + spacing
+    pairs = neighbour_pairs(x0, y0, mass, spacing)
+    w = pair_openings(pairs, x0, y0, x, y) if len(pairs) else np.zeros(0)
+    crushed_p = plastic >= crushed
+    in_crush = crushed_p[pairs[:, 0]] & crushed_p[pairs[:, 1]] if len(pairs) else np.zeros(0, bool)
+    opened = (w > w_c) & ~in_crush
+    mid = (0.5 * (np.column_stack([x0, y0])[pairs[:, 0]] + np.column_stack([x0, y0])[pairs[:, 1]])
+           if len(pairs) else np.zeros((0, 2)))
+    # contact zone: crushed clusters touching the two lowest rows, and those rows
+    bottom = y0 <= y0.min() + 1.01 * spacing
+    zone = bottom.copy()
+    for c in clusters(x0, y0, crushed_p, spacing):
+        if bottom[c].any():
+            zone[c] = True
+    zone_pts = np.column_stack([x0[zone], y0[zone]])
+    # centre row gaps and their runs
+    gpairs, gx, gw = _row_gaps(x0, y0, x, y, mass, spacing, centre_y)
+    g_open = gw > w_c
+    if len(gpairs):
+        g_open &= ~(crushed_p[gpairs[:, 0]] & crushed_p[gpairs[:, 1]])
+    runs = _runs_of(g_open)
+    total_row = float(np.clip(gw, 0.0, None).sum())
+    cracks = []
+    oidx = np.flatnonzero(opened)
+    if oidx.size:
+        members = clusters(mid[oidx, 0], mid[oidx, 1], np.ones(oidx.size, bool), spacing)
+        for c in members:
+            k = oidx[c]
+            px, py = mid[k, 0], mid[k, 1]
+            extent, angle, _ = principal_axis(px, py)
+            reach = float(np.ptp(py)) + spacing
+            starts = bool(_near(np.column_stack([px, py]), zone_pts, 1.5 * spacing).any())
+            ends = set(pairs[k].ravel().tolist())
+            crossing = [r for r in runs if any(int(a) in ends and int(b) in ends
+                                               for a, b in gpairs[r])]
+            cracks.append({"length": extent + spacing, "angle_deg": angle, "reach": reach,
+                           "max_opening": float(w[k].max()), "n_pairs": int(k.size),
+                           "main": starts and reach >= 0.5 * diameter, "runs": crossing,
+                           "pairs": k})
+    cracks.sort(key=lambda c: -c["length"])
+
+    def count(run):
+        return math.ceil(run.size / 2)
+
+    run_info = [{"x_mm": 1e3 * float(gx[r].mean()), "opening": float(gw[r].sum()),
+                 "gaps": int(r.size), "cracks": count(r)} for r in runs]
+    main_runs = [r for c in cracks if c["main"] for r in c["runs"]]
+    main_ids = {id(r) for r in main_runs}
+    n_main = sum(count(r) for r in runs if id(r) in main_ids)
+    largest = max((float(gw[r].sum()) for r in runs), default=0.0)
+    main = next((c for c in cracks if c["main"]), None)
+    main_run = max((r for r in main_runs), key=lambda r: float(gw[r].sum()), default=None)
+    out = {
+        "opening_w_c": float(w_c),
+        "n_main_cracks_opening": int(n_main),
+        "n_cracks_opening": len(cracks),
+        "n_secondary_cracks_opening": sum(1 for c in cracks if not c["main"]
+                                          and c["length"] > 2 * spacing),
+        "row_runs_x_mm": ",".join(f"{r['x_mm']:.0f}" for r in run_info),
+        "row_runs_opening_mm": ",".join(f"{1e3 * r['opening']:.3f}" for r in run_info),
+        "row_runs_cracks": ",".join(str(r["cracks"]) for r in run_info),
+        "row_opening_total": total_row,
+        "row_largest_run_share": largest / total_row if total_row > 0 else float("nan"),
+        "main_run_x_mid": float(gx[main_run].mean()) if main_run is not None else float("nan"),
+        "main_run_opening": float(gw[main_run].sum()) if main_run is not None else 0.0,
+        "main_run_share": (float(gw[main_run].sum()) / total_row
+                           if main_run is not None and total_row > 0 else float("nan")),
+        "main_crack_theta_opening_deg": main["angle_deg"] if main else float("nan"),
+        "main_crack_length_opening": main["length"] if main else 0.0,
+        "main_crack_max_opening": main["max_opening"] if main else 0.0,
+        "second_crack_length_opening": max((c["length"] for c in cracks if c is not main),
+                                           default=0.0),
+        "max_opening": float(w[~in_crush].max()) if (len(w) and (~in_crush).any()) else 0.0,
+    }
+    if precrack is not None and np.asarray(precrack).any():
+        out.update(_line_opening(x0, y0, pairs, w, w_c, in_crush, np.asarray(precrack, bool),
+                                 spacing))
+    out["_cracks"] = cracks
+    return out
+
+
+def _line_opening(x0, y0, pairs, w, w_c, in_crush, precrack, spacing) -> dict:
+    """Coverage of a zero-mass line by opened pairs across it (samples every Delta along the
+    line; a sample is covered if a pair crossing the line within Delta/2 of it along the line
+    opened), and whether the largest opening of the layer is one of the line's pairs."""
+    px, py = x0[precrack], y0[precrack]
+    cx, cy = px.mean(), py.mean()
+    _, angle, _ = principal_axis(px, py)
+    u = np.array([math.sin(math.radians(angle)), math.cos(math.radians(angle))])
+    nvec = np.array([-u[1], u[0]])
+    rel = np.column_stack([x0 - cx, y0 - cy])
+    along, across = rel @ u, rel @ nvec
+    s_lo, s_hi = float(along[precrack].min()), float(along[precrack].max())
+    ai, aj = across[pairs[:, 0]], across[pairs[:, 1]]
+    s_mid = 0.5 * (along[pairs[:, 0]] + along[pairs[:, 1]])
+    crossing = (np.sign(ai) != np.sign(aj)) & (np.minimum(np.abs(ai), np.abs(aj))
+                                               <= 1.5 * spacing)
+    samples = np.arange(s_lo, s_hi + 1e-12, spacing)
+    opened = crossing & (w > w_c)
+    covered = [bool(np.any(opened & (np.abs(s_mid - s) <= 0.5 * spacing * (1 + 1e-9))))
+               for s in samples]
+    valid = ~in_crush
+    on_line = bool(valid.any() and crossing[valid][np.argmax(w[valid])]) if len(w) else False
+    return {"precrack_coverage_opening": float(np.mean(covered)) if covered else float("nan"),
+            "precrack_largest_opening_on_line": on_line,
+            "precrack_line_max_opening": float(w[crossing].max()) if crossing.any() else 0.0}
+
+
+def row_opening_near(x0, y0, x, y, mass, spacing, centre_y, x_mid, half_width=None) -> float:
+    """Summed opening of the centre row's gaps within ``half_width`` (default 2 Delta) of
+    ``x_mid``: a crack's opening at another instant, from that instant's positions."""
+    half = 2.0 * spacing if half_width is None else half_width
+    _, gx, gw = _row_gaps(np.asarray(x0), np.asarray(y0), np.asarray(x), np.asarray(y),
+                          np.asarray(mass), spacing, centre_y)
+    near = np.abs(gx - x_mid) <= half * (1 + 1e-9)
+    return float(np.clip(gw[near], 0.0, None).sum())
+
+
+def opening_metrics(x0, y0, x, y, mass, plastic, precrack, spacing, w_c, centre_y, z0=None,
+                    half=None) -> dict:
+    """The opening measure of a run (:func:`opening_cracks`) on its plane or mid-thickness
+    layer (``z0``), plus the main crack's opening at an earlier instant: ``half`` = (x, y) of
+    that snapshot (all particles) gives ``main_run_opening_half`` and the ratio
+    ``main_run_opening_growth`` = opening now / opening then, from the same gaps."""
+    arrays = [np.asarray(a) for a in (x0, y0, x, y, mass, plastic, precrack)]
+    hx = hy = None
+    if half is not None:
+        hx, hy = (np.asarray(a) for a in half)
+    if z0 is not None:
+        slab = mid_slab(np.asarray(z0), spacing)
+        arrays = [a[slab] for a in arrays]
+        if half is not None:
+            hx, hy = hx[slab], hy[slab]
+    x0, y0, x, y, mass, plastic, precrack = arrays
+    out = opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y,
+                         precrack=precrack.astype(bool) if precrack.any() else None)
+    out.pop("_cracks")
+    if half is not None and math.isfinite(out["main_run_x_mid"]):
+        then = row_opening_near(x0, y0, hx, hy, mass, spacing, centre_y, out["main_run_x_mid"])
+        now = row_opening_near(x0, y0, x, y, mass, spacing, centre_y, out["main_run_x_mid"])
+        out["main_run_opening_half"] = then
+        out["main_run_opening_growth"] = now / then if then > 0 else float("inf")
+    else:
+        out["main_run_opening_half"] = float("nan")
+        out["main_run_opening_growth"] = float("nan")
+    return out
