@@ -7,6 +7,10 @@ crosses the net section whatever its height, and halving it keeps the run at ~15
 converge with Δ (band width in columns, ℓ_c = 2Δ) is resolved along the bar, which keeps its
 spec length. κ = 1.5 checks the 3-column band (ℓ_c = 3Δ) of the crack-band rule.
 Measured 2026-11-22: 1.048 (4 mm), 1.041 (2 mm), κ = 1.5 at 4 mm 1.140; ~30 s for the three.
+Re-measured 2026-12-02 with the secant elastic energy (½ σ : C⁻¹σ̃, so the damage dissipation
+is what the cracks dissipate): 1.047 (4 mm), 1.040 (2 mm). The bar pulled apart through one
+crack band (κ = 1, ℓ_c = 2Δ) is held to G_F A within 5 % (issue: energy that adds up); the
+3-column band at κ = 1.5 (ℓ_c = 3Δ) over-dissipates by 14 % and keeps the spec's 20 %.
 """
 
 import pytest
@@ -14,16 +18,17 @@ import pytest
 from craquelure.impact.experiments import crack_band_bar
 
 
-@pytest.mark.parametrize("spacing,height_cells,kappa,columns", [
-    (0.004, 10, 1.0, 2), (0.002, 10, 1.0, 2), (0.004, 10, 1.5, 3)])
-def test_crack_band_dissipates_fracture_energy(spacing, height_cells, kappa, columns, capsys):
+@pytest.mark.parametrize("spacing,height_cells,kappa,columns,tolerance", [
+    (0.004, 10, 1.0, 2, 0.05), (0.002, 10, 1.0, 2, 0.05), (0.004, 10, 1.5, 3, 0.2)])
+def test_crack_band_dissipates_fracture_energy(spacing, height_cells, kappa, columns, tolerance,
+                                               capsys):
     out = crack_band_bar(spacing, height_cells, kappa)
     with capsys.disabled():
         print(f"\n[check 7] Delta = {spacing * 1e3:g} mm, kappa = {kappa}: dissipation / "
               f"(G_F A) = {out['ratio']:.3f}, band {out['band_columns']} columns "
               f"(l_c = {out['band_width'] * 1e3:g} mm), elastic left "
               f"{out['elastic_left']:.3f}, {out['steps']} steps")
-    assert out["ratio"] == pytest.approx(1.0, abs=0.2)
+    assert out["ratio"] == pytest.approx(1.0, abs=tolerance)
     # one crack at the notch, fully open: the band is the calibrated width, nothing else
     # softened, and the elastic energy left is small against G_F A
     assert out["band_columns"] == columns

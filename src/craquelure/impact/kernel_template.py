@@ -30,7 +30,7 @@ from craquelure.impact.effects.compressive_damage import ductile_damage
 from craquelure.impact.effects.contact_bulk import bulk_penalty
 from craquelure.impact.effects.contact_mass import mass_penalty
 from craquelure.impact.effects.damage import damage_update
-from craquelure.impact.effects.elasticity import elastic_energy_density, jaumann_trial
+from craquelure.impact.effects.elasticity import jaumann_trial, secant_energy_density
 from craquelure.impact.effects.plasticity import dp_return
 from craquelure.impact.effects.rate_effects import increase_factor, principal_rates
 from craquelure.impact.effects.variable_smoothing_length import benz_update
@@ -275,8 +275,10 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, kap, dmg, epsp, 
                       + 2.0 * (old[5] + new[5]) * d[5])
         eint[i] += 0.5 * dt * power * 2.0 / (rho_old + rho[i])
         if ELASTICITY:
-            eel[i] = (1.0 - dmg[i]) * elastic_energy_density(s, prm[P_BULK],
-                                                             prm[P_SHEAR]) / rho[i]
+            # recoverable energy of the secant (damaged) point: ½ σ : C⁻¹σ̃ (was (1 − D_t) x
+            # the effective energy, which booked a cracked point's compressive energy as
+            # damage dissipation)
+            eel[i] = secant_energy_density(new, s, prm[P_BULK], prm[P_SHEAR]) / rho[i]
 
 
 @njit(parallel=True, cache=True)

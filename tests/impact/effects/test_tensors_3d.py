@@ -140,3 +140,27 @@ def test_elastic_energy_density_is_objective():
     q = Rotation.random(random_state=5).as_matrix()
     assert elastic_energy_density(rotate(s, q), MAT.bulk, MAT.shear) == pytest.approx(
         elastic_energy_density(s, MAT.bulk, MAT.shear), rel=1e-12)
+
+
+def test_secant_energy_is_what_a_damaged_point_gives_back():
+    """½ σ : C⁻¹σ̃: undamaged = the elastic energy; uniaxial tension fully cracked = 0 (an open
+    crack stores nothing); a cracked point in compression keeps all its compressive energy
+    (the former (1 − D_t) x energy booked it as damage dissipation)."""
+    from craquelure.impact.effects.damage import damage_update
+    from craquelure.impact.effects.elasticity import secant_energy_density
+
+    rng = np.random.default_rng(11)
+    s = random_stress(rng)
+    assert secant_energy_density(s, s, MAT.bulk, MAT.shear) == pytest.approx(
+        elastic_energy_density(s, MAT.bulk, MAT.shear), rel=1e-12)
+    tension = (3e6, 0.0, 0.0, 0.0, 0.0, 0.0)
+    _, dmg, nom = damage_update(tension, 2 * MAT.kappa_f, MAT.young, MAT.kappa0, MAT.kappa_f)
+    assert dmg == 1.0
+    assert secant_energy_density(nom, tension, MAT.bulk, MAT.shear) == pytest.approx(0.0,
+                                                                                    abs=1e-9)
+    compression = (-30e6, -5e6, 2e6, -5e6, 0.0, 0.0)
+    _, dmg, nom = damage_update(compression, 2 * MAT.kappa_f, MAT.young, MAT.kappa0,
+                                MAT.kappa_f)
+    assert dmg == 1.0
+    assert secant_energy_density(nom, compression, MAT.bulk, MAT.shear) == pytest.approx(
+        elastic_energy_density(compression, MAT.bulk, MAT.shear), rel=1e-9)

@@ -59,3 +59,19 @@ def elastic_energy_density(s, bulk, shear):
     ss = dxx * dxx + dyy * dyy + dzz * dzz + 2.0 * sxy * sxy + 2.0 * sxz * sxz \
         + 2.0 * syz * syz
     return 0.5 * p * p / bulk + 0.25 * ss / shear
+
+
+@njit(inline="always", cache=True)
+def secant_energy_density(nom, s, bulk, shear):
+    """Recoverable (secant) elastic energy density ½ σ : C⁻¹σ̃ of a damaged point (J/m³):
+    the nominal stress σ = ``nom`` times the effective elastic strain C⁻¹σ̃ of the effective
+    stress σ̃ = ``s`` (both (xx, yy, xy, zz, xz, yz)). Unloading is secant (to the origin), so
+    this is what the point gives back; with no damage it is :func:`elastic_energy_density`, a
+    fully open crack stores nothing across it, and a cracked point in compression keeps its
+    whole compressive energy (damage acts on the tensile principal stresses only)."""
+    pn = -(nom[0] + nom[1] + nom[3]) / 3.0
+    ps = -(s[0] + s[1] + s[3]) / 3.0
+    dev = ((nom[0] + pn) * (s[0] + ps) + (nom[1] + pn) * (s[1] + ps)
+           + (nom[3] + pn) * (s[3] + ps)
+           + 2.0 * (nom[2] * s[2] + nom[4] * s[4] + nom[5] * s[5]))
+    return 0.5 * pn * ps / bulk + 0.25 * dev / shear
