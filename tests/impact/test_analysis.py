@@ -79,7 +79,11 @@ def _synthetic(dim, masses, kappa, seed, n_main, phi):
              n_secondary_cracks=1, spacing=0.004, energy_balance_error_max=0.001,
              wall_time_s=10.0 * dim, material_model="cap", main_crack_x_mid=0.0,
              main_crack_theta_deg=0.0, crushed_area=1e-4, main_crack_length_revised=0.15,
-             second_crack_length=0.0)
+             second_crack_length=0.0, n_main_cracks_opening=n_main,
+             n_secondary_cracks_opening=1, main_run_x_mid=0.0, main_run_share=0.9,
+             main_run_opening=1e-3, main_run_opening_growth=1.0,
+             main_crack_theta_opening_deg=0.0, main_crack_length_opening=0.15,
+             second_crack_length_opening=0.0)
     return m
 
 

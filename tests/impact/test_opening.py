@@ -114,3 +114,13 @@ def test_crushed_pairs_are_not_cracks():
     x = x0 + np.where(x0 > 0, 0.5e-3, -0.5e-3)
     plastic = np.full(x0.size, 0.01)
     assert measure(x0, y0, x, y0.copy(), plastic=plastic)["n_cracks_opening"] == 0
+
+
+def test_a_crack_away_from_the_line_counts_elsewhere():
+    x0, y0, yc = disc()
+    x = x0 + np.where(x0 > 0.03, 0.5e-3, 0.0)  # split at x = 32 mm
+    column = (np.abs(x0 - 0.002) < 0.5 * DX) & (np.abs(y0 - yc) <= 0.04)
+    out = measure(x0, y0, x, y0.copy(), mass=np.where(column, 0.0, 1.0), precrack=column)
+    assert out["main_cracks_elsewhere_opening"] == 1
+    assert not out["precrack_largest_opening_on_line"]
+    assert out["precrack_coverage_opening"] == 0.0

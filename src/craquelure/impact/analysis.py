@@ -50,6 +50,7 @@ PER_RUN = ("n_main_cracks", "main_crack_angle_deg", "cracked_fraction",
            "main_crack_max_opening", "second_crack_length_opening", "max_opening",
            "main_run_opening_half", "main_run_opening_growth", "precrack_coverage_opening",
            "precrack_largest_opening_on_line", "precrack_line_max_opening",
+           "main_cracks_elsewhere_opening",
            # what the comparisons hold fixed, per run
            "spacing", "as_epsilon", "crack_band_width", "contact_a", "material_model")
 
@@ -223,13 +224,14 @@ def summarise(paths, profile: str, scene: str, distribution: str,
         "cases": out_cases, "findings": findings,
         # findings carry their dimension ("dim"): the 3D campaign's beside the 2D one's
         "dimensions": dims, "reported_without_verdict": reported,
-        "notes": ("cracked = softening s >= 0.9 (residual tensile strength <= 0.1 f_t); "
-                  "D_t >= 0.9 is reported as cracked_fraction_damage. Main cracks: clusters of "
-                  "cracked, not crushed particles (reference distance <= 1.5 Delta) with extent "
-                  ">= R; parallel crack bands closer than 1.5 Delta merge into one cluster, "
-                  "and cracks joined by a branch or a transverse crack count once: "
-                  "centre_crossings (cracked runs along the row at the disc centre height) "
-                  "counts them separately and is given with each finding."),
+        "notes": ("Cracks are counted by opening (measure.opening_cracks, 2026-12-02): the "
+                  "growth of neighbour-pair separations in the plane (2D) or the mid-thickness "
+                  "layer (3D), opened above w_c = 2 G_F/f_t (the crack band's full-softening "
+                  "opening); N_main = main-crack crossings of the centre row (runs of opened "
+                  "gaps, ceil(k/2) cracks per run of k), each finding judged by its defining "
+                  "condition (check12.verdict). Softening-based numbers stay as secondary: "
+                  "cracked = softening s >= 0.9 (cracked_fraction), D_t >= 0.9 "
+                  "(cracked_fraction_damage), clusters (n_main_cracks_revised)."),
     }
 
 

@@ -454,6 +454,14 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
     if precrack is not None and np.asarray(precrack).any():
         out.update(_line_opening(x0, y0, pairs, w, w_c, in_crush, np.asarray(precrack, bool),
                                  spacing))
+        line = np.asarray(precrack, bool)
+        _, angle, _ = principal_axis(x0[line], y0[line])
+        u0, u1 = math.sin(math.radians(angle)), math.cos(math.radians(angle))
+        line_x = (x0[line].mean() + (centre_y - y0[line].mean()) * u0 / u1
+                  if abs(u1) > 1e-9 else x0[line].mean())
+        out["main_cracks_elsewhere_opening"] = sum(
+            count(r) for r in runs
+            if id(r) in main_ids and abs(float(gx[r].mean()) - line_x) > 3 * spacing)
     out["_cracks"] = cracks
     return out
 
