@@ -21,7 +21,8 @@ SMALL = ["particles.diameter_cells=20", "outputs.t_end=1.5e-4", "outputs.snapsho
 
 
 def inside(sig, epsv, epsp, mat, eps_fc):
-    """Surface value sqrt(J2) - (1 - D_c) R F_f(I1') (<= 0 inside) and I1' - X per particle."""
+    """Surface value sqrt(J2) - (1 - D_c) R F_f(I1') sqrt(F_c) (<= 0 inside; CSCM's coupled
+    cap, the cap at X of the particle's compaction) and I1' - X per particle."""
     c = mat.cap
     i1 = -(sig[:, 0] + sig[:, 1] + sig[:, 3])
     m = -i1 / 3.0
@@ -30,8 +31,9 @@ def inside(sig, epsv, epsp, mat, eps_fc):
     j3 = d[:, 2] * (d[:, 0] * d[:, 1] - sig[:, 2] ** 2)
     c3 = np.clip(1.5 * math.sqrt(3) * j3 / np.maximum(j2, 1e-30) ** 1.5, -1, 1)
     ratio = np.array([willam_warnke(math.cos(math.acos(v) / 3), c.e) for v in c3])
-    limit = (1 - np.minimum(DC_MAX, epsp / eps_fc)) * ratio * c.F_f(i1)
     x = np.array([cap_position(v, c.X0, c.W, c.D1, c.D2) for v in epsv])
+    cap = np.array([float(c.F_c(v, xv)) for v, xv in zip(i1, x, strict=True)])
+    limit = (1 - np.minimum(DC_MAX, epsp / eps_fc)) * ratio * c.F_f(i1) * np.sqrt(cap)
     return np.sqrt(j2) - limit, i1 - x, i1
 
 

@@ -129,8 +129,9 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
                                       * dt**2 / (st.rho0 * st.spacing**st.dim)
                                       if scene.has("contact_bulk") else None),
         "Drucker-Prager alpha, k [Pa]": mat.dp if scene.has("plasticity") else None,
-        "cap model alpha, lambda [Pa], beta [1/Pa], theta, e, X0 [Pa]": (
-            (mat.cap.alpha, mat.cap.lam, mat.cap.beta, mat.cap.theta, mat.cap.e, mat.cap.X0)
+        "cap model alpha, lambda [Pa], beta [1/Pa], theta, e, X0, kappa0 [Pa]": (
+            (mat.cap.alpha, mat.cap.lam, mat.cap.beta, mat.cap.theta, mat.cap.e, mat.cap.X0,
+             mat.cap.kappa0)
             if scene.has("cap_plasticity") else None),
         "compressive damage eps_fc": mat.eps_fc if scene.has("compressive_damage") else None,
         "crack band width l_c [m]": mat.band,

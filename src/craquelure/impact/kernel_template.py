@@ -64,7 +64,7 @@ PARAMS = ("bulk", "shear", "young", "alpha_dp", "k_dp", "kappa0", "kappa_f", "wa
           # cap model (Concrete.cap_vector order; contiguous from P_CAP)
           "cap_alpha", "cap_lambda", "cap_beta", "cap_theta", "cap_e", "cap_x0", "cap_w",
           "cap_d1", "cap_d2", "eps_fc", "eta0_t", "n_t", "eta0_c", "n_c", "overt", "overc",
-          "f_t", "f_c")
+          "f_t", "f_c", "cap_kappa0", "cap_r")
 N_PARAMS = len(PARAMS)
 P_BULK, P_SHEAR, P_YOUNG, P_ALPHA_DP, P_K_DP, P_KAPPA0, P_KAPPA_F = param_indices(
     PARAMS, "bulk", "shear", "young", "alpha_dp", "k_dp", "kappa0", "kappa_f")
@@ -74,7 +74,7 @@ P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = param_indic
     PARAMS, "h_min", "h_max", "base_y", "contact_radius", "contact_a", "k_bulk", "kinematic_ratio")
 P_LX, P_LY, P_LZ = param_indices(PARAMS, "lx", "ly", "lz")
 P_CAP = PARAMS.index("cap_alpha")
-CAP_PARAMS = PARAMS[P_CAP:P_CAP + 18]
+CAP_PARAMS = PARAMS[P_CAP:P_CAP + 20]
 P_FLUSH = PARAMS.index("flush_below")
 
 
@@ -173,8 +173,8 @@ def plastic_return(s, epsv, epsp, d, prm):
         dif = increase_factor(-principal_rates(d)[1], prm[P_YOUNG],
                               prm[c + 12], prm[c + 13], prm[c + 15], prm[c + 17])
     return cap_return(s, epsv, prm[c], prm[c + 1], prm[c + 2], prm[c + 3],
-                      prm[c + 4], prm[c + 5], prm[c + 6], prm[c + 7], prm[c + 8], prm[P_BULK],
-                      prm[P_SHEAR], strength, dif)
+                      prm[c + 4], prm[c + 5], prm[c + 6], prm[c + 7], prm[c + 8],
+                      prm[c + 18], prm[c + 19], prm[P_BULK], prm[P_SHEAR], strength, dif)
 
 
 @njit(parallel=True, cache=True)

@@ -77,7 +77,7 @@ class Concrete:
         c, r = self.cap, self.rates
         return np.array([c.alpha, c.lam, c.beta, c.theta, c.e, c.X0, c.W, c.D1, c.D2,
                          self.eps_fc, r["eta0_t"], r["n_t"], r["eta0_c"], r["n_c"], r["overt"],
-                         r["overc"], self.f_t, self.f_c])
+                         r["overc"], self.f_t, self.f_c, c.kappa0, c.R])
 
     @property
     def kappa0(self) -> float:
@@ -130,7 +130,7 @@ def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young,
             dif_c = increase_factor(-r3, young, cap[12], cap[13], cap[15], cap[17])
         s, dv, deps, work = cap_return(
             s, state[8], cap[0], cap[1], cap[2], cap[3], cap[4], cap[5],
-            cap[6], cap[7], cap[8], bulk, shear, strength, dif_c)
+            cap[6], cap[7], cap[8], cap[18], cap[19], bulk, shear, strength, dif_c)
         state[6] += deps
         state[7] += work
         state[8] += dv
@@ -164,7 +164,7 @@ def drive(mat: Concrete, strain_path: np.ndarray, free: tuple[str, ...],
     """
     alpha, k = mat.dp
     variant = {True: DRUCKER_PRAGER, False: NO_PLASTICITY, "cap": CAP}[plastic]
-    cap = mat.cap_vector() if variant == CAP or rate else np.zeros(18)
+    cap = mat.cap_vector() if variant == CAP or rate else np.zeros(20)
     free_idx = [COMPONENTS.index(c) for c in free]
     goal = np.zeros((strain_path.shape[0], len(free_idx))) if targets is None else targets
     state = np.zeros(9)

@@ -1,60 +1,88 @@
-r"""CSCM-like shear surface with a curved compression meridian, Lode-angle dependence and a
-compaction cap (impact spec section 2 item 5; CSCM = LS-DYNA MAT_159, Murray, FHWA-HRT-05-062,
-2007). Replaces the straight Drucker-Prager cone of :mod:`.plasticity` (the two conflict).
+r"""CSCM-like shear surface with a curved compression meridian, Lode-angle dependence and
+CSCM's compaction cap, coupled to the shear surface as CSCM couples them (impact spec section 2
+item 5; CSCM = LS-DYNA MAT_159 / MAT_CSCM_CONCRETE, Murray, *Users Manual for LS-DYNA Concrete
+Material Model 159*, FHWA-HRT-05-062, 2007, chapter 2 "Theoretical manual" and the default
+parameters of its chapter on fits; evaluated in FHWA-HRT-05-063, 2007). Replaces the straight
+Drucker-Prager cone of :mod:`.plasticity` (the two conflict).
 
-Pressure-type invariant, compression positive: :math:`I_1' = -\mathrm{tr}\tilde\sigma`.
-Compression meridian (triaxial compression, TXC) in units of :math:`\sqrt{J_2}`:
+Pressure-type invariant, compression positive (CSCM's sign convention): :math:`I_1' =
+-\mathrm{tr}\tilde\sigma`. Shear failure surface on the compression meridian (TXC) in units of
+:math:`\sqrt{J_2}`:
 
 .. math::
     F_f(I_1') = \alpha - \lambda e^{-\beta I_1'} + \theta I_1' .
 
+CSCM's yield function couples it with the cap multiplicatively,
+
+.. math::
+    f = J_2 - \Re^2 F_f^2 F_c, \qquad
+    F_c = 1 - \frac{[I_1' - L(\kappa)]\,\bigl(|I_1' - L(\kappa)| + I_1' - L(\kappa)\bigr)}
+                   {2\,[X(\kappa) - L(\kappa)]^2},
+
+so :math:`F_c = 1` for :math:`I_1' \le L` and :math:`F_c = 1 - ((I_1' - L)/(X - L))^2` on the
+elliptical cap between L and X; :math:`L(\kappa) = \max(\kappa, \kappa_0)` and
+:math:`X(\kappa) = L(\kappa) + R\,F_f(L(\kappa))`. The cap's initial position is its intercept
+:math:`X_0` on the I1 axis: the hardening law is written in :math:`X - X_0`,
+
+.. math::
+    \varepsilon_v^p = W\bigl(1 - e^{-D_1 (X - X_0) - D_2 (X - X_0)^2}\bigr),
+
+and :math:`\kappa_0` (where cap and shear surface meet before hardening) follows from
+:math:`X_0 = \kappa_0 + R\,F_f(\kappa_0)`; as the cap hardens, L solves
+:math:`L + R F_f(L) = X` (monotone: :math:`1 + R F_f' > 0`). The LS-DYNA keyword takes the fitted
+number as the input ``X0`` of its cap card (``R, X0, W, D1, D2``; e.g. the public keyword
+generator MatCSCM.py of yurynovozhilov/MAT_CSCM_CONCRETE_NOVOZHILOV writes the fit
+8.769178e-3 f'c² − 0.073302306 f'c + 84.85 into ``X0``). [Before 2026-12-02 this module took the
+fit as κ0 and put X0 = κ0 + R F_f(κ0) = 330.6 MPa: hydrostatic yield at p = 110 MPa instead of
+X0/3 = 32.7 MPa.]
+
 Lode-angle dependence (Willam-Warnke ellipse, in the role of CSCM's Rubin factor):
-:math:`\sqrt{J_2} \le \Re(\psi)\,F_f(I_1')`, :math:`\Re = 1` on TXC, :math:`\Re = e` on the
-extension meridian (TXE: uniaxial tension, equibiaxial compression), with
-:math:`\cos 3\psi = \tfrac{3\sqrt3}{2} J_3/J_2^{3/2}` (:math:`\psi = 0` on TXE) and
+:math:`\Re = 1` on TXC, :math:`\Re = e` on the extension meridian (TXE: uniaxial tension,
+equibiaxial compression), :math:`\cos 3\psi = \tfrac{3\sqrt3}{2} J_3/J_2^{3/2}` (:math:`\psi = 0`
+on TXE) and
 
 .. math::
     \Re = \frac{2(1-e^2)\cos\psi + (2e-1)\sqrt{4(1-e^2)\cos^2\psi + 5e^2 - 4e}}
                {4(1-e^2)\cos^2\psi + (2e-1)^2}.
 
-Cap (compaction, CSCM's hardening law): the hydrostatic limit :math:`I_1' \le X`, with
+Return (per step): left of L (:math:`I_1' \le L`) the deviator returns radially at fixed
+:math:`I_1'` and Lode angle, :math:`s \leftarrow r s`, :math:`r = \phi\,\Re F_f/\sqrt{J_2}`, zero
+dilatancy as in :mod:`.plasticity`. On the cap (:math:`I_1' > L`, outside) the stress returns to
+the closest point of the coupled surface in the elastic metric :math:`(\Delta I_1')^2/(9K) +
+(\Delta\sqrt{J_2})^2/G` (the metric in which associated flow is the closest-point projection),
+searched over :math:`I_1' \in [L, \min(I_1'^{tr}, X)]` (the return compacts, never dilates), the
+pressure drop being the compaction :math:`\Delta\varepsilon_v^p = (I_1'^{tr} - I_1')/(3K)` and
+the cap hardened by it within the same step (implicit: Illinois regula falsi on the scalar
+compaction, :func:`_compaction`); on the hydrostatic axis this is the cap's hardening law
+exactly. :math:`\Delta\bar\varepsilon_p = (1-r)\sqrt{J_2^{tr}}/(\sqrt3 G)`. :math:`\phi = 1 - D_c`
+carries the compressive damage (:mod:`.compressive_damage`); with :mod:`.rate_effects` the
+whole surface (shear surface and cap) is enlarged homothetically by DIF_c. Plastic work density:
+:math:`r(1-r)J_2^{tr}/G + p\,\Delta\varepsilon_v^p` (:math:`p = I_1'/3`). As with the cone, the
+return acts only for :math:`I_1' > 0`: tension is the Rankine damage model's domain.
 
-.. math::
-    \varepsilon_v^p = W\bigl(1 - e^{-D_1 (X - X_0) - D_2 (X - X_0)^2}\bigr), \quad
-    X_0 = \kappa_0 + R\,F_f(\kappa_0),
+Differences from CSCM [D]: the return is not CSCM's associated return with subincrementation:
+left of the cap's top the closest point never lies below the trial's I1' (no plastic dilatancy;
+CSCM's associated flow dilates there), and the Lode factor is held at the trial's; no pre-peak
+hardening (CSCM's N_H, C_H); Willam-Warnke with a constant ratio e instead of Rubin's
+pressure-dependent Q_1, Q_2. Consequence measured at a material point
+(tests/impact/effects/test_cap_plasticity.py, 2026-12-02): in triaxial compression the stress
+settles on the coupled surface with F_c < 1 (at 25 MPa confinement q = 112.6 MPa against the
+uncoupled meridian's √3 F_f = 137.4 MPa, −18 %), not on the meridian.
 
-so :math:`X(\varepsilon_v^p) = X_0 + \Delta`, :math:`D_1\Delta + D_2\Delta^2 = -\ln(1 -
-\varepsilon_v^p/W)`. Return (operator split, per step): (1) if :math:`I_1'^{tr} > X`, the
-pressure returns to the cap with the compaction :math:`\Delta\varepsilon_v^p = (I_1'^{tr} -
-I_1')/(3K)` that makes :math:`I_1' = X(\varepsilon_v^p + \Delta\varepsilon_v^p)` (Newton on a
-monotone scalar equation); (2) radial return of the deviator at fixed :math:`I_1'` and Lode
-angle, :math:`s \leftarrow r s`, :math:`r = \phi\,\Re F_f/\sqrt{J_2}` if :math:`r < 1`, zero
-dilatancy as in :mod:`.plasticity`, :math:`\Delta\bar\varepsilon_p = (1-r)\sqrt{J_2^{tr}}/(\sqrt3
-G)`. :math:`\phi = 1 - D_c` carries the compressive damage (:mod:`.compressive_damage`); with
-:mod:`.rate_effects` the surface is enlarged homothetically by DIF_c.
-Plastic work density: :math:`r(1-r)J_2^{tr}/G + p\,\Delta\varepsilon_v^p` (:math:`p = I_1'/3`).
-As with the cone, the shear return acts only for :math:`I_1' > 0`: tension is the Rankine damage
-model's domain (otherwise the extension meridian would cap uniaxial tension at 2.7 MPa < f_t).
-
-Differences from CSCM [D]: CSCM's cap multiplies the shear surface by :math:`\sqrt{F_c}` (an
-elliptical cap coupling shear and compaction); here the cap is a plane :math:`I_1' = X` in the
-meridian plane (same hydrostatic limit and hardening, no shear-compaction coupling), which keeps
-the return to two scalar steps; no pre-peak hardening (CSCM's N_H, C_H); Willam-Warnke with a
-constant ratio e instead of Rubin's pressure-dependent Q_1, Q_2.
-
-Constants for :math:`f_c` = 43.1 MPa (MPa, 1/MPa), from the default-parameter fits by strength of
-Murray (2007), its "revision 1" polynomials in :math:`f'_c` [MPa]
-(:func:`murray_fits`): :math:`\alpha = -0.003 f'^2_c + 0.3169747 f'_c + 7.7047` = 15.79,
-:math:`\lambda` = 10.5, :math:`\beta` = 0.01929, :math:`\theta = 1.3216\times10^{-5} f'^2_c +
-2.3548\times10^{-3} f'_c + 0.2140058` = 0.3401, :math:`\kappa_0 = 8.769178\times10^{-3} f'^2_c -
-0.073302306 f'_c + 84.85` = 97.98, R = 5, W = 0.05, D_1 = 2.5e-4, D_2 = 3.49e-7.
-Two fitted to this project's strengths [D] (:func:`surface_constants`): Murray's
-:math:`F_f(f_c)` = 25.87 MPa lies 4 % above the uniaxial point :math:`f_c/\sqrt3` = 24.88 MPa
-(uniaxial strength 49.5 MPa instead of 43.1), so :math:`\alpha` is shifted by −0.99 MPa to
-14.80 MPa, which puts the uniaxial compressive strength at f_c (spec check 6) and keeps
-:math:`\lambda, \beta, \theta`; e = 0.611 puts the equibiaxial strength at
-:math:`f_{bc}` = 1.16 f_c (Kupfer, as the cone's fit). Then X_0 = 97.98 + 5 F_f(97.98) = 330.6 MPa
-(hydrostatic yield at p = 110 MPa).
+Constants for :math:`f'_c` = 43.1 MPa, every one from Murray (2007)'s default-parameter fits
+("revision 1" polynomials in :math:`f'_c` [MPa], :func:`murray_fits`; the same polynomials as the
+REV_1 branch of the public MatCSCM.py above): :math:`\alpha = -0.003 f'^2_c + 0.3169747 f'_c +
+7.7047` = 15.79 MPa, :math:`\lambda` = 10.5 MPa, :math:`\beta` = 0.01929 1/MPa, :math:`\theta =
+1.3216\times10^{-5} f'^2_c + 2.3548\times10^{-3} f'_c + 0.2140058` = 0.3401, :math:`X_0 =
+8.769178\times10^{-3} f'^2_c - 0.073302306 f'_c + 84.85` = 97.98 MPa, R = 5, W = 0.05,
+D_1 = 2.5e-4 1/MPa, D_2 = 3.49e-7 1/MPa². Derived: κ0 = 20.21 MPa (F_f(κ0) = 15.55 MPa).
+No α shift: with the coupling, Murray's unshifted α gives the unconfined strength 42.53 MPa
+(1.3 % below f_c; the uncoupled meridian alone would give 49.5 MPa, which is what the former
+α shift of −0.99 MPa compensated). One constant is this project's [D] (:func:`surface_constants`):
+e = 0.596 puts the equibiaxial point (f_bc/√3 at I1' = 2 f_bc, f_bc = 1.16 f_c, Kupfer) on the
+uncoupled shear surface, where CSCM uses its own Rubin fits; that point lies at I1' = 100 MPa,
+beyond X0, so the equibiaxial strength is reached only as the cap hardens
+(tests/impact/effects/test_cap_plasticity.py measures it).
 """
 
 import math
@@ -65,22 +93,24 @@ from numba import njit
 from craquelure.registry import Effect
 
 EFFECT = Effect("impact", "cap_plasticity", "CAP_PLASTICITY", "CSCM-like curved compression "
-                "meridian (Murray 2007 fits), Willam-Warnke Lode dependence, compaction cap",
-                requires=("material.f_c",), conflicts=("plasticity",))
+                "meridian (Murray 2007 fits), Willam-Warnke Lode dependence, CSCM's elliptical "
+                "compaction cap from X0", requires=("material.f_c",), conflicts=("plasticity",))
 
 MPA = 1e6
+R_CAP = 5.0  # CSCM's cap ellipticity R (revision 1 default, Murray 2007)
 
 
 def murray_fits(f_c: float) -> dict[str, float]:
-    """Murray (2007) default-parameter fits (revision 1) at f'_c = ``f_c`` [Pa]; SI units out."""
+    """Murray (2007) default-parameter fits (revision 1) at f'_c = ``f_c`` [Pa]; SI units out.
+    ``X0`` is the cap's initial I1 intercept (MAT_CSCM's input X0)."""
     f = f_c / MPA
     return {
         "alpha": (-0.003 * f * f + 0.3169747 * f + 7.7047) * MPA,
         "lambda": 10.5 * MPA,
         "beta": 0.01929 / MPA,
         "theta": 1.3216e-5 * f * f + 2.3548e-3 * f + 0.2140058,
-        "kappa0": (8.769178e-3 * f * f - 0.073302306 * f + 84.85) * MPA,
-        "R": 5.0,
+        "X0": (8.769178e-3 * f * f - 0.073302306 * f + 84.85) * MPA,
+        "R": R_CAP,
         "W": 0.05,
         "D1": 2.5e-4 / MPA,
         "D2": 3.49e-7 / MPA**2,
@@ -96,45 +126,74 @@ def meridian(i1, alpha, lam, beta, theta):
 
 @dataclass(frozen=True)
 class CapSurface:
-    """Constants of the surface (SI). ``alpha_murray`` is Murray's fit before the shift."""
+    """Constants of the surface (SI): Murray's fits, e fitted, κ0 derived from X0."""
 
     alpha: float
     lam: float
     beta: float
     theta: float
     e: float
-    kappa0: float
+    X0: float
     R: float
     W: float
     D1: float
     D2: float
-    alpha_murray: float
 
     def F_f(self, i1):
         return meridian(i1, self.alpha, self.lam, self.beta, self.theta)
 
     @property
-    def X0(self) -> float:
-        return self.kappa0 + self.R * float(self.F_f(self.kappa0))
+    def kappa0(self) -> float:
+        """κ0 from X0 = κ0 + R F_f(κ0)."""
+        return cap_left(self.X0, self.R, self.alpha, self.lam, self.beta, self.theta)
+
+    def F_c(self, i1, x=None):
+        """CSCM's cap function at I1' for the cap at X (default: the initial cap X0)."""
+        import numpy as np
+
+        x = self.X0 if x is None else x
+        left = cap_left(x, self.R, self.alpha, self.lam, self.beta, self.theta)
+        d = np.maximum(np.asarray(i1, float) - left, 0.0)
+        return np.clip(1.0 - (d / (x - left)) ** 2, 0.0, 1.0)
+
+    def shear_limit(self, i1, x=None):
+        """√J2 limit on TXC with the cap: F_f √F_c (compression positive, Pa)."""
+        import numpy as np
+
+        return self.F_f(i1) * np.sqrt(self.F_c(i1, x))
 
 
 def surface_constants(f_c: float, f_bc_ratio: float = 1.16) -> CapSurface:
-    """Murray's fits at f_c with alpha shifted through the uniaxial point (f_c/sqrt3 at I1' = f_c)
-    and the Willam-Warnke ratio e through the equibiaxial point (f_bc/sqrt3 at I1' = 2 f_bc)."""
+    """Murray's fits at f_c, X0 as fitted, and the Willam-Warnke ratio e through the
+    equibiaxial point (f_bc/sqrt3 at I1' = 2 f_bc) on the uncoupled shear surface."""
     from craquelure.errors import SceneError
 
     m = murray_fits(f_c)
-    alpha = f_c / math.sqrt(3.0) + m["lambda"] * math.exp(-m["beta"] * f_c) - m["theta"] * f_c
     f_bc = f_bc_ratio * f_c
-    e = (f_bc / math.sqrt(3.0)) / float(meridian(2 * f_bc, alpha, m["lambda"], m["beta"],
+    e = (f_bc / math.sqrt(3.0)) / float(meridian(2 * f_bc, m["alpha"], m["lambda"], m["beta"],
                                                  m["theta"]))
     if not 0.5 <= e <= 1.0:
         raise SceneError(f"material.f_bc_ratio: {f_bc_ratio:g} gives a Willam-Warnke ratio "
                          f"e = {e:.3g} outside [0.5, 1]; allowed f_bc_ratio values give 0.5 <= e "
-                         f"<= 1 (1.16 gives 0.61)")
-    return CapSurface(alpha=alpha, lam=m["lambda"], beta=m["beta"], theta=m["theta"], e=e,
-                      kappa0=m["kappa0"], R=m["R"], W=m["W"], D1=m["D1"], D2=m["D2"],
-                      alpha_murray=m["alpha"])
+                         f"<= 1 (1.16 gives 0.60)")
+    return CapSurface(alpha=m["alpha"], lam=m["lambda"], beta=m["beta"], theta=m["theta"], e=e,
+                      X0=m["X0"], R=m["R"], W=m["W"], D1=m["D1"], D2=m["D2"])
+
+
+@njit(cache=True)
+def cap_left(x, r, alpha, lam, beta, theta):
+    """L with L + R F_f(L) = X (Newton: the left side is concave and increasing, so after the
+    first step the iterates stay below the root and increase to it)."""
+    k = x / (1.0 + r * theta)
+    for _ in range(100):
+        ex = math.exp(-beta * k)
+        g = k + r * (alpha - lam * ex + theta * k) - x
+        dg = 1.0 + r * (lam * beta * ex + theta)
+        step = g / dg
+        k -= step
+        if abs(step) <= 1e-13 * (abs(x) + 1.0):
+            break
+    return k
 
 
 @njit(inline="always", cache=True)
@@ -155,59 +214,137 @@ def cap_position(epsv, x0, w, d1, d2):
 
 
 @njit(inline="always", cache=True)
-def cap_return(s, epsv, alpha, lam, beta, theta, e, x0, w, d1, d2, bulk,
+def _limit(y, left, x, alpha, lam, beta, theta, scale, dif):
+    """√J2 limit at I1' = y: scale dif F_f(y/dif) √F_c (scale = (1 - D_c) ℜ); ``left`` and
+    ``x`` are the cap's L and X already enlarged by dif (the whole surface is enlarged
+    homothetically)."""
+    cap = 1.0
+    if y > left:
+        ratio = (y - left) / (x - left)
+        cap = max(1.0 - ratio * ratio, 0.0)
+    ys = y / dif
+    return scale * dif * (alpha - lam * math.exp(-beta * ys) + theta * ys) * math.sqrt(cap)
+
+
+@njit(cache=True)
+def _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear):
+    """I1' of the closest point of the coupled surface with the cap at X (left end L) to the
+    trial (I1', √J2) in the elastic metric (ΔI1')²/(9K) + (Δ√J2)²/G, searched (golden
+    section) over [L, min(I1'_trial, X)]: the return compacts, never dilates."""
+    hi = min(i1, x)
+    if hi <= left:
+        return hi
+    if sq == 0.0:
+        return hi
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    a, b = left, hi
+    c1, c2 = b - g * (b - a), a + g * (b - a)
+    f1 = ((c1 - i1) ** 2 / (9.0 * bulk)
+          + (_limit(c1, left, x, alpha, lam, beta, theta, scale, dif) - sq) ** 2 / shear)
+    f2 = ((c2 - i1) ** 2 / (9.0 * bulk)
+          + (_limit(c2, left, x, alpha, lam, beta, theta, scale, dif) - sq) ** 2 / shear)
+    for _ in range(60):
+        if f1 <= f2:
+            b, c2, f2 = c2, c1, f1
+            c1 = b - g * (b - a)
+            f1 = ((c1 - i1) ** 2 / (9.0 * bulk)
+                  + (_limit(c1, left, x, alpha, lam, beta, theta, scale, dif) - sq) ** 2
+                  / shear)
+        else:
+            a, c1, f1 = c1, c2, f2
+            c2 = a + g * (b - a)
+            f2 = ((c2 - i1) ** 2 / (9.0 * bulk)
+                  + (_limit(c2, left, x, alpha, lam, beta, theta, scale, dif) - sq) ** 2
+                  / shear)
+    return 0.5 * (a + b)
+
+
+@njit(cache=True)
+def _compaction(i1, sq, epsv, alpha, lam, beta, theta, x0, w, d1, d2, kappa0, r_cap,
+                scale, dif, bulk, shear):
+    """(Δε_v^p, I1', X, L) of the cap return with implicit hardening: the root of
+    h(Δ) = Δ − (I1'_trial − y(X(ε_v^p + Δ)))/(3K), y the closest point with the cap hardened by
+    Δ (h increases; Illinois regula falsi on [0, (I1'_trial − κ0 dif)/(3K)]); X and L are
+    returned enlarged by dif."""
+    def position(dv):
+        x = cap_position(epsv + dv, x0, w, d1, d2) if epsv + dv > 0.0 else x0
+        left = kappa0 if x <= x0 else cap_left(x, r_cap, alpha, lam, beta, theta)
+        return x * dif, left * dif
+
+    x, left = position(0.0)
+    y = _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear)
+    h_lo = -(i1 - y) / (3.0 * bulk)
+    if h_lo >= 0.0:
+        return 0.0, y, x, left
+    a, fa = 0.0, h_lo
+    b = (i1 - kappa0 * dif) / (3.0 * bulk)
+    x, left = position(b)
+    y = _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear)
+    fb = b - (i1 - y) / (3.0 * bulk)
+    side = 0
+    c = b
+    for _ in range(80):
+        c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
+        x, left = position(c)
+        y = _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear)
+        fc = c - (i1 - y) / (3.0 * bulk)
+        if abs(fc) <= 1e-13 * (b + 1e-30) or abs(b - a) <= 1e-14:
+            break
+        if fc * fb > 0.0:
+            b, fb = c, fc
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            a, fa = c, fc
+            if side == 1:
+                fb *= 0.5
+            side = 1
+    return c, y, x, left
+
+
+@njit(inline="always", cache=True)
+def cap_return(s, epsv, alpha, lam, beta, theta, e, x0, w, d1, d2, kappa0, r_cap, bulk,
                shear, strength, dif):
     """Returns (stress, d_eps_v^p, d_eps_p, plastic work density) for the trial stress ``s``,
-    both (xx, yy, xy, zz, xz, yz) (xz = yz = 0 in 2D).
-    ``strength`` = 1 - D_c scales the shear surface, ``dif`` = DIF_c enlarges it
-    homothetically (:mod:`.rate_effects`)."""
+    both (xx, yy, xy, zz, xz, yz) (xz = yz = 0 in 2D). ``x0``: the cap's initial I1 intercept
+    X0, ``kappa0`` its κ0 (X0 = κ0 + R F_f(κ0)), ``r_cap`` R. ``strength`` = 1 - D_c scales
+    the shear surface, ``dif`` = DIF_c enlarges it homothetically (:mod:`.rate_effects`).
+
+    Left of L (I1' <= L): radial return of the deviator at fixed I1'. On the cap (I1' > L and
+    outside): closest point on the coupled surface in the elastic metric ((ΔI1')²/(9K) +
+    (Δ√J2)²/G) over I1' in [L, min(I1'_trial, X)], with the cap hardened by the compaction
+    ΔI1' = 3K Δε_v^p of the same step (implicit, :func:`_compaction`)."""
     sxx, syy, sxy, szz, sxz, syz = s
     i1 = -(sxx + syy + szz)
-    d_epsv = 0.0
-    work = 0.0
-    x = cap_position(epsv, x0, w, d1, d2)
-    if i1 > x:
-        # pressure return: g(dv) = i1 - 3K dv - X(epsv + dv) = 0, g decreasing in dv
-        dv = 0.0
-        for _ in range(60):
-            xn = cap_position(epsv + dv, x0, w, d1, d2)
-            g = i1 - 3.0 * bulk * dv - xn
-            if abs(g) <= 1e-12 * (abs(i1) + x0):
-                break
-            # dX/deps_v = W e^{-c} ... / (D1 + 2 D2 Delta) / (W - eps_v)
-            delta = xn - x0
-            dxde = 1.0 / ((d1 + 2.0 * d2 * delta) * max(w - epsv - dv, 1e-12 * w))
-            dv += g / (3.0 * bulk + dxde)
-            if dv < 0.0:
-                dv = 0.0
-        # each normal stress loses K dv of compression
-        sxx += bulk * dv
-        syy += bulk * dv
-        szz += bulk * dv
-        i1 = -(sxx + syy + szz)
-        d_epsv = dv
-        work = i1 / 3.0 * dv
     if i1 <= 0.0:
-        return (sxx, syy, sxy, szz, sxz, syz), d_epsv, 0.0, work
+        return (sxx, syy, sxy, szz, sxz, syz), 0.0, 0.0, 0.0
+    x = cap_position(epsv, x0, w, d1, d2) if epsv > 0.0 else x0
+    left = (kappa0 if x <= x0 else cap_left(x, r_cap, alpha, lam, beta, theta)) * dif
+    x *= dif
     m = -i1 / 3.0
     dxx, dyy, dzz = sxx - m, syy - m, szz - m
     j2 = 0.5 * (dxx * dxx + dyy * dyy + dzz * dzz) + sxy * sxy + sxz * sxz + syz * syz
-    if j2 <= 0.0:
-        return (sxx, syy, sxy, szz, sxz, syz), d_epsv, 0.0, work
-    sq = math.sqrt(j2)
-    # J3 = det(s); the xz, yz terms vanish in 2D
-    j3 = (dzz * (dxx * dyy - sxy * sxy) - dxx * syz * syz - dyy * sxz * sxz
-          + 2.0 * sxy * sxz * syz)
-    c3 = 1.5 * math.sqrt(3.0) * j3 / (j2 * sq)
-    c3 = min(1.0, max(-1.0, c3))
-    cos_psi = math.cos(math.acos(c3) / 3.0)
-    i1s = i1 / dif
-    limit = strength * dif * willam_warnke(cos_psi, e) * (alpha - lam * math.exp(-beta * i1s)
-                                                          + theta * i1s)
-    if sq <= limit:
-        return (sxx, syy, sxy, szz, sxz, syz), d_epsv, 0.0, work
-    r = max(limit, 0.0) / sq
+    sq = math.sqrt(max(j2, 0.0))
+    scale = strength
+    if sq > 0.0:
+        # J3 = det(s); the xz, yz terms vanish in 2D
+        j3 = (dzz * (dxx * dyy - sxy * sxy) - dxx * syz * syz - dyy * sxz * sxz
+              + 2.0 * sxy * sxz * syz)
+        c3 = 1.5 * math.sqrt(3.0) * j3 / (j2 * sq)
+        c3 = min(1.0, max(-1.0, c3))
+        scale = strength * willam_warnke(math.cos(math.acos(c3) / 3.0), e)
+    if i1 < x and sq <= _limit(i1, left, x, alpha, lam, beta, theta, scale, dif):
+        return (sxx, syy, sxy, szz, sxz, syz), 0.0, 0.0, 0.0
+    dv, y = 0.0, i1
+    if i1 > left:
+        dv, y, x, left = _compaction(i1, sq, epsv, alpha, lam, beta, theta, x0, w, d1, d2,
+                                     kappa0, r_cap, scale, dif, bulk, shear)
+    limit = _limit(y, left, x, alpha, lam, beta, theta, scale, dif)
+    r = min(max(limit, 0.0) / sq, 1.0) if sq > 0.0 else 1.0
+    mn = -y / 3.0
+    work = y / 3.0 * dv
     deps = (1.0 - r) * sq / (math.sqrt(3.0) * shear)
     work += r * (1.0 - r) * j2 / shear if r > 0.0 else j2 / shear
-    return ((m + r * dxx, m + r * dyy, r * sxy, m + r * dzz, r * sxz, r * syz), d_epsv, deps,
+    return ((mn + r * dxx, mn + r * dyy, r * sxy, mn + r * dzz, r * sxz, r * syz), dv, deps,
             work)

@@ -13,9 +13,10 @@ strength of the damaged surface, the root of :math:`\sigma/\sqrt3 = (1-D)F_f(\si
 (:math:`\sigma_u(0) = f_c`); since :math:`d\bar\varepsilon_p = \varepsilon_{fc}\,dD` in uniaxial
 compression, the plastic work after the peak is :math:`\varepsilon_{fc}\int\sigma_u dD =
 G_{fc}/\ell_c`: the crushing band ℓ_c (the tensile crack band, :func:`.damage.crack_band_width`)
-dissipates G_fc per unit area. The curved meridian makes σ_u fall faster than 1 − D (the
-strength drops with the pressure), ∫σ_u dD = 0.26 f_c instead of 0.5 f_c, so ε_fc = 0.093 at
-ℓ_c = 8 mm (0.048 for a linear drop). :math:`D_{c,max}` = 0.99 keeps a residual shear strength
+dissipates G_fc per unit area. The curved meridian and CSCM's cap make σ_u fall faster than
+1 − D (the strength drops with the pressure), ∫σ_u dD = 0.30 f_c instead of 0.5 f_c, so
+ε_fc = 0.081 at ℓ_c = 8 mm (0.048 for a linear drop; 0.093 before the cap was put at X0,
+2026-12-02). :math:`D_{c,max}` = 0.99 keeps a residual shear strength
 of 1 % (a fluid-like crushed zone would let the contact particles interpenetrate).
 
 Differences from CSCM [D]: CSCM's ductile damage is an exponential function of an energy norm
@@ -38,11 +39,12 @@ DC_MAX = 0.99
 
 
 def uniaxial_strength(damage: float, surface) -> float:
-    """σ_u(D): root of σ/√3 = (1 − D) F_f(σ) (compression positive, Pa)."""
+    """σ_u(D): root of σ/√3 = (1 − D) F_f(σ) √F_c(σ) (compression positive, Pa; the initial
+    cap's F_c, :mod:`.cap_plasticity`)."""
     from scipy.optimize import brentq
 
     def g(sig):
-        return sig / math.sqrt(3.0) - (1.0 - damage) * float(surface.F_f(sig))
+        return sig / math.sqrt(3.0) - (1.0 - damage) * float(surface.shear_limit(sig))
 
     hi = 1.0
     while g(hi) < 0.0:
