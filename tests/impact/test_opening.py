@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
+from craquelure.impact.initial_state import grid
 from craquelure.impact.measure import full_softening_opening, opening_cracks
-from craquelure.impact.specimen import grid
 
 DX = 0.004
 W_C = full_softening_opening(83.25, 3.216e6)  # 0.052 mm

@@ -6,8 +6,8 @@ from craquelure.cf import ModelMetadata
 
 # Impact: the spec's SI units, 2D per unit out-of-plane thickness.
 METADATA = ModelMetadata(
-    title="Concrete impact: 2D SPH concrete disc with random particle masses hitting a rigid "
-          "base",
+    title="Concrete impact: SPH concrete disc (2D slice or 3D) with random particle masses "
+          "hitting a rigid base",
     references="M. Husek, F. Hokes, J. Kala, P. Kral, Inclusion of Randomness into SPH "
                "Simulations, WSEAS Transactions; J. Kala, M. Husek, Effect of the support "
                "domain size in SPH fracture simulations, Shock Vib. 2016; project spec "
