@@ -197,8 +197,9 @@ def _field_vars(st: State, mat: Concrete) -> dict:
 
 
 SERIES = ("time", "contact_force", "contact_force_penalty", "kinetic", "internal", "elastic",
-          "plastic", "damage", "viscous", "artificial_stress", "penalty", "kinematic_removed",
-          "balance_error", "momentum_y", "vcm_y", "cracked_fraction", "impulse")
+          "plastic", "damage", "unattributed", "viscous", "artificial_stress", "penalty",
+          "kinematic_removed", "balance_error", "momentum_y", "vcm_y", "cracked_fraction",
+          "impulse")
 SNAPSHOT_FIELDS = ("x", "y", "damage", "softening", "plastic_strain")
 
 

@@ -141,6 +141,7 @@ class State:
     epsv: np.ndarray = field(default=None)  # plastic compaction (cap model)
     eint: np.ndarray = field(default=None)  # internal energy per unit mass
     eel: np.ndarray = field(default=None)   # elastic energy per unit mass
+    wd: np.ndarray = field(default=None)    # damage dissipation per unit mass
     z: np.ndarray = field(default=None)     # 3D: out-of-plane position (2D: zeros)
     vz: np.ndarray = field(default=None)
     dim: int = 2
@@ -156,7 +157,8 @@ class State:
             setattr(self, name, np.array(getattr(self, name), dtype=np.float64, copy=True))
         ncomp = 4 if self.dim == 2 else 6
         for name, shape in (("sig", (n, ncomp)), ("nom", (n, ncomp)), ("kap", n), ("dmg", n),
-                            ("epsp", n), ("wp", n), ("epsv", n), ("eint", n), ("eel", n)):
+                            ("epsp", n), ("wp", n), ("epsv", n), ("eint", n), ("eel", n),
+                            ("wd", n)):
             if getattr(self, name) is None:
                 setattr(self, name, np.zeros(shape))
 
@@ -294,7 +296,7 @@ class Engine:
         mom_half, ke_half = self._kick(dt)
         k.material_pass(st.x, st.y, st.z, st.vx, st.vy, st.vz, st.m, st.rho, st.h, st.h0, st.sig,
                         st.nom, st.kap, st.dmg, st.epsp, st.wp, st.epsv, st.eint, st.eel,
-                        self.offsets, self.index, dt, self.prm)
+                        st.wd, self.offsets, self.index, dt, self.prm)
         st.x += dt * st.vx
         st.y += dt * st.vy
         if self.s.dim == 3:
@@ -328,8 +330,14 @@ class Engine:
         e_int = float(np.dot(st.m, st.eint))
         e_el = float(np.dot(st.m, st.eel))
         e_p = float(np.dot(st.m, st.wp))
+        e_d = float(np.dot(st.m, st.wd))
+        # damage: booked by its own law (the secant energy the damage growth releases);
+        # unattributed: what the internal energy holds beyond elastic, plastic and damage
+        # (the plastic work is the return's on the effective stress, the stress power the
+        # nominal stress's: they differ where damaged points yield)
         return {"kinetic": self.kinetic_energy(), "internal": e_int, "elastic": e_el,
-                "plastic": e_p, "damage": e_int - e_el - e_p, "viscous": self.e_av,
+                "plastic": e_p, "damage": e_d, "unattributed": e_int - e_el - e_p - e_d,
+                "viscous": self.e_av,
                 "artificial_stress": self.e_as, "penalty": self.e_pen,
                 "kinematic_removed": self.e_kin}
 

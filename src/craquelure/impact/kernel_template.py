@@ -179,10 +179,13 @@ def plastic_return(s, epsv, epsp, d, prm):
 
 @njit(parallel=True, cache=True)
 def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, epsv, eint,
-                  eel, offsets, index, dt, prm):
+                  eel, wd, offsets, index, dt, prm):
     """Velocity gradient with the mid-step velocities, then per particle: ρ and h (exact
     exponential update), Jaumann trial → DP return → damage → nominal stress; stress power
-    (trapezoidal in the nominal stress) accumulated into the specific internal energy.
+    (trapezoidal in the nominal stress) accumulated into the specific internal energy; the
+    damage dissipation per unit mass ``wd`` is the energy the damage growth releases at the
+    step's effective stress, (D_new − D_old) ½ P₊σ̃ : C⁻¹σ̃ (P₊σ̃ the tensile principal part,
+    = (σ̃ − σ)/D_new): the secant energy lost, booked by its own law.
     The pair sums read ρ and h of the step's start (copies): this loop updates ρ_i and h_i in
     place, and reading a neighbour's value as it is being overwritten made the result depend
     on the particle order and, with several threads, on their timing."""
@@ -263,6 +266,12 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, kap, dmg, epsp, 
                                          prm[P_CAP + 16])
             k, dmg_i, nominal = damage_update(s, kap[i], young, prm[P_KAPPA0], prm[P_KAPPA_F])
             kap[i] = k
+            if dmg_i > dmg[i]:
+                grow = (dmg_i - dmg[i]) / dmg_i
+                tensile = (s[0] - nominal[0], s[1] - nominal[1], s[2] - nominal[2],
+                           s[3] - nominal[3], s[4] - nominal[4], s[5] - nominal[5])
+                wd[i] += grow * secant_energy_density(tensile, s, prm[P_BULK],
+                                                      prm[P_SHEAR]) / rho[i]
             dmg[i] = dmg_i
             store_stress(nom, i, nominal, tiny)
         else:

@@ -38,7 +38,10 @@ METADATA = ModelMetadata(
         "series_internal": ("internal energy per unit thickness", "J m-1"),
         "series_elastic": ("elastic strain energy per unit thickness", "J m-1"),
         "series_plastic": ("plastic work per unit thickness", "J m-1"),
-        "series_damage": ("energy dissipated by damage per unit thickness", "J m-1"),
+        "series_damage": ("energy dissipated by damage (released secant energy) per unit "
+                          "thickness", "J m-1"),
+        "series_unattributed": ("internal energy not elastic, plastic nor damage per unit "
+                                "thickness", "J m-1"),
         "series_viscous": ("energy dissipated by artificial viscosity per unit thickness",
                            "J m-1"),
         "series_artificial_stress": ("energy of the artificial stress per unit thickness",
