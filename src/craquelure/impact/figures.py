@@ -130,3 +130,167 @@ def figure_accuracy(rows: list[dict], floors: dict, out: Path, label: str) -> No
                  f"dashed: lattice floor 1 - g(kappa)\n{label}", fontsize=7)
     ax.legend(fontsize=7)
     save(fig, out)
+
+
+# --- pictures of the judged runs (issue 29 item 6): opening maps, time sequence, energy
+# partition, fragment sizes; from the run datasets only ---------------------------------------
+
+def _layer(ds):
+    """Index array of the plane (2D) or the mid-thickness layer (3D) the measure uses."""
+    from craquelure.impact.measure import mid_slab
+
+    if "z0" in ds:
+        return np.flatnonzero(mid_slab(ds["z0"].values, float(run_fact(ds, "spacing"))))
+    return np.arange(ds.sizes["particle"])
+
+
+def particle_opening(ds, x=None, y=None) -> tuple[np.ndarray, np.ndarray]:
+    """(layer indices, largest opening of each layer particle's pairs [m]) at the positions
+    ``x``, ``y`` (all particles; default the final ones), by the opening measure's pairs."""
+    from craquelure.impact.measure import neighbour_pairs, pair_openings
+
+    idx = _layer(ds)
+    x0, y0, mass = (ds[k].values[idx] for k in ("x0", "y0", "mass"))
+    xs = (ds["x"].values if x is None else x)[idx]
+    ys = (ds["y"].values if y is None else y)[idx]
+    pairs = neighbour_pairs(x0, y0, mass, float(run_fact(ds, "spacing")))
+    w = pair_openings(pairs, x0, y0, xs, ys) if len(pairs) else np.zeros(0)
+    per = np.zeros(idx.size)
+    if len(pairs):
+        np.maximum.at(per, pairs[:, 0], w)
+        np.maximum.at(per, pairs[:, 1], w)
+    return idx, per
+
+
+def fragments(ds) -> np.ndarray:
+    """Sizes (particle counts) of the fragments of the layer: massive particles joined by
+    pairs that did not open (w <= w_c), largest first."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from craquelure.impact.measure import full_softening_opening, neighbour_pairs, pair_openings
+
+    scene = run_scene(ds)
+    w_c = full_softening_opening(scene.get("material.G_F"), scene.get("material.f_t"))
+    idx = _layer(ds)
+    x0, y0, mass = (ds[k].values[idx] for k in ("x0", "y0", "mass"))
+    pairs = neighbour_pairs(x0, y0, mass, float(run_fact(ds, "spacing")))
+    w = pair_openings(pairs, x0, y0, ds["x"].values[idx], ds["y"].values[idx])
+    closed = pairs[w <= w_c]
+    n = idx.size
+    graph = coo_matrix((np.ones(len(closed)), (closed[:, 0], closed[:, 1])), shape=(n, n))
+    _, labels = connected_components(graph, directed=False)
+    sizes = np.bincount(labels[mass > 0])
+    return np.sort(sizes[sizes > 0])[::-1]
+
+
+def _opening_panel(ax, ds, x=None, y=None, vmax=2.0):
+    idx, per = particle_opening(ds, x, y)
+    xs = (ds["x"].values if x is None else x)[idx]
+    ys = (ds["y"].values if y is None else y)[idx]
+    cells = float(np.ptp(ds["x0"].values)) / float(run_fact(ds, "spacing")) + 1.0
+    size = (140.0 / cells) ** 2  # markers about one cell wide in a ~2.4 inch panel
+    sc = ax.scatter(xs * 1e3, ys * 1e3, c=np.clip(per * 1e3, 0, vmax), s=size, cmap="magma_r",
+                    vmin=0.0, vmax=vmax, linewidths=0)
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    return sc
+
+
+def _dim_label(ds) -> str:
+    return "3D mid-layer" if "z0" in ds else "2D plane"
+
+
+def figure_opening_maps(runs_by_kappa: dict, out: Path, label: str) -> None:
+    """Small multiples: one row per kappa, one panel per seed, the opening map (largest pair
+    opening per particle, mm) at the end, titled with N_main by opening and the main run's
+    share of the centre row's opening."""
+    kappas = sorted(runs_by_kappa)
+    cols = max(len(runs_by_kappa[k]) for k in kappas)
+    fig, axes = plt.subplots(len(kappas), cols, figsize=(2.4 * cols, 2.6 * len(kappas) + 0.6),
+                             squeeze=False)
+    sc = None
+    dims = set()
+    for r, kappa in enumerate(kappas):
+        for c in range(cols):
+            ax = axes[r, c]
+            if c >= len(runs_by_kappa[kappa]):
+                ax.axis("off")
+                continue
+            ds = open_dataset(runs_by_kappa[kappa][c])
+            dims.add(_dim_label(ds))
+            m = run_metrics(ds)
+            sc = _opening_panel(ax, ds)
+            share = m.get("main_run_share")
+            ax.set_title(f"kappa {kappa:g}, seed {int(ds.attrs.get('seed', 0))}: N = "
+                         f"{m.get('n_main_cracks_opening')}, share "
+                         f"{'-' if share is None else f'{share:.2f}'}", fontsize=6)
+    if sc is not None:
+        fig.colorbar(sc, ax=axes, shrink=0.6, label="largest pair opening [mm]")
+    fig.suptitle(f"opening maps at the end, {', '.join(sorted(dims))}; {label}", fontsize=8)
+    save(fig, out)
+
+
+def figure_time_sequence(run: Path, out: Path, label: str) -> None:
+    """One run's opening map at each snapshot and at the end (0.1 ... 1 ms)."""
+    ds = open_dataset(run)
+    times = list(ds["snapshot_time"].values)
+    fig, axes = plt.subplots(1, len(times), figsize=(2.6 * len(times), 3.0), squeeze=False)
+    sc = None
+    for k, t in enumerate(times):
+        sc = _opening_panel(axes[0, k], ds, ds["snap_x"].values[k], ds["snap_y"].values[k])
+        axes[0, k].set_title(f"t = {t * 1e3:.2f} ms", fontsize=7)
+    m = run_metrics(ds)
+    fig.colorbar(sc, ax=axes, shrink=0.7, label="largest pair opening [mm]")
+    fig.suptitle(f"{_dim_label(ds)}, kappa {float(m['kappa']):g}, {m['distribution']}, seed "
+                 f"{int(ds.attrs.get('seed', 0))}; {label}", fontsize=8)
+    save(fig, out)
+
+
+ENERGY_TERMS = ("kinetic", "elastic", "plastic", "damage", "unattributed", "viscous",
+                "artificial_stress", "penalty", "kinematic_removed")
+
+
+def figure_energy(run: Path, out: Path, label: str) -> None:
+    """Energy partition against time (stacked), with the balance error."""
+    ds = open_dataset(run)
+    t = ds["time"].values * 1e3
+    terms = [k for k in ENERGY_TERMS if f"series_{k}" in ds]
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    ax.stackplot(t, *[ds[f"series_{k}"].values for k in terms], labels=terms)
+    err = float(np.abs(ds["series_balance_error"].values).max())
+    unit = "J" if "z0" in ds else "J/m"
+    m = run_metrics(ds)
+    ax.set_xlabel("t [ms]")
+    ax.set_ylabel(f"energy [{unit}]")
+    ax.legend(fontsize=6, loc="lower left")
+    ax.set_title(f"{'3D disc' if 'z0' in ds else '2D plane'}, kappa {float(m['kappa']):g}, "
+                 f"{m['distribution']}, seed {int(ds.attrs.get('seed', 0))}: max balance error "
+                 f"{err:.2%}\n{label}",
+                 fontsize=7)
+    save(fig, out)
+
+
+def figure_fragments(runs_by_kappa: dict, out: Path, label: str) -> None:
+    """Fragment-size distribution per kappa (all seeds pooled): the share of the layer's
+    particles in fragments of at least a given size."""
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    dims = set()
+    for kappa in sorted(runs_by_kappa):
+        sizes, seeds = [], []
+        for run in runs_by_kappa[kappa]:
+            ds = open_dataset(run)
+            dims.add(_dim_label(ds))
+            sizes.append(fragments(ds))
+            seeds.append(int(ds.attrs.get("seed", 0)))
+        s = np.sort(np.concatenate(sizes))
+        share = np.cumsum(s[::-1])[::-1] / s.sum()
+        ax.step(s, share, where="post", label=f"kappa {kappa:g} (seeds {seeds})")
+    ax.set_xscale("log")
+    ax.set_xlabel("fragment size [particles of the layer]")
+    ax.set_ylabel("share of particles in fragments >= size")
+    ax.legend(fontsize=6)
+    ax.set_title(f"fragments (closed pairs, w <= 2 G_F/f_t), {', '.join(sorted(dims))}\n"
+                 f"{label}", fontsize=7)
+    save(fig, out)
