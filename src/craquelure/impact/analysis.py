@@ -122,6 +122,9 @@ def run_metrics(ds) -> dict:
     out = measure.run_metrics(x0, y0, crack, plastic, precrack, spacing,
                               float(run_fact(ds, "radius")), cracked, crushed, centre_y,
                               z0=ds["z0"].values if "z0" in ds else None)
+    G_F, f_t = g("material.G_F", None), g("material.f_t", None)
+    # no fracture energy or tensile strength in the scene: nothing can open to a crack
+    w_c = measure.full_softening_opening(G_F, f_t) if G_F and f_t else float("inf")
     half = None
     if "snap_x" in ds and ds.sizes.get("snapshot_time", 0):
         times = ds["snapshot_time"].values
@@ -130,7 +133,7 @@ def run_metrics(ds) -> dict:
             half = (ds["snap_x"].values[k], ds["snap_y"].values[k])
     out.update(measure.opening_metrics(
         x0, y0, ds["x"].values, ds["y"].values, ds["mass"].values, plastic, precrack, spacing,
-        measure.full_softening_opening(g("material.G_F"), g("material.f_t")), centre_y,
+        w_c, centre_y,
         z0=ds["z0"].values if "z0" in ds else None, half=half))
     out["cracked_fraction_damage"] = float(np.mean(ds["damage"].values >= cracked))
     out["cracked_measure"] = measure_name
