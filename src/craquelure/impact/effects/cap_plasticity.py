@@ -50,7 +50,8 @@ Return (per step): left of L (:math:`I_1' \le L`) the deviator returns radially 
 dilatancy as in :mod:`.plasticity`. On the cap (:math:`I_1' > L`, outside) the stress returns to
 the closest point of the coupled surface in the elastic metric :math:`(\Delta I_1')^2/(9K) +
 (\Delta\sqrt{J_2})^2/G` (the metric in which associated flow is the closest-point projection),
-searched over :math:`I_1' \in [L, \min(I_1'^{tr}, X)]` (the return compacts, never dilates), the
+searched (bisection on the distance's slope) over :math:`I_1' \in [L, \min(I_1'^{tr}, X)]`
+(the return compacts, never dilates), the
 pressure drop being the compaction :math:`\Delta\varepsilon_v^p = (I_1'^{tr} - I_1')/(3K)` and
 the cap hardened by it within the same step (implicit: Illinois regula falsi on the scalar
 compaction, :func:`_compaction`); on the hydrostatic axis this is the cap's hardening law
@@ -226,37 +227,51 @@ def _limit(y, left, x, alpha, lam, beta, theta, scale, dif):
     return scale * dif * (alpha - lam * math.exp(-beta * ys) + theta * ys) * math.sqrt(cap)
 
 
+@njit(inline="always", cache=True)
+def _distance_slope(y, i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear):
+    """d/dy of (y - I1')²/(9K) + (g(y) - √J2)²/G, g the coupled limit of :func:`_limit`."""
+    ys = y / dif
+    ff = alpha - lam * math.exp(-beta * ys) + theta * ys
+    dff = lam * beta * math.exp(-beta * ys) + theta  # d F_f / d ys
+    cap, dcap = 1.0, 0.0
+    if y > left:
+        span = x - left
+        ratio = (y - left) / span
+        cap = max(1.0 - ratio * ratio, 1e-300)
+        dcap = -2.0 * ratio / span
+    root = math.sqrt(cap)
+    g = scale * dif * ff * root
+    dg = scale * (dff * root + dif * ff * dcap / (2.0 * root))
+    return 2.0 * (y - i1) / (9.0 * bulk) + 2.0 * (g - sq) * dg / shear
+
+
 @njit(cache=True)
 def _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear):
     """I1' of the closest point of the coupled surface with the cap at X (left end L) to the
-    trial (I1', √J2) in the elastic metric (ΔI1')²/(9K) + (Δ√J2)²/G, searched (golden
-    section) over [L, min(I1'_trial, X)]: the return compacts, never dilates."""
+    trial (I1', √J2) in the elastic metric (ΔI1')²/(9K) + (Δ√J2)²/G over [L, min(I1'_trial,
+    X)] (the return compacts, never dilates): the zero of the distance's slope, by bisection
+    (a root is found to round-off, where minimising the distance itself would stop at
+    √(machine epsilon))."""
     hi = min(i1, x)
-    if hi <= left:
+    if hi <= left or sq == 0.0:
         return hi
-    if sq == 0.0:
+    lo = left
+    if _distance_slope(lo, i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk,
+                       shear) >= 0.0:
+        return lo
+    if _distance_slope(hi, i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk,
+                       shear) <= 0.0:
         return hi
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    a, b = left, hi
-    c1, c2 = b - g * (b - a), a + g * (b - a)
-    f1 = ((c1 - i1) ** 2 / (9.0 * bulk)
-          + (_limit(c1, left, x, alpha, lam, beta, theta, scale, dif) - sq) ** 2 / shear)
-    f2 = ((c2 - i1) ** 2 / (9.0 * bulk)
-          + (_limit(c2, left, x, alpha, lam, beta, theta, scale, dif) - sq) ** 2 / shear)
-    for _ in range(60):
-        if f1 <= f2:
-            b, c2, f2 = c2, c1, f1
-            c1 = b - g * (b - a)
-            f1 = ((c1 - i1) ** 2 / (9.0 * bulk)
-                  + (_limit(c1, left, x, alpha, lam, beta, theta, scale, dif) - sq) ** 2
-                  / shear)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if _distance_slope(mid, i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk,
+                           shear) > 0.0:
+            hi = mid
         else:
-            a, c1, f1 = c1, c2, f2
-            c2 = a + g * (b - a)
-            f2 = ((c2 - i1) ** 2 / (9.0 * bulk)
-                  + (_limit(c2, left, x, alpha, lam, beta, theta, scale, dif) - sq) ** 2
-                  / shear)
-    return 0.5 * (a + b)
+            lo = mid
+    return 0.5 * (lo + hi)
 
 
 @njit(cache=True)
