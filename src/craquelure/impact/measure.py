@@ -252,6 +252,20 @@ def revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked=0.9,
     return out
 
 
+def line_frame(x0, y0, precrack):
+    """A zero-mass line's frame: its centre (the pre-crack particles' mean), its direction u
+    (their principal axis), every particle's coordinates along and across it, and the line's
+    extent along it."""
+    px, py = x0[precrack], y0[precrack]
+    cx, cy = px.mean(), py.mean()
+    _, angle, _ = principal_axis(px, py)
+    u = np.array([math.sin(math.radians(angle)), math.cos(math.radians(angle))])
+    rel = np.column_stack([x0 - cx, y0 - cy])
+    along, across = rel @ u, rel @ np.array([-u[1], u[0]])
+    return ((cx, cy), u, along, across, float(along[precrack].min()),
+            float(along[precrack].max()))
+
+
 def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, cracked=0.9,
                        crushed=0.0035) -> dict:
     """Does the crack follow a zero-mass line? The line is the principal axis of the pre-crack
@@ -260,14 +274,7 @@ def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, crac
     Delta/2 along it. Tips: how far the cracked clusters that touch the line extend beyond each
     end along it. Elsewhere: main cracks (revised definition) crossing the centre row more than
     3 Delta from the line."""
-    px, py = x0[precrack], y0[precrack]
-    cx, cy = px.mean(), py.mean()
-    _, angle, _ = principal_axis(px, py)
-    u = np.array([math.sin(math.radians(angle)), math.cos(math.radians(angle))])
-    nvec = np.array([-u[1], u[0]])
-    rel = np.column_stack([x0 - cx, y0 - cy])
-    along, across = rel @ u, rel @ nvec
-    s_lo, s_hi = float(along[precrack].min()), float(along[precrack].max())
+    (cx, cy), u, along, across, s_lo, s_hi = line_frame(x0, y0, precrack)
     hit = (crack >= cracked) & (plastic < crushed) & ~precrack
     close = hit & (np.abs(across) <= spacing * (1 + 1e-9))
     samples = np.arange(s_lo, s_hi + 1e-12, 0.5 * spacing)
@@ -470,14 +477,7 @@ def _line_opening(x0, y0, pairs, w, w_c, in_crush, precrack, spacing) -> dict:
     """Coverage of a zero-mass line by opened pairs across it (samples every Delta along the
     line; a sample is covered if a pair crossing the line within Delta/2 of it along the line
     opened), and whether the largest opening of the layer is one of the line's pairs."""
-    px, py = x0[precrack], y0[precrack]
-    cx, cy = px.mean(), py.mean()
-    _, angle, _ = principal_axis(px, py)
-    u = np.array([math.sin(math.radians(angle)), math.cos(math.radians(angle))])
-    nvec = np.array([-u[1], u[0]])
-    rel = np.column_stack([x0 - cx, y0 - cy])
-    along, across = rel @ u, rel @ nvec
-    s_lo, s_hi = float(along[precrack].min()), float(along[precrack].max())
+    (cx, cy), u, along, across, s_lo, s_hi = line_frame(x0, y0, precrack)
     ai, aj = across[pairs[:, 0]], across[pairs[:, 1]]
     s_mid = 0.5 * (along[pairs[:, 0]] + along[pairs[:, 1]])
     crossing = (np.sign(ai) != np.sign(aj)) & (np.minimum(np.abs(ai), np.abs(aj))
