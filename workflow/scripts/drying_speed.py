@@ -8,20 +8,13 @@ FIXED the comma-separated t/t* of the fragment densities.
 import sys
 from collections import defaultdict
 
-from craquelure.drying.analysis import run_scene
+from craquelure.drying.analysis import grouped_study
 from craquelure.drying.speed import speed_study
-from craquelure.io import open_dataset, write_dataset
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.io import write_dataset
 
 
 def main(groups: dict[str, list[str]], out: str, fixed: list[float]) -> None:
-    clock = WallClock()
-    fragments = {key: [open_dataset(p) for p in paths] for key, paths in groups.items()}
-    study = speed_study(fragments, fixed)
-    first = next(iter(fragments.values()))[0]
-    study.attrs.update(provenance_attrs(run_scene(first), None, clock,
-                                        effects=str(first.attrs.get("effects", "")).split(",")))
-    study.attrs["sources"] = ",".join(p for paths in groups.values() for p in paths)
+    study = grouped_study(groups, lambda fragments: speed_study(fragments, fixed))
     write_dataset(study, out)
     print(f"wrote {out}: Pi = {', '.join(f'{v:.3g}' for v in study['speed'].values)}; all "
           f"samples broken at {', '.join(f'{v:.2f}' for v in study['all_samples_broken'].values)}"

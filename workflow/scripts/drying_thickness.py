@@ -7,20 +7,13 @@ Outside Snakemake: ``python workflow/scripts/drying_thickness.py OUT.nc H=FRAG.n
 import sys
 from collections import defaultdict
 
-from craquelure.drying.analysis import run_scene
+from craquelure.drying.analysis import grouped_study
 from craquelure.drying.thickness import thickness_sweep
-from craquelure.io import open_dataset, write_dataset
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.io import write_dataset
 
 
 def main(groups: dict[float, list[str]], out: str) -> None:
-    clock = WallClock()
-    fragments = {h: [open_dataset(p) for p in paths] for h, paths in groups.items()}
-    sweep = thickness_sweep(fragments)
-    first = next(iter(fragments.values()))[0]
-    sweep.attrs.update(provenance_attrs(run_scene(first), None, clock,
-                                        effects=str(first.attrs.get("effects", "")).split(",")))
-    sweep.attrs["sources"] = ",".join(p for paths in groups.values() for p in paths)
+    sweep = grouped_study(groups, thickness_sweep)
     write_dataset(sweep, out)
     print(f"wrote {out}: exponent (late mean) {sweep.attrs['exponent_late_mean']:.3g} "
           f"+- {sweep.attrs['exponent_late_std']:.2g} over {sweep.attrs['n_late_times']} times")

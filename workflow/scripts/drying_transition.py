@@ -9,20 +9,13 @@ Outside Snakemake:
 import sys
 from collections import defaultdict
 
-from craquelure.drying.analysis import run_scene
+from craquelure.drying.analysis import grouped_study
 from craquelure.drying.transition import transition
-from craquelure.io import open_dataset, write_dataset
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.io import write_dataset
 
 
 def main(groups: dict[str, list[str]], out: str, variant: str) -> None:
-    clock = WallClock()
-    fragments = {scene: [open_dataset(p) for p in paths] for scene, paths in groups.items()}
-    ds = transition(fragments, variant)
-    first = next(iter(fragments.values()))[0]
-    ds.attrs.update(provenance_attrs(run_scene(first), None, clock,
-                                     effects=str(first.attrs.get("effects", "")).split(",")))
-    ds.attrs["sources"] = ",".join(p for paths in groups.values() for p in paths)
+    ds = grouped_study(groups, lambda fragments: transition(fragments, variant))
     write_dataset(ds, out)
     print(f"wrote {out}: d_c = {ds.attrs['d_c']:.4g} {ds.attrs['d_c_ci95']}, beta/nu = "
           f"{ds.attrs['beta_over_nu']:.3g}, gamma/nu = {ds.attrs['gamma_over_nu']:.3g}, "

@@ -240,6 +240,20 @@ def run_scene(run: xr.Dataset) -> Scene:
     return stored_scene(str(run.attrs["scene"]), name=str(run.attrs.get("scene_name", "scene")))
 
 
+def grouped_study(groups: dict, build) -> xr.Dataset:
+    """A study over groups of fragment datasets (``{key: [path, ...]}``, one key per thickness,
+    speed or box size): ``build({key: [dataset, ...]})`` with the provenance of the first run
+    and the ``sources`` it read."""
+    clock = WallClock()
+    fragments = {key: [open_dataset(p) for p in paths] for key, paths in groups.items()}
+    study = build(fragments)
+    first = next(iter(fragments.values()))[0]
+    study.attrs.update(provenance_attrs(run_scene(first), None, clock,
+                                        effects=str(first.attrs.get("effects", "")).split(",")))
+    study.attrs["sources"] = ",".join(p for paths in groups.values() for p in paths)
+    return study
+
+
 def first_removal_time(run: xr.Dataset) -> float:
     """Earliest time-series sample with ``n_removed > 0`` (NaN if nothing was removed)."""
     if "n_removed" not in run or "step_time" not in run["n_removed"].dims:
