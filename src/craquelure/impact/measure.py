@@ -205,18 +205,24 @@ def _runs(xs: np.ndarray, spacing: float) -> list[float]:
     return [float(r.mean()) for r in np.split(xs, breaks)]
 
 
+def contact_zone(x0, y0, crushed, spacing) -> np.ndarray:
+    """Points (x, y) of the contact zone: the two lowest rows and the crushed clusters that
+    touch them."""
+    bottom = y0 <= y0.min() + 1.01 * spacing
+    zone = bottom.copy()
+    for c in clusters(x0, y0, crushed, spacing):
+        if bottom[c].any():
+            zone[c] = True
+    return np.column_stack([x0[zone], y0[zone]])
+
+
 def revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked=0.9,
                    crushed=0.0035) -> dict:
     """Per-run quantities of the revised check 12 (main cracks from the contact zone)."""
     diameter = float(np.ptp(y0)) + spacing
     member = (crack >= cracked) & (plastic < crushed)
     crushed_mask = plastic >= crushed
-    bottom = y0 <= y0.min() + 1.01 * spacing
-    zone = bottom.copy()
-    for c in clusters(x0, y0, crushed_mask, spacing):
-        if bottom[c].any():
-            zone[c] = True
-    zone_pts = np.column_stack([x0[zone], y0[zone]])
+    zone_pts = contact_zone(x0, y0, crushed_mask, spacing)
     row = _centre_row(y0, centre_y, spacing)
     mains, others = [], []
     for c in clusters(x0, y0, member, spacing):
@@ -392,13 +398,7 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
     opened = (w > w_c) & ~in_crush
     mid = (0.5 * (np.column_stack([x0, y0])[pairs[:, 0]] + np.column_stack([x0, y0])[pairs[:, 1]])
            if len(pairs) else np.zeros((0, 2)))
-    # contact zone: crushed clusters touching the two lowest rows, and those rows
-    bottom = y0 <= y0.min() + 1.01 * spacing
-    zone = bottom.copy()
-    for c in clusters(x0, y0, crushed_p, spacing):
-        if bottom[c].any():
-            zone[c] = True
-    zone_pts = np.column_stack([x0[zone], y0[zone]])
+    zone_pts = contact_zone(x0, y0, crushed_p, spacing)
     # centre row gaps and their runs
     gpairs, gx, gw = _row_gaps(x0, y0, x, y, mass, spacing, centre_y)
     g_open = gw > w_c
