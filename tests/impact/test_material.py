@@ -30,9 +30,9 @@ def test_equibiaxial_compression_peak_is_1_16_f_c():
 
 
 def tension_curve(n: int = 4000):
-    # fine steps around the peak: the peak strain kappa0 is 1 % of kappa_f
-    strain = np.concatenate([np.linspace(0, 2 * MAT.kappa0, n // 2),
-                             np.linspace(2 * MAT.kappa0, 1.05 * MAT.kappa_f, n // 2)[1:]])
+    # fine steps around the peak: the peak strain eps_0 is 1 % of eps_f
+    strain = np.concatenate([np.linspace(0, 2 * MAT.eps_0, n // 2),
+                             np.linspace(2 * MAT.eps_0, 1.05 * MAT.eps_f, n // 2)[1:]])
     path = np.zeros((strain.size, 4))
     path[:, 1] = strain
     return drive(MAT, path, free=("xx", "zz"))
@@ -41,19 +41,19 @@ def tension_curve(n: int = 4000):
 def test_uniaxial_tension_peak_and_fracture_energy():
     eps, sig = tension_curve()
     assert sig[:, 1].max() == pytest.approx(MAT.f_t, rel=1e-2)
-    # fully softened at kappa_f, energy density x crack band = G_F
+    # fully softened at eps_f, energy density x crack band = G_F
     assert abs(sig[-1, 1]) < 1e-6 * MAT.f_t
     energy = np.trapezoid(sig[:, 1], eps[:, 1]) * MAT.band
     assert energy == pytest.approx(MAT.G_F, rel=1e-2)
     peak = int(np.argmax(sig[:, 1]))
     post = np.trapezoid(sig[peak:, 1], eps[peak:, 1]) * MAT.band
-    expected_post = MAT.G_F - 0.5 * MAT.f_t * MAT.kappa0 * MAT.band
+    expected_post = MAT.G_F - 0.5 * MAT.f_t * MAT.eps_0 * MAT.band
     assert post == pytest.approx(expected_post, rel=1e-2)
 
 
 def test_unloading_during_softening_is_secant():
-    up = np.linspace(0, 0.3 * MAT.kappa_f, 3000)
-    down = np.linspace(0.3 * MAT.kappa_f, 0.0, 300)[1:]
+    up = np.linspace(0, 0.3 * MAT.eps_f, 3000)
+    down = np.linspace(0.3 * MAT.eps_f, 0.0, 300)[1:]
     path = np.zeros((up.size + down.size, 4))
     path[:, 1] = np.concatenate([up, down])
     eps, sig = drive(MAT, path, free=("xx", "zz"))
@@ -66,8 +66,8 @@ def test_unloading_during_softening_is_secant():
 
 
 def test_fully_cracked_point_carries_compression():
-    up = np.linspace(0, 1.2 * MAT.kappa_f, 2000)
-    down = np.linspace(1.2 * MAT.kappa_f, -1e-3, 2000)[1:]
+    up = np.linspace(0, 1.2 * MAT.eps_f, 2000)
+    down = np.linspace(1.2 * MAT.eps_f, -1e-3, 2000)[1:]
     path = np.zeros((up.size + down.size, 4))
     path[:, 1] = np.concatenate([up, down])
     eps, sig = drive(MAT, path, free=("xx", "zz"))

@@ -135,7 +135,7 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
             if scene.has("cap_plasticity") else None),
         "compressive damage eps_fc": mat.eps_fc if scene.has("compressive_damage") else None,
         "crack band width l_c [m]": mat.band,
-        "kappa0, kappa_f": (mat.kappa0, mat.kappa_f),
+        "eps_0, eps_f": (mat.eps_0, mat.eps_f),
         "Hillerborg length [m]": mat.hillerborg_length,
         "initial time step [s]": dt,
         "steps (approx.)": steps,
@@ -180,20 +180,20 @@ def _penalty(scene: Scene, st: Settings):
     return None
 
 
-def softening(kap: np.ndarray, mat: Concrete) -> np.ndarray:
-    """s = (kappa - kappa0)/(kappa_f - kappa0) in [0, 1]: 1 - residual strength / f_t."""
-    return np.clip((kap - mat.kappa0) / (mat.kappa_f - mat.kappa0), 0.0, 1.0)
+def softening(eps_max: np.ndarray, mat: Concrete) -> np.ndarray:
+    """s = (eps_max - eps_0)/(eps_f - eps_0) in [0, 1]: 1 - residual strength / f_t."""
+    return np.clip((eps_max - mat.eps_0) / (mat.eps_f - mat.eps_0), 0.0, 1.0)
 
 
-def crack_indicator(scene: Scene, dmg: np.ndarray, kap: np.ndarray) -> np.ndarray:
+def crack_indicator(scene: Scene, dmg: np.ndarray, eps_max: np.ndarray) -> np.ndarray:
     if scene.get("material.cracked_measure") == "damage":
         return dmg
-    return softening(kap, concrete(scene))
+    return softening(eps_max, concrete(scene))
 
 
 def _field_vars(st: State, mat: Concrete) -> dict:
     return {"x": st.x.copy(), "y": st.y.copy(), "damage": st.dmg.copy(),
-            "softening": softening(st.kap, mat), "plastic_strain": st.epsp.copy()}
+            "softening": softening(st.eps_max, mat), "plastic_strain": st.epsp.copy()}
 
 
 SERIES = ("time", "contact_force", "contact_force_penalty", "kinetic", "internal", "elastic",
@@ -265,7 +265,7 @@ class ImpactRun(runner.EngineRun):
         py = eng.momentum()[1]
         series["momentum_y"].append(py)
         series["vcm_y"].append(py / self.mass_total)
-        crack = crack_indicator(self.scene, eng.state.dmg, eng.state.kap)
+        crack = crack_indicator(self.scene, eng.state.dmg, eng.state.eps_max)
         series["cracked_fraction"].append(float(np.mean(crack >= self.cracked)))
         series["impulse"].append(eng.impulse)
         self.last_t, self.last_impulse = eng.t, eng.impulse
@@ -322,7 +322,7 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         "precrack": ("particle", sp.precrack.astype(np.int8)),
         "x": ("particle", st.x), "y": ("particle", st.y), "vx": ("particle", st.vx),
         "vy": ("particle", st.vy), "damage": ("particle", st.dmg),
-        "softening": ("particle", softening(st.kap, eng.s.material)),
+        "softening": ("particle", softening(st.eps_max, eng.s.material)),
         "plastic_strain": ("particle", st.epsp), "plastic_compaction": ("particle", st.epsv),
         "h": ("particle", st.h),
         "rho": ("particle", st.rho),

@@ -108,7 +108,7 @@ class Settings:
                else np.zeros(len(module.CAP_PARAMS)))
         return pack_parameters(module.PARAMS, dict(
             bulk=m.bulk, shear=m.shear, young=m.young, alpha_dp=alpha, k_dp=k,
-            kappa0=m.kappa0, kappa_f=m.kappa_f, wave_speed=self.wave_speed,
+            eps_0=m.eps_0, eps_f=m.eps_f, wave_speed=self.wave_speed,
             av_alpha=self.av_alpha, av_beta=self.av_beta, as_epsilon=self.as_epsilon,
             as_n=self.as_n, spacing=self.spacing, h_min=self.h_min, h_max=self.h_max,
             base_y=self.base_y, contact_radius=self.contact_radius * self.spacing,
@@ -134,7 +134,7 @@ class State:
     h0: np.ndarray
     sig: np.ndarray = field(default=None)   # effective stress xx, yy, xy, zz
     nom: np.ndarray = field(default=None)   # nominal stress
-    kap: np.ndarray = field(default=None)
+    eps_max: np.ndarray = field(default=None)
     dmg: np.ndarray = field(default=None)
     epsp: np.ndarray = field(default=None)
     wp: np.ndarray = field(default=None)    # plastic work per unit mass
@@ -156,7 +156,7 @@ class State:
             # always a private copy: the engine updates these arrays in place
             setattr(self, name, np.array(getattr(self, name), dtype=np.float64, copy=True))
         ncomp = 4 if self.dim == 2 else 6
-        for name, shape in (("sig", (n, ncomp)), ("nom", (n, ncomp)), ("kap", n), ("dmg", n),
+        for name, shape in (("sig", (n, ncomp)), ("nom", (n, ncomp)), ("eps_max", n), ("dmg", n),
                             ("epsp", n), ("wp", n), ("epsv", n), ("eint", n), ("eel", n),
                             ("wd", n)):
             if getattr(self, name) is None:
@@ -295,7 +295,7 @@ class Engine:
         self.e_as += dt * mass_sum(st.m, self.pas)
         mom_half, ke_half = self._kick(dt)
         k.material_pass(st.x, st.y, st.z, st.vx, st.vy, st.vz, st.m, st.rho, st.h, st.h0, st.sig,
-                        st.nom, st.kap, st.dmg, st.epsp, st.wp, st.epsv, st.eint, st.eel,
+                        st.nom, st.eps_max, st.dmg, st.epsp, st.wp, st.epsv, st.eint, st.eel,
                         st.wd, self.offsets, self.index, dt, self.prm)
         st.x += dt * st.vx
         st.y += dt * st.vy

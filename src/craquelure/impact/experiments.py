@@ -54,7 +54,7 @@ def crack_band_bar(spacing: float, height_cells: int, kappa: float = 1.0, speed:
         eng.ay[ends] = 0.0
 
     drive()
-    t_end = 1.3 * (2 * mat.G_F / mat.f_t + 1.5 * mat.kappa0 * length) / (2 * speed)
+    t_end = 1.3 * (2 * mat.G_F / mat.f_t + 1.5 * mat.eps_0 * length) / (2 * speed)
     t0 = time.process_time()
     while eng.t < t_end:
         eng.step()
@@ -65,7 +65,7 @@ def crack_band_bar(spacing: float, height_cells: int, kappa: float = 1.0, speed:
     cpu = time.process_time() - t0
     net = (height_cells - 2) * spacing
     e = eng.energies()
-    s = softening(st.kap, mat)
+    s = softening(st.eps_max, mat)
     cols = np.unique(col)
     s_col = np.array([s[(col == c) & (st.m > 0)].mean() for c in cols])
     band = cols[s_col > 0.5]

@@ -57,7 +57,7 @@ KIND = CUBIC
 NCOMP = 4 if DIM == 2 else 6  # stored stress components
 
 # the parameter vector: names in order, declared once (the engine packs by name)
-PARAMS = ("bulk", "shear", "young", "alpha_dp", "k_dp", "kappa0", "kappa_f", "wave_speed",
+PARAMS = ("bulk", "shear", "young", "alpha_dp", "k_dp", "eps_0", "eps_f", "wave_speed",
           "av_alpha", "av_beta", "as_epsilon", "as_n", "spacing", "h_min", "h_max", "base_y",
           "contact_radius", "contact_a", "k_bulk", "kinematic_ratio", "lx", "ly", "lz",
           "flush_below",
@@ -66,8 +66,8 @@ PARAMS = ("bulk", "shear", "young", "alpha_dp", "k_dp", "kappa0", "kappa_f", "wa
           "cap_d1", "cap_d2", "eps_fc", "eta0_t", "n_t", "eta0_c", "n_c", "overt", "overc",
           "f_t", "f_c", "cap_kappa0", "cap_r")
 N_PARAMS = len(PARAMS)
-P_BULK, P_SHEAR, P_YOUNG, P_ALPHA_DP, P_K_DP, P_KAPPA0, P_KAPPA_F = param_indices(
-    PARAMS, "bulk", "shear", "young", "alpha_dp", "k_dp", "kappa0", "kappa_f")
+P_BULK, P_SHEAR, P_YOUNG, P_ALPHA_DP, P_K_DP, P_EPS_0, P_EPS_F = param_indices(
+    PARAMS, "bulk", "shear", "young", "alpha_dp", "k_dp", "eps_0", "eps_f")
 P_C, P_AV_ALPHA, P_AV_BETA, P_AS_EPS, P_AS_N, P_SPACING = param_indices(
     PARAMS, "wave_speed", "av_alpha", "av_beta", "as_epsilon", "as_n", "spacing")
 P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = param_indices(
@@ -178,7 +178,7 @@ def plastic_return(s, epsv, epsp, d, prm):
 
 
 @njit(parallel=True, cache=True)
-def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, kap, dmg, epsp, wp, epsv, eint,
+def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, eps_max, dmg, epsp, wp, epsv, eint,
                   eel, wd, offsets, index, dt, prm):
     """Velocity gradient with the mid-step velocities, then per particle: ρ and h (exact
     exponential update), Jaumann trial → DP return → damage → nominal stress; stress power
@@ -264,8 +264,8 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, kap, dmg, epsp, 
                 young *= increase_factor(principal_rates(d)[0], young,
                                          prm[P_CAP + 10], prm[P_CAP + 11], prm[P_CAP + 14],
                                          prm[P_CAP + 16])
-            k, dmg_i, nominal = damage_update(s, kap[i], young, prm[P_KAPPA0], prm[P_KAPPA_F])
-            kap[i] = k
+            k, dmg_i, nominal = damage_update(s, eps_max[i], young, prm[P_EPS_0], prm[P_EPS_F])
+            eps_max[i] = k
             if dmg_i > dmg[i]:
                 grow = (dmg_i - dmg[i]) / dmg_i
                 tensile = (s[0] - nominal[0], s[1] - nominal[1], s[2] - nominal[2],

@@ -80,11 +80,11 @@ class Concrete:
                          r["overc"], self.f_t, self.f_c, c.kappa0, c.R])
 
     @property
-    def kappa0(self) -> float:
+    def eps_0(self) -> float:
         return self.f_t / self.young
 
     @property
-    def kappa_f(self) -> float:
+    def eps_f(self) -> float:
         return 2.0 * self.G_F / (self.f_t * self.band)
 
     @property
@@ -94,7 +94,7 @@ class Concrete:
     def check(self) -> None:
         from craquelure.errors import SceneError
 
-        if self.kappa_f <= self.kappa0:
+        if self.eps_f <= self.eps_0:
             raise SceneError(
                 f"material.crack_band_width: the crack band width {self.band:g} m is >= 2 l_ch "
                 f"= {2 * self.hillerborg_length:g} m (l_ch = E G_F/f_t^2 from material.G_F, "
@@ -104,8 +104,8 @@ class Concrete:
 # Not cached: numba's cache does not see edits in the inlined effect fragments, and this
 # driver is not a hot path (the SPH kernels are generated per effect set, see engine.py).
 @njit
-def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young, kappa0,
-                 kappa_f, plastic, damage, cap, compressive, rate):
+def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young, eps_0,
+                 eps_f, plastic, damage, cap, compressive, rate):
     """Advance one point with strain rate D (xx, yy, xy, zz), spin w over ``dt``.
     ``state`` = [sxx, syy, sxy, szz (effective), kappa, D_t, eps_p, wp, eps_v^p]; ``plastic``:
     NO_PLASTICITY, DRUCKER_PRAGER or CAP (constants ``cap`` = Concrete.cap_vector());
@@ -137,8 +137,8 @@ def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young,
     state[0], state[1], state[2], state[3] = s[0], s[1], s[2], s[3]
     nom = np.empty(4)
     if damage:
-        kap, dt_, n = damage_update(s, state[4], young * dif_t, kappa0, kappa_f)
-        state[4], state[5] = kap, dt_
+        eps_max, dt_, n = damage_update(s, state[4], young * dif_t, eps_0, eps_f)
+        state[4], state[5] = eps_max, dt_
         nom[0], nom[1], nom[2], nom[3] = n[0], n[1], n[2], n[3]
     else:
         nom[0], nom[1], nom[2], nom[3] = s[0], s[1], s[2], s[3]
@@ -183,7 +183,7 @@ def drive(mat: Concrete, strain_path: np.ndarray, free: tuple[str, ...],
     def trial(d):
         st = state.copy()
         nom = point_update(st, d[0] / dt, d[1] / dt, d[2] / dt, d[3] / dt, 0.0, dt, mat.bulk,
-                           mat.shear, alpha, k, mat.young, mat.kappa0, mat.kappa_f, variant,
+                           mat.shear, alpha, k, mat.young, mat.eps_0, mat.eps_f, variant,
                            damage, cap, compressive, rate)
         return st, nom
 

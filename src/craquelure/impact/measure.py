@@ -311,7 +311,7 @@ def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, crac
 # give 0; across a crack of opening vector delta, w = delta . e, e the pair direction, so the
 # pair normal to the crack measures the normal opening). A pair is opened if w > w_c, with
 # w_c = 2 G_F / f_t (0.052 mm for the spec's concrete): the crack band's full-softening
-# opening, l_c kappa_f = 2 G_F/f_t, where linear softening leaves no tensile strength (a
+# opening, l_c eps_f = 2 G_F/f_t, where linear softening leaves no tensile strength (a
 # stress-free crack); a band still softening has w < w_c. Pairs with both particles crushed
 # are the crushed zone, not a crack. A crack is a connected set of opened pairs (two opened
 # pairs are adjacent if their midpoints are within 1.5 Delta). Along the centre row, the
@@ -349,7 +349,7 @@ def pair_openings(pairs, x0, y0, x, y) -> np.ndarray:
 
 
 def full_softening_opening(G_F: float, f_t: float) -> float:
-    """w_c = 2 G_F / f_t: the crack band's opening at full softening (l_c kappa_f)."""
+    """w_c = 2 G_F / f_t: the crack band's opening at full softening (l_c eps_f)."""
     return 2.0 * G_F / f_t
 
 

@@ -27,7 +27,7 @@ METADATA = ModelMetadata(
         "vx": ("final velocity x", "m s-1"),
         "vy": ("final velocity y", "m s-1"),
         "damage": ("final damage D", "1"),
-        "softening": ("final softening s = (kappa - kappa0)/(kappa_f - kappa0)", "1"),
+        "softening": ("final softening s = (eps_max - eps_0)/(eps_f - eps_0)", "1"),
         "plastic_strain": ("final equivalent plastic strain", "1"),
         "plastic_compaction": ("final plastic volumetric compaction on the cap", "1"),
         "h": ("final smoothing length", "m"),
@@ -57,7 +57,7 @@ METADATA = ModelMetadata(
         "snap_x": ("position x", "m"),
         "snap_y": ("position y", "m"),
         "snap_damage": ("damage D", "1"),
-        "snap_softening": ("softening s = (kappa - kappa0)/(kappa_f - kappa0)", "1"),
+        "snap_softening": ("softening s = (eps_max - eps_0)/(eps_f - eps_0)", "1"),
         "snap_plastic_strain": ("equivalent plastic strain", "1"),
     },
 )

@@ -84,13 +84,13 @@ def test_damage_is_objective_and_keeps_compression(seed):
     the rotated result of the closed-form branch; the nominal stress is σ − D Σ <σ_a>+ n nᵀ, so
     compressive principal values are untouched."""
     rng = np.random.default_rng(seed)
-    kappa0, kappa_f = MAT.kappa0, MAT.kappa_f
+    eps_0, eps_f = MAT.eps_0, MAT.eps_f
     s = (rng.uniform(-5e6, 8e6), rng.uniform(-20e6, 4e6), rng.uniform(-3e6, 3e6),
          rng.uniform(-10e6, 2e6), 0.0, 0.0)
-    kap0 = 3 * kappa0
-    k2, d2, n2 = damage_update(s, kap0, MAT.young, kappa0, kappa_f)
+    eps_max0 = 3 * eps_0
+    k2, d2, n2 = damage_update(s, eps_max0, MAT.young, eps_0, eps_f)
     q = Rotation.random(random_state=seed).as_matrix()
-    k3, d3, n3 = damage_update(rotate(s, q), kap0, MAT.young, kappa0, kappa_f)
+    k3, d3, n3 = damage_update(rotate(s, q), eps_max0, MAT.young, eps_0, eps_f)
     assert k3 == pytest.approx(k2, rel=1e-12)
     assert d3 == pytest.approx(d2, rel=1e-12)
     assert np.allclose(matrix(n3), q @ matrix(n2) @ q.T, atol=1e-9 * np.abs(s).max())
@@ -154,13 +154,13 @@ def test_secant_energy_is_what_a_damaged_point_gives_back():
     assert secant_energy_density(s, s, MAT.bulk, MAT.shear) == pytest.approx(
         elastic_energy_density(s, MAT.bulk, MAT.shear), rel=1e-12)
     tension = (3e6, 0.0, 0.0, 0.0, 0.0, 0.0)
-    _, dmg, nom = damage_update(tension, 2 * MAT.kappa_f, MAT.young, MAT.kappa0, MAT.kappa_f)
+    _, dmg, nom = damage_update(tension, 2 * MAT.eps_f, MAT.young, MAT.eps_0, MAT.eps_f)
     assert dmg == 1.0
     assert secant_energy_density(nom, tension, MAT.bulk, MAT.shear) == pytest.approx(0.0,
                                                                                     abs=1e-9)
     compression = (-30e6, -5e6, 2e6, -5e6, 0.0, 0.0)
-    _, dmg, nom = damage_update(compression, 2 * MAT.kappa_f, MAT.young, MAT.kappa0,
-                                MAT.kappa_f)
+    _, dmg, nom = damage_update(compression, 2 * MAT.eps_f, MAT.young, MAT.eps_0,
+                                MAT.eps_f)
     assert dmg == 1.0
     assert secant_energy_density(nom, compression, MAT.bulk, MAT.shear) == pytest.approx(
         elastic_energy_density(compression, MAT.bulk, MAT.shear), rel=1e-9)

@@ -2,11 +2,13 @@ r"""Rankine tensile damage, crack band with linear softening (spec section 2.3).
 
 .. math::
     \varepsilon_{eq} = \langle\tilde\sigma_1\rangle_+/E, \quad
-    \kappa = \max_{history}\varepsilon_{eq},
-    \quad \kappa_0 = f_t/E, \quad \kappa_f = \frac{2G_F}{f_t\,\ell_c},
+    \varepsilon_{max} = \max_{history}\varepsilon_{eq},
+    \quad \varepsilon_0 = f_t/E, \quad \varepsilon_f = \frac{2G_F}{f_t\,\ell_c},
 
-    D_t = \frac{\kappa_f(\kappa-\kappa_0)}{\kappa(\kappa_f-\kappa_0)} \;(\kappa_0<\kappa<\kappa_f),
-    \quad D_t = 1 \;(\kappa\ge\kappa_f), \quad
+    D_t = \frac{\varepsilon_f(\varepsilon_{max}-\varepsilon_0)}
+               {\varepsilon_{max}(\varepsilon_f-\varepsilon_0)}
+          \;(\varepsilon_0<\varepsilon_{max}<\varepsilon_f),
+    \quad D_t = 1 \;(\varepsilon_{max}\ge\varepsilon_f), \quad
     \sigma_a = \tilde\sigma_a - D_t\langle\tilde\sigma_a\rangle_+ \text{ in principal axes}.
 
 :math:`\tilde\sigma_1` is the largest principal value including zz; in 3D (xz, yz non-zero) the
@@ -28,7 +30,10 @@ The earlier 1.9 G_F of the unnotched bar came from two cracks localising at the 
 (the 2 %-pre-damaged middle column is 0.02 % weaker only), not from the band width alone.
 
 Cracks close in compression (a fully damaged point
-still carries compressive stress); unloading is secant because D_t depends on κ only.
+still carries compressive stress); unloading is secant because D_t depends on ε_max only.
+
+Names: the spec writes the history variable κ, κ0, κ_f; here it is ε_max (``eps_max``), ε_0,
+ε_f (``eps_0``, ``eps_f``), because κ names the support-domain multiplier everywhere else.
 The stress returned is the *nominal* stress used by the momentum equation; the *effective*
 stress stays the state variable.
 """
@@ -62,12 +67,12 @@ def in_plane_principal(sxx, syy, sxy):
 
 
 @njit(inline="always", cache=True)
-def damage_from_kappa(kap, kappa0, kappa_f):
-    if kap <= kappa0:
+def damage_from_strain(eps_max, eps_0, eps_f):
+    if eps_max <= eps_0:
         return 0.0
-    if kap >= kappa_f:
+    if eps_max >= eps_f:
         return 1.0
-    return kappa_f * (kap - kappa0) / (kap * (kappa_f - kappa0))
+    return eps_f * (eps_max - eps_0) / (eps_max * (eps_f - eps_0))
 
 
 @njit(inline="always", cache=True)
@@ -144,37 +149,37 @@ def from_principal(r, v):
 
 
 @njit(inline="always", cache=True)
-def damage_update(s, kap, young, kappa0, kappa_f):
+def damage_update(s, eps_max, young, eps_0, eps_f):
     """Returns (kappa, D_t, nominal stress) for the effective stress s, both (xx, yy, xy, zz,
     xz, yz). With xz = yz = 0 (2D, or a 3D state with z principal) the in-plane block is
     diagonalised in closed form; otherwise by :func:`principal`."""
     sxx, syy, sxy, szz, sxz, syz = s
     if sxz == 0.0 and syz == 0.0:
         s1, s2, c2, s2t = in_plane_principal(sxx, syy, sxy)
-        kap = max(kap, max(max(s1, szz), 0.0) / young)
-        d = damage_from_kappa(kap, kappa0, kappa_f)
+        eps_max = max(eps_max, max(max(s1, szz), 0.0) / young)
+        d = damage_from_strain(eps_max, eps_0, eps_f)
         if d == 0.0:
-            return kap, d, s
+            return eps_max, d, s
         n1 = s1 - d * max(s1, 0.0)
         n2 = s2 - d * max(s2, 0.0)
         nzz = szz - d * max(szz, 0.0)
         c = 0.5 * (n1 + n2)
         a = 0.5 * (n1 - n2)
-        return kap, d, (c + a * c2, c - a * c2, a * s2t, nzz, 0.0, 0.0)
+        return eps_max, d, (c + a * c2, c - a * c2, a * s2t, nzz, 0.0, 0.0)
     bound = principal_bound(s)
-    if bound <= 0.0 or bound <= kap * young:
+    if bound <= 0.0 or bound <= eps_max * young:
         # no principal value above the history: kappa unchanged; no tensile part to soften
         # when all are <= 0, nothing to soften when D = 0
-        d = damage_from_kappa(kap, kappa0, kappa_f)
+        d = damage_from_strain(eps_max, eps_0, eps_f)
         if bound <= 0.0 or d == 0.0:
-            return kap, d, s
+            return eps_max, d, s
     lam, vec = principal(s)
-    kap = max(kap, max(lam.max(), 0.0) / young)
-    d = damage_from_kappa(kap, kappa0, kappa_f)
+    eps_max = max(eps_max, max(lam.max(), 0.0) / young)
+    d = damage_from_strain(eps_max, eps_0, eps_f)
     if d == 0.0:
-        return kap, d, s
+        return eps_max, d, s
     # σ − D Σ_a <σ_a>+ n_a n_aᵀ
     for a in range(3):
         lam[a] = d * max(lam[a], 0.0)
     cxx, cyy, cxy, czz, cxz, cyz = from_principal(lam, vec)
-    return kap, d, (sxx - cxx, syy - cyy, sxy - cxy, szz - czz, sxz - cxz, syz - cyz)
+    return eps_max, d, (sxx - cxx, syy - cyy, sxy - cxy, szz - czz, sxz - cxz, syz - cyz)

@@ -14,7 +14,7 @@ density :math:`s:(s^{tr}-s)/(2G) = r(1-r) J_2^{tr}/G` (:math:`J_2^{tr}/G` if r i
 
 Decision [D]: the return is applied only for a compressive mean stress (:math:`I_1 < 0`). The
 cone's tensile side (uniaxial tension at :math:`k/(1/\sqrt3+\alpha)` = 33.8 MPa effective) would
-otherwise cap :math:`\tilde\sigma_1` far below :math:`E\kappa_f` (320 MPa at ℓ_c = 4.8 mm), so
+otherwise cap :math:`\tilde\sigma_1` far below :math:`E\varepsilon_f` (320 MPa at ℓ_c = 4.8 mm), so
 the Rankine softening could never complete and G_F would not be dissipated; tension is the
 damage model's domain (check 6 tests both).
 """
