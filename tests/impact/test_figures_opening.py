@@ -43,7 +43,7 @@ def test_unbroken_layer_is_one_fragment(runs):
 def test_figures_draw_from_the_3d_datasets(runs, tmp_path):
     label = "profile ci, dim 3D"
     figures.figure_opening_maps({1.0: runs}, tmp_path / "maps.png", label)
-    figures.figure_time_sequence(runs[1], tmp_path / "sequence.png", label)
+    figures.figure_time_sequence(runs, tmp_path / "sequence.png", label)
     figures.figure_energy(runs[1], tmp_path / "energy.png", label)
     figures.figure_fragments({1.0: runs}, tmp_path / "fragments.png", label)
     for name in ("maps", "sequence", "energy", "fragments"):

@@ -16,6 +16,13 @@ IMPACT_FIGURES = (
 )
 IMPACT_PNG = {name: f"results/impact/figures/impact_{name}.png" for name in IMPACT_FIGURES}
 IMPACT_FIGURE_RUNS = impact_workflow.figure_runs(IMPACT)
+IMPACT_CASE = impact_workflow.case_folder("{masses}", "{precrack}", "{kappa}")
+# Pictures of the runs check 12 judges (3D when impact.dims has 3): one file each.
+IMPACT_JUDGED = impact_workflow.judged_runs(IMPACT)
+IMPACT_JUDGED_PNG = {
+    name: f"results/impact/figures/impact_judged_{name}.png"
+    for name in ("opening_maps", "time_sequence", "energy", "fragments")
+}
 
 
 # Aggregation, figure and report rules: seconds each, run by the submitting Snakemake
@@ -23,6 +30,7 @@ IMPACT_FIGURE_RUNS = impact_workflow.figure_runs(IMPACT)
 localrules:
     impact_summary,
     impact_figures,
+    impact_judged_figures,
 
 
 wildcard_constraints:
@@ -35,16 +43,16 @@ rule impact_run:
     input:
         scene="config/scenes/impact/{scene}.yaml",
     output:
-        "results/impact/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.nc",
+        f"results/impact/{{scene}}/{IMPACT_CASE}/seed{{seed}}.nc",
     params:
         cli=CRAQUELURE,
         variant=impact_workflow.variant_overrides(IMPACT),
         overrides=scene_overrides("impact"),
         three_d=impact_workflow.three_d_overrides(IMPACT),
     log:
-        "logs/impact_run/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.log",
+        f"logs/impact_run/{{scene}}/{IMPACT_CASE}/seed{{seed}}.log",
     benchmark:
-        "benchmarks/results/impact_run/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.tsv"
+        f"benchmarks/results/impact_run/{{scene}}/{IMPACT_CASE}/seed{{seed}}.tsv"
     threads: impact_workflow.run_resource(IMPACT, "threads")
     resources:
         mem_mb=impact_workflow.run_resource(IMPACT, "mem_mb"),
@@ -134,6 +142,48 @@ rule impact_figures:
         "../scripts/impact_figures.py"
 
 
+rule impact_judged_figures:
+    input:
+        maps=IMPACT_JUDGED["maps"],
+        sequence=IMPACT_JUDGED["sequence"],
+        energy=IMPACT_JUDGED["energy"],
+    output:
+        opening_maps=report(
+            IMPACT_JUDGED_PNG["opening_maps"],
+            caption="../report/impact_judged_opening_maps.rst",
+            category="Concrete impact",
+            labels={"figure": "judged runs: opening maps, every seed"},
+        ),
+        time_sequence=report(
+            IMPACT_JUDGED_PNG["time_sequence"],
+            caption="../report/impact_judged_time_sequence.rst",
+            category="Concrete impact",
+            labels={"figure": "judged runs: time sequence per variant"},
+        ),
+        energy=report(
+            IMPACT_JUDGED_PNG["energy"],
+            caption="../report/impact_judged_energy.rst",
+            category="Concrete impact",
+            labels={"figure": "judged runs: energy partition"},
+        ),
+        fragments=report(
+            IMPACT_JUDGED_PNG["fragments"],
+            caption="../report/impact_judged_fragments.rst",
+            category="Concrete impact",
+            labels={"figure": "judged runs: fragment sizes per kappa"},
+        ),
+    params:
+        profile=config["profile"],
+    log:
+        "logs/impact_judged_figures.log",
+    threads: 1
+    resources:
+        mem_mb=IMPACT["mem_mb"],
+        runtime=10,
+    script:
+        "../scripts/impact_judged_figures.py"
+
+
 rule impact_accuracy:
     output:
         json="results/impact/accuracy.json",
@@ -218,6 +268,7 @@ TARGETS["impact"] = [
     "results/impact/summary.json",
     *IMPACT_RUNS_3D,
     *IMPACT_PNG.values(),
+    *IMPACT_JUDGED_PNG.values(),
     "results/impact/figures/impact_accuracy.png",
     "results/impact/figures/impact_regime_map.png",
 ]

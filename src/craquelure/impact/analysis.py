@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from craquelure.impact import check12, measure
+from craquelure.impact.workflow import case_key
 from craquelure.io import open_dataset
 from craquelure.scene import stored_scene
 
@@ -161,8 +162,8 @@ def read_metrics(path: Path) -> dict:
     return out
 
 
-def case_key(m: dict) -> str:
-    return f"{m['distribution']}/{m['precrack_layout']}/kappa{float(m['kappa']):g}"
+def run_case_key(m: dict) -> str:
+    return case_key(m["distribution"], m["precrack_layout"], m["kappa"])
 
 
 def _stats(values):
@@ -177,7 +178,7 @@ def _stats(values):
 def _cases(runs: list[dict]) -> dict:
     cases: dict[str, list] = defaultdict(list)
     for m in runs:
-        cases[case_key(m)].append(m)
+        cases[run_case_key(m)].append(m)
     out = {}
     for key, ms in sorted(cases.items()):
         ms = sorted(ms, key=lambda m: m["seed"])

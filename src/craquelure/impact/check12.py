@@ -45,6 +45,7 @@ import math
 
 import numpy as np
 
+from craquelure.impact.workflow import SOURCE_KAPPAS, case_key
 from craquelure.validation import (
     POWER_NEEDED,
     fraction_decision,
@@ -268,8 +269,8 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
     ``fixed_across_kappa``: the config's values of eps_AS and l_c held fixed across kappa
     (empty: each kappa's own), stated in the kappa comparison."""
     out = []
-    homo = cases.get("homogeneous/none/kappa1")
-    het = {k: cases.get(f"{dist}/none/kappa{k:g}") for k in (0.7, 1.0, 1.5)}
+    homo = cases.get(case_key("homogeneous", "none", 1.0))
+    het = {k: cases.get(case_key(dist, "none", k)) for k in SOURCE_KAPPAS}
     spacing = None
     for c in cases.values():
         sp = _vals(c, "spacing")
@@ -403,7 +404,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
              "precrack_tip_extension_high", "main_cracks_elsewhere_opening",
              "n_main_cracks_opening", "row_runs_x_mm", "precrack_coverage")
     beyond = []
-    for key in sorted(k for k in cases if k.endswith("/kappa1") and "/pf" in k):
+    for key in sorted(k for k in cases if "/pf" in k and k == case_key(*k.split("/")[:2], 1.0)):
         masses, layout, _ = key.split("/")
         c = cases[key]
         if masses != "homogeneous":  # the source's pre-crack discs are homogeneous
@@ -433,8 +434,8 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
                                          else None)},
             {**v, "tip_extension_min_m": tips}, {"0": v}, 1, True, dim,
             defining=(largest, covers)))
-    force = {f"{k:g}": (_vals(cases.get(f"homogeneous/none/kappa{k:g}"),
-                               "contact_force_peak") or [None])[0] for k in (0.7, 1.0, 1.5)}
+    force = {f"{k:g}": (_vals(cases.get(case_key("homogeneous", "none", k)),
+                               "contact_force_peak") or [None])[0] for k in SOURCE_KAPPAS}
     phi = {f"{k:g}": median_with_interval(_vals(het[k], "cracked_fraction"), lambda m: True)
            for k in (1.0, 1.5) if het[k]}
     # the contact force of a plane slice is per unit thickness, the 3D disc's a force

@@ -91,7 +91,7 @@ def figure_precracks(runs, out: Path, label: str) -> None:
 def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
     fig, ax = plt.subplots(figsize=(6.5, 4))
     scales = set()
-    for kappa, runs in sorted(runs_by_kappa.items()):
+    for colour, (kappa, runs) in enumerate(sorted(runs_by_kappa.items())):
         for i, run in enumerate(runs):
             ds = open_dataset(run)
             scales.add(f"{float(run_fact(ds, 'contact_a', float('nan'))):.3g}")
@@ -100,7 +100,7 @@ def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
             f = ds["series_contact_force"].values / 1e6
             style = "-" if distribution == "homogeneous" else ":"
             ax.plot(t, f, style, lw=1.2 if style == "-" else 0.7,
-                    color={0.7: "C0", 1.0: "C1", 1.5: "C2"}.get(kappa, "k"),
+                    color=f"C{colour}",
                     label=f"kappa = {kappa:g} ({distribution})"
                     if i < 2 else None)
     ax.set_xlabel("t [us]")
@@ -232,19 +232,27 @@ def figure_opening_maps(runs_by_kappa: dict, out: Path, label: str) -> None:
     save(fig, out)
 
 
-def figure_time_sequence(run: Path, out: Path, label: str) -> None:
-    """One run's opening map at each snapshot and at the end (0.1 ... 1 ms)."""
-    ds = open_dataset(run)
-    times = list(ds["snapshot_time"].values)
-    fig, axes = plt.subplots(1, len(times), figsize=(2.6 * len(times), 3.0), squeeze=False)
+def figure_time_sequence(runs, out: Path, label: str) -> None:
+    """Opening maps at each snapshot (0.1 ... 1 ms), one row per run (one seed per variant)."""
+    rows = [open_dataset(run) for run in runs]
+    cols = max(ds.sizes["snapshot_time"] for ds in rows)
+    fig, axes = plt.subplots(len(rows), cols, figsize=(2.6 * cols, 2.8 * len(rows) + 0.5),
+                             squeeze=False)
     sc = None
-    for k, t in enumerate(times):
-        sc = _opening_panel(axes[0, k], ds, ds["snap_x"].values[k], ds["snap_y"].values[k])
-        axes[0, k].set_title(f"t = {t * 1e3:.2f} ms", fontsize=7)
-    m = run_metrics(ds)
+    for r, ds in enumerate(rows):
+        m = run_metrics(ds)
+        for k in range(cols):
+            ax = axes[r, k]
+            if k >= ds.sizes["snapshot_time"]:
+                ax.axis("off")
+                continue
+            sc = _opening_panel(ax, ds, ds["snap_x"].values[k], ds["snap_y"].values[k])
+            ax.set_title(f"t = {float(ds['snapshot_time'].values[k]) * 1e3:.2f} ms", fontsize=7)
+        axes[r, 0].set_ylabel(f"kappa {float(m['kappa']):g}, {m['distribution']}, "
+                              f"{m['precrack_layout']}, seed {int(ds.attrs.get('seed', 0))}",
+                              fontsize=6)
     fig.colorbar(sc, ax=axes, shrink=0.7, label="largest pair opening [mm]")
-    fig.suptitle(f"{_dim_label(ds)}, kappa {float(m['kappa']):g}, {m['distribution']}, seed "
-                 f"{int(ds.attrs.get('seed', 0))}; {label}", fontsize=8)
+    fig.suptitle(f"time sequence, {_dim_label(rows[0])}; {label}", fontsize=8)
     save(fig, out)
 
 

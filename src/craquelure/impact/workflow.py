@@ -11,8 +11,25 @@ def seeds(section: dict) -> list[int]:
     return list(range(section["first_seed"], section["first_seed"] + section["n_seeds"]))
 
 
+# The source's support-domain multipliers (its Figs. 7-10); check 12 compares these cases.
+SOURCE_KAPPAS = (0.7, 1.0, 1.5)
+
+
+def case_key(masses: str, precrack: str, kappa) -> str:
+    """Key of one case in summary.json, check 12, the claims and the figures:
+    ``<masses>/<pre-crack>/kappa<k>`` (k as ``%g``)."""
+    return f"{masses}/{precrack}/kappa{float(kappa):g}"
+
+
+def case_folder(masses: str, precrack: str, kappa) -> str:
+    """Folder of one case's runs, ``<masses>_<pre-crack>/kappa<k>`` (k as the config writes
+    it); called with ``"{masses}"``, ``"{precrack}"``, ``"{kappa}"``: the rules'
+    wildcard pattern."""
+    return f"{masses}_{precrack}/kappa{kappa}"
+
+
 def run_path(scene: str, masses: str, precrack: str, kappa: float, seed: int) -> str:
-    return f"results/impact/{scene}/{masses}_{precrack}/kappa{kappa}/seed{seed}.nc"
+    return f"results/impact/{scene}/{case_folder(masses, precrack, kappa)}/seed{seed}.nc"
 
 
 def campaign_runs(section: dict) -> list[str]:
@@ -97,6 +114,30 @@ def figure_runs(section: dict) -> dict:
         or [run_path(scene, "homogeneous", "none", one, 0)],
         "contact": [run_path(scene, m, "none", k, s) for k in kappas
                     for m, s in (("homogeneous", 0), (hetero, shown[0]))],
+    }
+
+
+def judged_runs(section: dict) -> dict:
+    """Runs drawn in the pictures of what check 12 judges: the 3D campaign's when ``dims`` has 3
+    (the source's configuration), the 2D one's otherwise. ``maps``: every seed of the
+    homogeneous and heterogeneous discs at each kappa; ``sequence``: one seed per variant
+    (homogeneous at each kappa, the first heterogeneous seed and each pre-crack layout at
+    kappa = 1); ``energy``: the homogeneous kappa = 1 disc."""
+    cfg = three_d(section) or section
+    scene, hetero = cfg["scene"], cfg["distribution"]
+    kappas, one = cfg["kappas"], 1.0 if 1.0 in cfg["kappas"] else cfg["kappas"][0]
+    hetero_kappas = cfg.get("heterogeneous_kappas", kappas)
+    layouts = cfg["precracks"] if one in cfg.get("precrack_kappas", kappas) else []
+    first = seeds(cfg)[:1] if one in hetero_kappas else []
+    return {
+        "maps": [run_path(scene, m, "none", k, s) for k in kappas
+                 for m, ss in (("homogeneous", [0]),
+                               (hetero, seeds(cfg) if k in hetero_kappas else []))
+                 for s in ss],
+        "sequence": [run_path(scene, "homogeneous", "none", k, 0) for k in kappas]
+        + [run_path(scene, hetero, "none", one, s) for s in first]
+        + [run_path(scene, "homogeneous", p, one, 0) for p in layouts],
+        "energy": run_path(scene, "homogeneous", "none", one, 0),
     }
 
 
