@@ -87,3 +87,19 @@ def test_fractional_condition_shows_statistic_intervals_and_power():
     assert ("N_main >= 2: 6 of 8 seeds (fraction 0.75, bootstrap 95 % [0.50, 1.00], exact 95 % "
             "[0.35, 0.97]; power 0.43 against P in 9 of 10 specimens") in c.measured
     assert c.verdict == "inconclusive" and c.note.startswith("cannot decide: N_main >= 2")
+
+
+def test_rows_off_the_source_configuration_say_they_are_sensitivities():
+    """3D with the cap (CSCM-like) concrete is the source's configuration; the 2D slice and a
+    Drucker-Prager 3D disc are labelled sensitivities with what departs."""
+    from craquelure.impact.claims import caveat_of
+
+    summary = {"profile": "paper", "n_seeds_heterogeneous": 10,
+               "material_model_by_dim": {"3D": ["cap+compressive_damage+rate_effects"],
+                                         "2D": ["drucker_prager"]}}
+    assert "the source's configuration" in caveat_of(summary, "3D")
+    two = caveat_of(summary, "2D")
+    assert "sensitivity" in two and "2D plane-strain slice" in two and "drucker_prager" in two
+    summary["material_model_by_dim"]["3D"] = ["drucker_prager"]
+    three = caveat_of(summary, "3D")
+    assert "sensitivity" in three and "slice" not in three

@@ -224,6 +224,8 @@ def summarise(paths, profile: str, scene: str, distribution: str,
         "run_wall_time_s_by_dim": {d: sum(m["wall_time_s"] or 0 for m in by_dim[d])
                                    for d in dims},
         "material_model": sorted({str(m.get("material_model")) for m in runs}),
+        "material_model_by_dim": {d: sorted({str(m.get("material_model")) for m in by_dim[d]})
+                                  for d in dims},
         "fixed_across_kappa": dict(fixed_across_kappa or {}),
         "cases": out_cases, "findings": findings,
         # findings carry their dimension ("dim"): the 3D campaign's beside the 2D one's

@@ -87,9 +87,13 @@ FIGURES = (("homogeneous:", "impact_damage_homogeneous.png"),
            ("pf", "impact_precracks.png"))
 
 
+# 3D rows: the pictures of the judged runs (rule impact_judged_figures draws the 3D campaign).
+FIGURES_3D = (("pf", "impact_judged_time_sequence.png"), ("", "impact_judged_opening_maps.png"))
+
+
 def figure_of(finding: dict) -> str:
     if finding.get("dim", "2D") != "2D":
-        return ""
+        return next(name for prefix, name in FIGURES_3D if finding["finding"].startswith(prefix))
     return next((name for prefix, name in FIGURES if finding["finding"].startswith(prefix)), "")
 
 
@@ -151,11 +155,24 @@ def not_run_claim(finding: dict, dim: str, profile: str) -> Claim:
                  deciding=f"no {dim} runs")
 
 
+# the source ran its 3D disc with LS-DYNA's CSCM concrete; ours is "cap" (+ its extras)
+SOURCE_MODEL = "cap"
+
+
 def caveat_of(summary: dict, dim: str) -> str:
+    """The row's profile, sample and configuration; a row whose runs depart from the source's
+    configuration (3D, CSCM-like concrete) says it is a sensitivity and why."""
     seeds = summary.get("n_seeds_heterogeneous_by_dim", {}).get(
         dim, summary["n_seeds_heterogeneous"])
+    models = summary.get("material_model_by_dim", {}).get(
+        dim, summary.get("material_model", ["drucker_prager"]))
+    cscm = all(m.split("+")[0] == SOURCE_MODEL for m in models)
+    departs = ([] if dim == "3D" else ["a 2D plane-strain slice"]) + (
+        [] if cscm else [f"concrete model {', '.join(models)}"])
+    label = (f"sensitivity ({' and '.join(departs)}; the source ran the 3D disc with CSCM)"
+             if departs else "the source's configuration (3D, CSCM-like concrete)")
     return (f"profile {summary['profile']}, {seeds} heterogeneous specimens per kappa, "
-            f"concrete model {', '.join(summary.get('material_model', ['drucker_prager']))}")
+            f"concrete model {', '.join(models)}; {label}")
 
 
 def check12_claims(summary: dict) -> list[Claim]:
