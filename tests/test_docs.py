@@ -144,3 +144,25 @@ def test_repository_paths_named_in_the_docs_exist():
                 if not (ROOT / path).exists():
                     missing.append(f"{page.relative_to(ROOT)}: {token}")
     assert missing == [], "\n".join(missing)
+
+
+def test_documented_snakemake_commands_name_their_targets_before_configfile():
+    """`--configfile` takes every following word as a config file, so a target written after
+    it is read as a file and the command fails (as config/README.md's commands did until
+    2026-12-03): in every page and config comment, the words after `--configfile` up to the
+    next option or the end of the command are .yaml files."""
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md")),
+             *sorted((ROOT / "config").glob("*.md")), *sorted((ROOT / "config").glob("*.yaml"))]
+    bad = []
+    for page in pages:
+        text = re.sub(r"\\\n\s*#?\s*", " ", page.read_text())  # join continued lines
+        for command in re.findall(r"snakemake [^`\n|]*", text):
+            words = command.split()
+            if "--configfile" not in words:
+                continue
+            after = words[words.index("--configfile") + 1:]
+            files = after[:next((i for i, w in enumerate(after) if w.startswith("-")),
+                                len(after))]
+            if any(not w.rstrip(".,;)'\"").endswith(".yaml") for w in files):
+                bad.append(f"{page.relative_to(ROOT)}: {command.strip()}")
+    assert bad == [], "\n".join(bad)
