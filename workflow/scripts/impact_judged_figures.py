@@ -17,7 +17,7 @@ if "snakemake" in globals():
     label = (f"profile {smk.params.profile}, scene impact/{ds.attrs['scene_name']} "
              f"({ds.attrs['material_model']}), "
              f"{int(run_fact(ds, 'n_particles'))} particles, "
-             f"Delta = {1e3 * float(run_fact(ds, 'spacing')):g} mm, {figures._dim_label(ds)}")
+             f"Delta = {1e3 * float(run_fact(ds, 'spacing')):g} mm")
     by_kappa = defaultdict(list)
     for run in smk.input.maps:
         by_kappa[float(run_metrics(open_dataset(run))["kappa"])].append(run)

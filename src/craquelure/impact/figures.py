@@ -202,14 +202,21 @@ def _dim_label(ds) -> str:
     return "3D mid-layer" if "z0" in ds else "2D plane"
 
 
+def _wrapped(title: str, panels: int) -> str:
+    """A title broken into lines that fit ``panels`` map panels side by side."""
+    import textwrap
+
+    return "\n".join(textwrap.wrap(title, width=max(40, 38 * panels)))
+
+
 def figure_opening_maps(runs_by_kappa: dict, out: Path, label: str) -> None:
     """Small multiples: one row per kappa, one panel per seed, the opening map (largest pair
     opening per particle, mm) at the end, titled with N_main by opening and the main run's
     share of the centre row's opening."""
     kappas = sorted(runs_by_kappa)
     cols = max(len(runs_by_kappa[k]) for k in kappas)
-    fig, axes = plt.subplots(len(kappas), cols, figsize=(2.4 * cols, 2.6 * len(kappas) + 0.6),
-                             squeeze=False)
+    fig, axes = plt.subplots(len(kappas), cols, figsize=(2.4 * cols + 1.0, 2.6 * len(kappas) + 0.8),
+                             squeeze=False, layout="constrained")
     sc = None
     dims = set()
     for r, kappa in enumerate(kappas):
@@ -228,16 +235,17 @@ def figure_opening_maps(runs_by_kappa: dict, out: Path, label: str) -> None:
                          f"{'-' if share is None else f'{share:.2f}'}", fontsize=6)
     if sc is not None:
         fig.colorbar(sc, ax=axes, shrink=0.6, label="largest pair opening [mm]")
-    fig.suptitle(f"opening maps at the end, {', '.join(sorted(dims))}; {label}", fontsize=8)
-    save(fig, out)
+    fig.suptitle(_wrapped(f"opening maps at the end, {', '.join(sorted(dims))}; {label}", cols),
+                 fontsize=8)
+    save(fig, out, tight=False)
 
 
 def figure_time_sequence(runs, out: Path, label: str) -> None:
     """Opening maps at each snapshot (0.1 ... 1 ms), one row per run (one seed per variant)."""
     rows = [open_dataset(run) for run in runs]
     cols = max(ds.sizes["snapshot_time"] for ds in rows)
-    fig, axes = plt.subplots(len(rows), cols, figsize=(2.6 * cols, 2.8 * len(rows) + 0.5),
-                             squeeze=False)
+    fig, axes = plt.subplots(len(rows), cols, figsize=(2.6 * cols + 1.0, 2.8 * len(rows) + 0.8),
+                             squeeze=False, layout="constrained")
     sc = None
     for r, ds in enumerate(rows):
         m = run_metrics(ds)
@@ -252,8 +260,8 @@ def figure_time_sequence(runs, out: Path, label: str) -> None:
                               f"{m['precrack_layout']}, seed {int(ds.attrs.get('seed', 0))}",
                               fontsize=6)
     fig.colorbar(sc, ax=axes, shrink=0.7, label="largest pair opening [mm]")
-    fig.suptitle(f"time sequence, {_dim_label(rows[0])}; {label}", fontsize=8)
-    save(fig, out)
+    fig.suptitle(_wrapped(f"time sequence, {_dim_label(rows[0])}; {label}", cols), fontsize=8)
+    save(fig, out, tight=False)
 
 
 ENERGY_TERMS = ("kinetic", "elastic", "plastic", "damage", "unattributed", "viscous",
