@@ -302,10 +302,13 @@ def figure_fragments(runs_by_kappa: dict, out: Path, label: str) -> None:
             seeds.append(int(ds.attrs.get("seed", 0)))
         s = np.sort(np.concatenate(sizes))
         share = np.cumsum(s[::-1])[::-1] / s.sum()
-        ax.step(s, share, where="post", label=f"kappa {kappa:g} (seeds {seeds})")
+        # markers: a disc still in one piece is one point, which a step line would not show
+        ax.step(s, share, where="post", marker="o", ms=3,
+                label=f"kappa {kappa:g} (seeds {seeds})")
     ax.set_xscale("log")
     ax.set_xlabel("fragment size [particles of the layer]")
     ax.set_ylabel("share of particles in fragments >= size")
+    ax.set_ylim(0.0, 1.05)
     ax.legend(fontsize=6)
     ax.set_title(f"fragments (closed pairs, w <= 2 G_F/f_t), {', '.join(sorted(dims))}\n"
                  f"{label}", fontsize=7)
