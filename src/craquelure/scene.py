@@ -152,8 +152,9 @@ def load_scene_text(
 def stored_scene(text: str, name: str = "scene") -> Scene:
     """The resolved scene a dataset carries (its ``scene`` attribute), read back as it was
     written: not re-validated against today's schema (a key renamed since must not make an
-    archived dataset unreadable) and with nothing filled in (the run wrote every value it used).
-    """
+    archived dataset unreadable). The run wrote every value it used; only a parameter added
+    since is filled in, with its schema default (a new parameter's default keeps the earlier
+    behaviour), so a reader needs no fallback of its own (docs/adding-an-effect.md)."""
     try:
         data = _load_yaml(text)
     except (yaml.YAMLError, SceneError, ValueError, TypeError) as exc:
@@ -161,6 +162,8 @@ def stored_scene(text: str, name: str = "scene") -> Scene:
     if not isinstance(data, dict) or "model" not in data:
         raise SceneError(f"stored scene {name}: not a resolved scene (no `model` section)")
     data.setdefault("effects", [])
+    if data["model"] in MODELS:
+        _fill_defaults(data, model_schema(data["model"]))
     return Scene(name=name, data=data, source_text=text, text=text)
 
 

@@ -4,7 +4,8 @@
 ``y``, ``vx``, ``vy``, ``alive``, ``mass``, ``rho``, ``mean_stress``; time series; attrs ``h``,
 ``box_length``, ``effects``, ``scene``, ``seed``) of particles on a square lattice with
 particle-free bands removed. ``fragment_dataset``: a per-seed fragment dataset as written by
-``craquelure fragments``, with fragment areas drawn from a prescribed law.
+``craquelure fragments``, with fragment areas drawn from a prescribed law; ``campaign_of``: a
+campaign of such datasets whose mean area follows a known law.
 """
 
 from __future__ import annotations
@@ -12,7 +13,11 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from craquelure.drying.campaign import build_campaign
 from craquelure.scene import load_scene
+
+T_STAR = 5e-3 / 2.2e-4  # default scene: 22.7
+TIMES = np.arange(9.0, 31.0)  # default profile snapshots; t* = 22.7, window [18, 30]
 
 
 def lattice_scene(n_side: int, box_length: float, scene: str = "drying/ci",
@@ -110,3 +115,15 @@ def fragment_dataset(seed: int, times, mean_area, n_per_time, shape=2.0,
                "scene": sc.text, "scene_name": sc.name, "seed": seed,
                "effects": ",".join(sc.effects)},
     )
+
+
+def campaign_of(b, t0, shape=2.0, n_seeds=30, window_mode="paper"):
+    """A campaign whose 1/<S>_t = b (t - t0) and half of whose samples stay whole until t0 + 1."""
+    mean = 1.0 / (b * np.maximum(TIMES - t0, 0.5))
+    frags = []
+    for s in range(n_seeds):
+        n = np.maximum(1, np.round(16.0 / mean)).astype(int)  # box area 16 (L = 4)
+        n[TIMES < t0 + 1] = 1 + (s % 2) * (n[TIMES < t0 + 1] - 1)  # half still unbroken
+        frags.append(fragment_dataset(s + 1, TIMES, mean, n, shape=shape,
+                                      first_removal=t0 - 1.0 + 0.1 * s))
+    return build_campaign(frags, n_bins=20, window_mode=window_mode)

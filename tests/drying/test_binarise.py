@@ -23,10 +23,10 @@ DELTA = L / N_SIDE  # particle spacing h/4
 
 def test_edge_depth_matches_spec():
     # Spec section 9 [V]: phi = phi0 = 0.8 is reached d* = 0.199 h inside a free edge.
-    assert edge_depth(0.8) == pytest.approx(0.199, abs=5e-4)
-    assert edge_depth(0.8, h=H) == pytest.approx(0.199 * H, abs=1e-4)
+    assert edge_depth(0.8, "quintic", 1.0) == pytest.approx(0.199, abs=5e-4)
+    assert edge_depth(0.8, "quintic", H) == pytest.approx(0.199 * H, abs=1e-4)
     # phi0 -> 1/2 puts the threshold on the edge itself.
-    assert edge_depth(0.5 + 1e-9) < 1e-6
+    assert edge_depth(0.5 + 1e-9, "quintic", 1.0) < 1e-6
 
 
 def test_mesh_field_is_direct_sum():
@@ -51,11 +51,11 @@ def test_mesh_field_is_direct_sum():
 def test_intact_lattice_is_all_paste():
     # Check 12: an intact configuration gives an all-ones image (Shepard sum 1 +- 1e-4).
     run = lattice_run(N_SIDE, L)
-    image, spacing = snapshot_image(run, 0, spacing_h=0.05)
+    image, spacing = snapshot_image(run, 0, 0.05, 0.8, "quintic")
     assert image.all()
     assert spacing == pytest.approx(0.01)
     volume = np.full(N_SIDE**2, DELTA**2)
-    phi = phi_field(run["x"].values[0], run["y"].values[0], volume, L, H, 0.01)
+    phi = phi_field(run["x"].values[0], run["y"].values[0], volume, L, H, 0.01, "quintic")
     assert np.abs(phi - 1.0).max() < 1e-4
 
 
@@ -71,10 +71,10 @@ def test_bands_give_expected_fragments_and_widths(bands, expected):
     """Check 12: fragment count, and each fragment's width = particle-free complement minus
     2 d* within +-0.5 Delta per edge."""
     run = lattice_run(N_SIDE, L, bands_per_time=(bands,))
-    image, spacing = snapshot_image(run, 0, spacing_h=0.02)
+    image, spacing = snapshot_image(run, 0, 0.02, 0.8, "quintic")
     labels, n = label_periodic(image)
     assert n == expected
-    d_star = edge_depth(0.8, h=H)
+    d_star = edge_depth(0.8, "quintic", H)
     # Material extent per axis: particles represent cells of width Delta, so a strip between
     # two bands has width (number of lattice rows in it) x Delta.
     rows = (np.arange(N_SIDE) + 0.5) * DELTA
@@ -112,15 +112,15 @@ def test_mesh_refinement_converges_areas():
     at most perimeter x (spacing + reference spacing), and shrinks with the spacing."""
     bands = [("y", 0.5, 0.8), ("y", 1.4, 1.7), ("x", 0.2, 0.5), ("x", 1.1, 1.4)]
     run = lattice_run(N_SIDE, L, bands_per_time=(bands,))
-    ref_image, ref_spacing = snapshot_image(run, 0, spacing_h=0.005)
+    ref_image, ref_spacing = snapshot_image(run, 0, 0.005, 0.8, "quintic")
     ref = np.sort(fragment_areas(ref_image, ref_spacing))
     assert ref.size == 4
-    d_star = edge_depth(0.8, h=H)
+    d_star = edge_depth(0.8, "quintic", H)
     # Material rectangles 0.6 x 0.6, 0.6 x 0.8 (twice), 0.8 x 0.8.
     perimeter = 2 * (0.6 + 0.8)
     errors = []
     for spacing_h in (0.08, 0.04, 0.02):
-        image, spacing = snapshot_image(run, 0, spacing_h=spacing_h)
+        image, spacing = snapshot_image(run, 0, spacing_h, 0.8, "quintic")
         areas = np.sort(fragment_areas(image, spacing))
         err = np.abs(areas - ref).max()
         assert err <= perimeter * (spacing + ref_spacing)

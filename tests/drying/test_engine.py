@@ -392,12 +392,12 @@ def test_without_drying_unstressed_paste_stays_at_rest(make_scene):
 
 def test_effect_sets_compile_to_distinct_specialisations():
     """Each effect set gets its own generated module whose flags are compile-time constants."""
-    full = compile_rate(("elasticity", "viscosity", "drying"))
-    visc = compile_rate(("viscosity",))
+    full = compile_rate(("elasticity", "viscosity", "drying"), "quintic")
+    visc = compile_rate(("viscosity",), "quintic")
     assert full is not visc
     assert full.ELASTICITY and full.DRYING and not full.SUBSTRATE
     assert visc.VISCOSITY and not visc.ELASTICITY and not visc.DRYING
-    assert compile_rate(("viscosity",)) is visc
+    assert compile_rate(("viscosity",), "quintic") is visc
 
 
 def test_divergence_is_detected(make_scene, make_lattice_engine):

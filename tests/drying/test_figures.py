@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-from craquelure.drying.analysis import build_campaign, summarise
+from craquelure.drying.campaign import build_campaign
 from craquelure.drying.figures import (
     FIGURES,
     fig_inverse_mean_area,
@@ -13,6 +13,7 @@ from craquelure.drying.figures import (
     make_figures,
     setup_line,
 )
+from craquelure.drying.summary import summarise
 
 from .synthetic_run import fragment_dataset, lattice_run
 
@@ -49,7 +50,7 @@ def test_captions_state_profile_sizes_and_fit(data):
 
 
 def test_ccdf_bands_bracket_the_curve_and_shrink_with_more_samples():
-    from craquelure.drying.analysis import ccdf_bands
+    from craquelure.drying.summary import ccdf_bands
 
     mean = np.full(TIMES.size, 1.0)
 

@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from craquelure.drying import api
-from craquelure.drying.analysis import first_removal_time, onset_prediction, t_star
+from craquelure.drying.analysis import first_removal_time, onset_prediction
 from craquelure.drying.onset import kappa_point
+from craquelure.drying.time_scales import t_star
 from craquelure.io import read_dataset
 from craquelure.scene import load_scene
 

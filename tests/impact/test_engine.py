@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from craquelure.impact.api import initial_state, settings
+from craquelure.impact.api import initial_state, probe_settings, settings
 from craquelure.impact.effects.artificial_stress import auto_epsilon
-from craquelure.impact.engine import Engine, Settings, State
+from craquelure.impact.engine import Engine, State
 from craquelure.impact.initial_state import build_specimen
 from craquelure.impact.material import standard_concrete
 from craquelure.scene import load_scene
@@ -60,9 +60,9 @@ def periodic_block(nx, ny, spacing=0.004, effects=("elasticity", "artificial_vis
     rho0 = 2400.0
     st = State.grid(x, y, 0.0, 0.0, np.full(x.size, rho0 * spacing**2), rho0,
                       kappa * 1.2 * spacing)
-    s = Settings(material=MAT, rho0=rho0, spacing=spacing, effects=tuple(effects),
-                 av_alpha=1.0, av_beta=2.0, as_epsilon=as_epsilon,
-                 periodic_box=(nx * spacing, ny * spacing), plane_stress=plane_stress)
+    s = probe_settings(material=MAT, rho0=rho0, spacing=spacing, effects=tuple(effects),
+                       av_alpha=1.0, av_beta=2.0, as_epsilon=as_epsilon,
+                       periodic_box=(nx * spacing, ny * spacing), plane_stress=plane_stress)
     return s, st
 
 

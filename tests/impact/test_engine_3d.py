@@ -8,8 +8,8 @@ import numba
 import numpy as np
 import pytest
 
-from craquelure.impact.api import initial_state, settings, simulate
-from craquelure.impact.engine import Engine, Settings, State
+from craquelure.impact.api import initial_state, probe_settings, settings, simulate
+from craquelure.impact.engine import Engine, State
 from craquelure.impact.initial_state import build_specimen
 from craquelure.impact.material import standard_concrete
 from craquelure.scene import load_scene
@@ -60,9 +60,9 @@ def periodic_block(nx, ny, nz, effects=("elasticity",), as_epsilon=0.0):
     x, y, z = ((a.ravel() + 0.5) * DELTA for a in g)
     rho0 = 2400.0
     st = State.grid(x, y, 0.0, 0.0, np.full(x.size, rho0 * DELTA**3), rho0, 1.2 * DELTA, z=z)
-    s = Settings(material=MAT, rho0=rho0, spacing=DELTA, effects=tuple(effects),
-                 av_alpha=1.0, av_beta=2.0, as_epsilon=as_epsilon,
-                 periodic_box=(nx * DELTA, ny * DELTA, nz * DELTA), dim=3)
+    s = probe_settings(material=MAT, rho0=rho0, spacing=DELTA, effects=tuple(effects),
+                       av_alpha=1.0, av_beta=2.0, as_epsilon=as_epsilon,
+                       periodic_box=(nx * DELTA, ny * DELTA, nz * DELTA), dim=3)
     return s, st
 
 

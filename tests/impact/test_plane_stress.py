@@ -47,7 +47,7 @@ def test_plane_stress_dzz_solves_the_plastic_return():
     """The out-of-plane rate found by the secant iteration leaves |sigma_zz| <= 1e-9 of the
     stress scale after trial + return, for states far beyond the cone (uniaxial and biaxial
     compression rates up to 1e4 1/s, shear, spin); the returned stress is on the cone."""
-    mod = kernels_for(("elasticity", "plasticity"), plane_stress=True)
+    mod = kernels_for(("elasticity", "plasticity"), periodic=False, plane_stress=True, dim=2)
     prm = np.zeros(mod.N_PARAMS)
     prm[mod.P_BULK], prm[mod.P_SHEAR] = MAT.bulk, MAT.shear
     prm[mod.P_ALPHA_DP], prm[mod.P_K_DP] = MAT.dp

@@ -9,8 +9,9 @@ import pytest
 from craquelure.lattice import beam
 from craquelure.lattice.effects.beams import deformation
 from craquelure.lattice.effects.fracture import beam_ratio, node_ratio
-from craquelure.lattice.engine import Engine, lattice_system
+from craquelure.lattice.engine import lattice_system
 from craquelure.lattice.geometry import triangular_block
+from craquelure.lattice.initial_state import probe_engine
 
 SIGMA0, TAU0 = 1e-3, 2e-3
 
@@ -27,7 +28,7 @@ def pull_single_beam(psi, speed=2e-6):
     params = dict(dt=0.05, area=c.area, inertia=c.inertia, width=c.width, sigma0=SIGMA0,
                   tau0=TAU0, drive_vx=speed * math.cos(psi), drive_vy=speed * math.sin(psi),
                   energy_tolerance=1e-3)
-    eng = Engine(s, ("beams", "fracture"), params, series_every=1)
+    eng = probe_engine(s, ("beams", "fracture"), params, series_every=1)
     previous = 0.0
     while s.state[0] == 1:
         q = eng.q.copy()
@@ -86,7 +87,7 @@ def test_node_averaged_variant_breaks_one_beam_per_node_under_tension():
     s.fix[0, top] = 1
     params = dict(dt=0.1, area=c.area, inertia=c.inertia, width=c.width, sigma0=2e-3, tau0=4e-3,
                   drive_vy=1e-4, beta=0.5)
-    eng = Engine(s, ("beams", "fracture"), params, node_averaged=True, series_every=10)
+    eng = probe_engine(s, ("beams", "fracture"), params, node_averaged=True, series_every=10)
     broken = []
     for _ in range(1500):
         before = s.state.copy()

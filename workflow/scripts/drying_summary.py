@@ -7,7 +7,7 @@ Outside Snakemake: ``python workflow/scripts/drying_summary.py CAMPAIGN.nc OUT.j
 
 import sys
 
-from craquelure.drying.analysis import write_summary
+from craquelure.drying.summary import write_summary
 
 
 def main(campaign: str, out: str, profile: str, scene: str = "") -> None:

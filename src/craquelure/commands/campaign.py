@@ -1,6 +1,6 @@
 """``craquelure campaign FRAG1.nc FRAG2.nc ... --out CAMPAIGN.nc [--bins 30] [--window MODE]``:
 aggregate the per-seed fragment datasets of one drying scene over seeds (drying spec section
-10); MODE is the statistics window (:func:`craquelure.drying.analysis.campaign_window`)."""
+10); MODE is the statistics window (:func:`craquelure.drying.time_scales.campaign_window`)."""
 
 from craquelure.errors import CraquelureError
 
@@ -23,15 +23,16 @@ def main(args) -> int:
 
     from craquelure.models import model_module
 
-    analysis = model_module("drying", "analysis")  # campaigns of drying fragment datasets
+    campaign = model_module("drying", "campaign")  # campaigns of drying fragment datasets
+    windows = model_module("drying", "time_scales")
     missing = [p for p in args.fragments if not Path(p).is_file()]
     if missing:
         raise CraquelureError(f"fragment datasets not found: {', '.join(missing)}")
     if args.bins < 2:
         raise CraquelureError(f"--bins {args.bins} is not allowed; must be >= 2")
-    if args.window not in analysis.WINDOW_MODES:
+    if args.window not in windows.WINDOW_MODES:
         raise CraquelureError(f"--window {args.window} is not allowed; allowed values: "
-                              f"{', '.join(analysis.WINDOW_MODES)}")
-    out = analysis.campaign_from_files(args.fragments, args.out, args.bins, args.window)
+                              f"{', '.join(windows.WINDOW_MODES)}")
+    out = campaign.campaign_from_files(args.fragments, args.out, args.bins, args.window)
     print(f"wrote {out}")
     return 0

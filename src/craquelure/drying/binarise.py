@@ -46,26 +46,22 @@ from skimage.measure import label as sk_label
 from craquelure.drying.field import mesh_field, mesh_spacing
 from craquelure.sph.kernels import w as kernel_w
 
-DEFAULT_PHI0 = 0.8
-DEFAULT_SPACING_H = 0.01  # mesh spacing in units of h (paper)
-
 
 def phi_field(x: np.ndarray, y: np.ndarray, volume: np.ndarray, box_length: float, h: float,
-              spacing: float, kernel: str = "quintic",
-              active: np.ndarray | None = None) -> np.ndarray:
+              spacing: float, kernel: str, active: np.ndarray | None = None) -> np.ndarray:
     """Shepard field :math:`\\phi` on the periodic mesh (array ``[j, i]``, row = y)."""
     return mesh_field(x, y, volume, box_length, h, spacing, kernel, active=active)
 
 
-def binarise(phi: np.ndarray, phi0: float = DEFAULT_PHI0) -> np.ndarray:
+def binarise(phi: np.ndarray, phi0: float) -> np.ndarray:
     """Paste image: True where :math:`\\phi \\ge \\phi_0`."""
     return np.asarray(phi) >= phi0
 
 
-def snapshot_image(run: xr.Dataset, time_index: int, spacing_h: float = DEFAULT_SPACING_H,
-                   phi0: float = DEFAULT_PHI0, kernel: str = "quintic"
-                   ) -> tuple[np.ndarray, float]:
-    """Paste image of snapshot ``time_index`` of a run dataset, and the mesh spacing used.
+def snapshot_image(run: xr.Dataset, time_index: int, spacing_h: float, phi0: float,
+                   kernel: str) -> tuple[np.ndarray, float]:
+    """Paste image of snapshot ``time_index`` of a run dataset, and the mesh spacing used
+    (``spacing_h``, ``phi0``, ``kernel``: the scene's, :func:`.analysis.analyse_run`).
 
     Uses the particles with ``alive == 1`` and :math:`V_J = m_J/\\rho_J` at that time.
     """
@@ -81,7 +77,7 @@ def snapshot_image(run: xr.Dataset, time_index: int, spacing_h: float = DEFAULT_
 
 
 @cache
-def edge_depth(phi0: float = DEFAULT_PHI0, kernel: str = "quintic", h: float = 1.0) -> float:
+def edge_depth(phi0: float, kernel: str, h: float) -> float:
     """Depth :math:`d^*` inside a straight free edge of uniform paste where
     :math:`\\phi = \\phi_0` (module docstring), in the units of ``h``."""
     if not 0.5 < phi0 < 1.0:

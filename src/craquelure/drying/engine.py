@@ -68,7 +68,7 @@ KAPPA_AMPLITUDE_FACTOR = 20.0  # kappa from F >= 20 a sigma_Y (module docstring)
 X, Y, VX, VY, RHO, SXX, SYY, SXY = range(8)
 
 
-def compile_rate(effects, kernel: str = "quintic"):
+def compile_rate(effects, kernel: str):
     """The rate module specialised on ``effects`` (effects without a kernel flag, such as
     ``fracture``, act between steps)."""
     flags: dict[str, bool | int] = effect_flags("drying", effects)
@@ -83,7 +83,7 @@ def parameters(scene: Scene) -> np.ndarray:
         eta=scene.get("material.eta", 0.0),
         drying_rate=scene.get("material.drying_rate", 0.0),
         thickness=scene.get("material.thickness", 1.0),
-        xsph_epsilon=scene.get("numerics.xsph_epsilon", 0.0),
+        xsph_epsilon=scene.get("numerics.xsph_epsilon"),
         support=scene.get("numerics.h"),
         box_length=scene.get("domain.box_length"),
         drying_stress_cap=scene.get("material.drying_stress_cap", math.inf)))

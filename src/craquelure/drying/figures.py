@@ -14,7 +14,7 @@ r"""Figures of the drying-paste campaign (paper Figs. 2-6), from analysis datase
 
 Every figure carries a caption line with the profile, N, L, the number of seeds, the time unit
 (:math:`t^* = \sigma_Y/v_r`, and the profile's speed-up over the paper) and the fitted numbers
-from the summary (:func:`craquelure.drying.analysis.summarise`). Each is written as PNG and
+from the summary (:func:`craquelure.drying.summary.summarise`). Each is written as PNG and
 PDF.
 """
 
@@ -27,8 +27,9 @@ import matplotlib.ticker
 import numpy as np
 import xarray as xr
 
-from craquelure.drying.analysis import ccdf_bands, drying_number, paper_t_star, window_of
 from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
+from craquelure.drying.summary import ccdf_bands
+from craquelure.drying.time_scales import drying_number, paper_t_star, window_of
 from craquelure.plotting import plt, save
 
 FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")

@@ -20,11 +20,11 @@ def run_step(data: dict) -> float:
     spec's estimate 6.7 eta/(rho0 h^2) of the viscous spectral radius. rkc2 with adapt_dt:
     ``step_control.dt_max``, the step between removal events."""
     dt = float(lookup(data, "numerics.dt"))
-    if not lookup(data, "numerics.adapt_dt", True):
+    if not lookup(data, "numerics.adapt_dt"):
         return dt
     if lookup(data, "numerics.integrator") == "rkc2":
         # error-controlled, not bound by the viscous limit: at dt_max between removal events
-        return float((lookup(data, "numerics.step_control", None) or {}).get("dt_max", 0.2))
+        return float(lookup(data, "numerics.step_control.dt_max"))
     radius = viscous_spectral_radius(SceneView(data))
     if not radius > 0:
         return dt
@@ -51,8 +51,8 @@ def scene_problems(data: dict) -> list[str]:
         if problem:
             out.append(problem)
     h, length = float(lookup(data, "numerics.h")), float(lookup(data, "domain.box_length"))
-    radius = h * (1 + float(lookup(data, "numerics.neighbour_skin", 0.1)))
-    if lookup(data, "domain.periodic", True) and length < 2 * radius:
+    radius = h * (1 + float(lookup(data, "numerics.neighbour_skin")))
+    if lookup(data, "domain.periodic") and length < 2 * radius:
         out.append(f"domain.box_length: {length!r} is not allowed; the periodic box must be at "
                    f"least twice the neighbour search radius numerics.h x (1 + "
                    f"numerics.neighbour_skin) = {radius:g}")
@@ -66,9 +66,9 @@ def scene_problems(data: dict) -> list[str]:
 def memory_estimate(data: dict) -> tuple[float, str]:
     n = int(lookup(data, "particles.n"))
     length, h = float(lookup(data, "domain.box_length")), float(lookup(data, "numerics.h"))
-    skin = float(lookup(data, "numerics.neighbour_skin", 0.1))
+    skin = float(lookup(data, "numerics.neighbour_skin"))
     pairs = n * min(n, n * math.pi * (h * (1 + skin)) ** 2 / length**2 + 1)
-    shepard = float(lookup(data, "numerics.mass_solve.shepard_spacing", 0.02)) * h
+    shepard = float(lookup(data, "numerics.mass_solve.shepard_spacing")) * h
     mesh = (length / shepard) ** 2
     snaps = len(lookup(data, "outputs.times") or range(10)) + 1
     rsa = 0.0

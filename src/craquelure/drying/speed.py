@@ -28,7 +28,8 @@ import numpy as np
 import xarray as xr
 
 from craquelure.drying import statistics
-from craquelure.drying.analysis import build_campaign, drying_number, per_sample_totals
+from craquelure.drying.campaign import build_campaign, per_sample_totals
+from craquelure.drying.time_scales import drying_number
 from craquelure.errors import CraquelureError
 from craquelure.scene import Scene
 

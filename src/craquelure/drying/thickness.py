@@ -12,7 +12,7 @@ size to thickness. Everything else in the scene is held fixed; the initial state
 masses, initial stress) is the same for every H of a seed, so the comparison is paired.
 
 For each thickness the pooled mean area :math:`\langle S\rangle_{H,t}` over seeds is computed as
-in the campaign (:func:`craquelure.drying.analysis.pooled_mean`). At every snapshot where each
+in the campaign (:func:`craquelure.drying.campaign.pooled_mean`). At every snapshot where each
 thickness has every sample broken into at least two fragments (earlier, the area is the box
 and says nothing about H), the exponent :math:`\beta_t` is the least-squares slope of
 :math:`\log\langle S\rangle_{H,t}` against :math:`\log H`; the prediction is
@@ -28,7 +28,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import xarray as xr
 
-from craquelure.drying.analysis import pooled_mean
+from craquelure.drying.campaign import pooled_mean
 from craquelure.errors import CraquelureError
 
 PREDICTED_EXPONENT = 2.0

@@ -94,11 +94,11 @@ def run_scene(ds):
 
 
 def run_dim(ds, scene=None) -> int:
-    """2 or 3: the run's ``dim`` attribute, else its scene's ``domain.dim``, else 2."""
+    """2 or 3: the run's ``dim`` attribute, else its scene's ``domain.dim``."""
     if "dim" in ds.attrs:
         return int(ds.attrs["dim"])
     scene = scene if scene is not None else run_scene(ds)
-    return int(scene.get("domain.dim", 2))
+    return int(scene.get("domain.dim"))
 
 
 def run_metrics(ds) -> dict:
@@ -111,9 +111,9 @@ def run_metrics(ds) -> dict:
     older runs are not read (:func:`run_fact` aside)."""
     scene = run_scene(ds)
     g = scene.get
-    cracked = g("material.cracked_threshold", 0.9)
-    crushed = g("material.crushed_strain", 0.0035)
-    measure_name = g("material.cracked_measure", "softening")
+    cracked = g("material.cracked_threshold")
+    crushed = g("material.crushed_strain")
+    measure_name = g("material.cracked_measure")
     x0, y0 = ds["x0"].values, ds["y0"].values
     crack = ds["damage" if measure_name == "damage" else "softening"].values
     plastic = ds["plastic_strain"].values
@@ -146,7 +146,7 @@ def run_metrics(ds) -> dict:
         "n_zero_mass": int(np.sum(ds["mass"].values == 0)),
         "kappa": g("numerics.kappa"), "effects": ",".join(scene.effects),
         "f_t": g("material.f_t", None), "impact_velocity": g("particles.impact_velocity"),
-        "plane": g("domain.plane", None), "distribution": g("particles.masses.distribution"),
+        "plane": g("domain.plane"), "distribution": g("particles.masses.distribution"),
         "precrack_layout": g("particles.precrack"), "dim": run_dim(ds, scene),
     })
     out.update({name: _num(run_fact(ds, name)) for name in RUN_FACTS})

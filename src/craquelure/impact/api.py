@@ -12,6 +12,7 @@ is not used: a run starts from the scene and seed.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -28,7 +29,7 @@ from craquelure.impact.engine import Engine, Settings, State
 from craquelure.impact.initial_state import Specimen, build_specimen, initial_smoothing_length
 from craquelure.impact.material import Concrete
 from craquelure.provenance import WallClock, provenance_attrs
-from craquelure.scene import Scene
+from craquelure.scene import Scene, load_scene_text
 from craquelure.throughput import prediction_lines
 
 
@@ -39,7 +40,7 @@ def concrete(scene: Scene) -> Concrete:
                    shear=scene.get("material.shear_modulus", 1.0),
                    f_c=scene.get("material.f_c", 1e30), f_bc_ratio=scene.get("material.f_bc_ratio"),
                    f_t=scene.get("material.f_t", 1e30), G_F=scene.get("material.G_F", 1e30),
-                   band=band, gfc_ratio=scene.get("material.G_fc_ratio", 100.0))
+                   band=band, gfc_ratio=scene.get("material.G_fc_ratio"))
     if scene.has("damage"):
         mat.check()
     for name in ("compressive_damage", "rate_effects"):
@@ -88,6 +89,18 @@ def settings(scene: Scene) -> Settings:
         dim=g("domain.dim"))
 
 
+# The smallest scene the schema accepts: every numerics value is the schema's default.
+PROBE_SCENE = """{model: impact, particles: {spacing: 0.004, diameter_cells: 4},
+material: {rho0: 2400.0, bulk_modulus: 1.0, shear_modulus: 1.0}, outputs: {t_end: 1.0e-5},
+effects: [elasticity]}"""
+
+
+def probe_settings(**fields) -> Settings:
+    """Settings of a probe that is not a scene (a periodic strip, a particle pair): those of
+    :data:`PROBE_SCENE`, resolved by the schema, with ``fields`` replaced."""
+    return dataclasses.replace(settings(load_scene_text(PROBE_SCENE, "probe")), **fields)
+
+
 def initial_state(scene: Scene, specimen: Specimen) -> State:
     if specimen.vx is not None:  # rings: each moves along x towards the other
         return State.grid(specimen.x, specimen.y, specimen.vx, 0.0, specimen.mass,
@@ -111,9 +124,7 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     st = settings(scene)
     mat = st.material
     sp = build_specimen(scene, 0)
-    h0 = initial_smoothing_length(scene)
-    av = (st.av_alpha * st.wave_speed * 1.2) if scene.has("artificial_viscosity") else 0.0
-    dt = min(st.dt_max, st.cfl * h0 / (st.wave_speed + _speed(scene) + av))
+    h0, dt = initial_step(scene, st)
     steps = math.ceil(scene.get("outputs.t_end") / dt)
     return {
         "particles": sp.n,
@@ -149,16 +160,14 @@ def workload(scene: Scene) -> dict[str, float]:
     skin) but the particle itself, π r²/Δ² - 1 in 2D and (4/3) π r³/Δ³ - 1 for
     ``domain.dim: 3``."""
     st = settings(scene)
-    h0 = initial_smoothing_length(scene)
-    av = (st.av_alpha * st.wave_speed * 1.2) if scene.has("artificial_viscosity") else 0.0
-    dt = min(st.dt_max, st.cfl * h0 / (st.wave_speed + _speed(scene) + av))
+    h0, dt = initial_step(scene, st)
     return {"units": math.ceil(scene.get("outputs.t_end") / dt),
             "particles": build_specimen(scene, 0).n,
             "neighbours": listed_neighbours((2.0 + st.neighbour_skin) * h0 / st.spacing,
-                                            int(scene.get("domain.dim", 2)))}
+                                            int(scene.get("domain.dim")))}
 
 
-def listed_neighbours(radius_cells: float, dim: int = 2) -> float:
+def listed_neighbours(radius_cells: float, dim: int) -> float:
     """Neighbours of a particle on a grid of unit spacing within ``radius_cells``: the ball's
     area (2D) or volume (3D) minus the particle itself."""
     if dim == 3:
@@ -166,10 +175,13 @@ def listed_neighbours(radius_cells: float, dim: int = 2) -> float:
     return math.pi * radius_cells**2 - 1.0
 
 
-def _speed(scene: Scene) -> float:
-    if scene.get("particles.shape") == "rings":
-        return scene.get("particles.rings.speed")
-    return scene.get("particles.impact_velocity")
+def initial_step(scene: Scene, st: Settings) -> tuple[float, float]:
+    """h(0) and the first stable step (engine docstring, item 7) of a scene."""
+    h0 = initial_smoothing_length(scene)
+    av = (st.av_alpha * st.wave_speed * 1.2) if scene.has("artificial_viscosity") else 0.0
+    speed = scene.get("particles.rings.speed" if scene.get("particles.shape") == "rings"
+                      else "particles.impact_velocity")
+    return h0, min(st.dt_max, st.cfl * h0 / (st.wave_speed + speed + av))
 
 
 def _penalty(scene: Scene, st: Settings):

@@ -41,7 +41,7 @@ from craquelure.runner import Divergence, diverged, non_finite, runaway
 from craquelure.sph.neighbours import Box, neighbour_list, neighbour_list_points
 
 
-def kernels_for(effects, periodic: bool = False, plane_stress: bool = False, dim: int = 2):
+def kernels_for(effects, periodic: bool, plane_stress: bool, dim: int):
     """The kernel module compiled for this effect set and dimension
     (:func:`craquelure.codegen.specialise`)."""
     if dim not in (2, 3):
@@ -62,9 +62,18 @@ def mass_sum(m, q):
     return total
 
 
+# Accelerations, stresses and pair powers below this magnitude (SI) are set to 0 where they are
+# produced: far below any physical value, it keeps the arithmetic out of subnormal numbers
+# (tests/impact/test_subnormals.py: the results do not change). An engine constant, not a
+# scene parameter.
+FLUSH_BELOW = 1e-100
+
+
 @dataclass
 class Settings:
-    """Numbers the engine needs (SI), from a scene or set directly by tests."""
+    """Numbers the engine needs (SI): the resolved scene's (:func:`craquelure.impact.api.settings`;
+    the schema holds every default, so no field has one but the engine constant and the
+    periodic box a scene never has)."""
 
     material: Concrete
     rho0: float
@@ -73,21 +82,21 @@ class Settings:
     av_alpha: float
     av_beta: float
     as_epsilon: float
-    cfl: float = 0.3
-    dt_max: float = 1e-5
-    as_n: float = 4.0
-    h_min: float = 0.2
-    h_max: float = 2.0
-    base_y: float = 0.0
-    contact_radius: float = 0.5  # units of spacing
-    contact_a: float = 0.1
-    kinematic_ratio: float = 0.5
-    energy_runaway_factor: float = 1.5
-    neighbour_skin: float = 0.2  # units of max h
-    periodic_box: tuple[float, ...] | None = None  # (lx, ly) in 2D, (lx, ly, lz) in 3D
-    plane_stress: bool = False  # 2D plane stress (sigma_zz = 0) instead of plane strain
-    dim: int = 2  # 2: plane strain/stress slice (per metre of thickness); 3: full 3D
-    flush_below: float = 1e-100  # accelerations, stresses, pair powers below this -> 0 (SI)
+    cfl: float
+    dt_max: float
+    as_n: float
+    h_min: float
+    h_max: float
+    base_y: float
+    contact_radius: float  # units of spacing
+    contact_a: float
+    kinematic_ratio: float
+    energy_runaway_factor: float
+    neighbour_skin: float  # units of max h
+    plane_stress: bool  # 2D plane stress (sigma_zz = 0) instead of plane strain
+    dim: int  # 2: plane strain/stress slice (per metre of thickness); 3: full 3D
+    periodic_box: tuple[float, ...] | None = None  # tests: (lx, ly) in 2D, (lx, ly, lz) in 3D
+    flush_below: float = FLUSH_BELOW
 
     @property
     def wave_speed(self) -> float:
@@ -132,6 +141,7 @@ class State:
     rho: np.ndarray
     h: np.ndarray
     h0: np.ndarray
+    dim: int  # 2, or 3 when z is given (State.grid)
     sig: np.ndarray = field(default=None)   # effective stress xx, yy, xy, zz
     nom: np.ndarray = field(default=None)   # nominal stress
     eps_max: np.ndarray = field(default=None)
@@ -144,7 +154,6 @@ class State:
     wd: np.ndarray = field(default=None)    # damage dissipation per unit mass
     z: np.ndarray = field(default=None)     # 3D: out-of-plane position (2D: zeros)
     vz: np.ndarray = field(default=None)
-    dim: int = 2
 
     def __post_init__(self):
         n = self.x.size

@@ -109,7 +109,8 @@ def p_wave_mode(spacing: float, kappa: float = 1.0, length: float = 0.2, cfl: fl
     kernels are warm). The error is (1 − g) + O((kΔ)²) with g of
     :func:`lattice_gradient_factor`: at fixed h/Δ SPH does not converge to the exact speed.
     """
-    from craquelure.impact.engine import Settings, State
+    from craquelure.impact.api import probe_settings
+    from craquelure.impact.engine import State
     from craquelure.impact.material import standard_concrete
 
     nx = int(round(length / spacing))
@@ -121,9 +122,9 @@ def p_wave_mode(spacing: float, kappa: float = 1.0, length: float = 0.2, cfl: fl
     k = 2.0 * np.pi / length
     st = State.grid(x, y, v0 * np.sin(k * x), 0.0, np.full(x.size, rho0 * spacing**2), rho0,
                     1.2 * kappa * spacing)
-    s = Settings(material=standard_concrete(), rho0=rho0, spacing=spacing, effects=effects,
-                 av_alpha=1.0, av_beta=2.0, as_epsilon=0.3, cfl=cfl,  # the spec's constants
-                 periodic_box=(nx * spacing, rows * spacing))
+    s = probe_settings(material=standard_concrete(), rho0=rho0, spacing=spacing, effects=effects,
+                       av_alpha=1.0, av_beta=2.0, as_epsilon=0.3, cfl=cfl,  # the spec's constants
+                       periodic_box=(nx * spacing, rows * spacing))
     eng = Engine(s, st)
     omega = k * s.wave_speed
     weight = st.m * np.sin(k * x)

@@ -28,7 +28,7 @@ def _disc(ax, ds, values, snapshot=-1, cmap="gray_r", vmin=0.0, vmax=1.0, refere
 def _failed(ds, snapshot=-1):
     """0 intact, 0.5 crushed, 1 cracked (the source's grey/black maps)."""
     crack = ds["snap_softening"].values[snapshot]
-    if run_scene(ds).get("material.cracked_measure", "softening") == "damage":
+    if run_scene(ds).get("material.cracked_measure") == "damage":
         crack = ds["snap_damage"].values[snapshot]
     crushed = ds["snap_plastic_strain"].values[snapshot] >= 0.0035
     return np.where(crack >= 0.9, 1.0, np.where(crushed, 0.55, 0.12))

@@ -69,8 +69,8 @@ def grid(shape: str, cells: int, height_cells: int, spacing: float) -> tuple[np.
     return gx.ravel(), gy.ravel()
 
 
-def draw_weights(distribution: str, n: int, rng: np.random.Generator, normal_sd: float = 0.3,
-                 poisson_lambda: float = 4.0) -> np.ndarray:
+def draw_weights(distribution: str, n: int, rng: np.random.Generator, normal_sd: float,
+                 poisson_lambda: float) -> np.ndarray:
     """Relative masses omega_i with mean 1 (before the exact rescaling)."""
     if distribution == "homogeneous":
         return np.ones(n)

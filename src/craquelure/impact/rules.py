@@ -43,14 +43,14 @@ def scene_problems(data: dict) -> list[str]:
 
 def memory_estimate(data: dict) -> tuple[float, str]:
     d = int(lookup(data, "particles.diameter_cells"))
-    n = d * int(lookup(data, "particles.height_cells", 1)) \
+    n = d * int(lookup(data, "particles.height_cells")) \
         if lookup(data, "particles.shape") == "rectangle" else math.pi / 4 * d * d
     three_d = lookup(data, "domain.dim") == 3
     if three_d:
         n *= int(lookup(data, "particles.thickness_cells"))
-    kappa = float(lookup(data, "numerics.kappa", 1.0))
+    kappa = float(lookup(data, "numerics.kappa"))
     hf = float(lookup(data, "numerics.h_factor"))
-    h_max = float(lookup(data, "numerics.h_max", 2.0))
+    h_max = float(lookup(data, "numerics.h_max"))
     skin = float(lookup(data, "numerics.neighbour_skin"))
     support = 2 * kappa * hf * max(1.0, h_max) * (1 + skin)
     pairs = n * min(n, 4.0 / 3.0 * math.pi * support**3 if three_d else math.pi * support**2)

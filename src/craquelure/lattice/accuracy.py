@@ -26,8 +26,9 @@ import time
 import numpy as np
 
 from craquelure.lattice import beam
-from craquelure.lattice.engine import Engine, lattice_system, stable_step_estimate
+from craquelure.lattice.engine import lattice_system, stable_step_estimate
 from craquelure.lattice.geometry import ROW, triangular_block
+from craquelure.lattice.initial_state import probe_engine
 
 
 def column_period(n_free_rows: int, nx: int = 4, ks_over_kn: float = 0.2,
@@ -45,7 +46,7 @@ def column_period(n_free_rows: int, nx: int = 4, ks_over_kn: float = 0.2,
     c_p = math.sqrt(moduli["M"] / rho2)
     t_ref = 4.0 * height / c_p
     dt = dt_factor * stable_step_estimate(s)
-    eng = Engine(s, ("beams",), dict(dt=dt), series_every=10**9, parallel=False)
+    eng = probe_engine(s, ("beams",), dict(dt=dt), series_every=10**9, parallel=False)
     y0 = s.y - s.y.min()
     shape = np.sin(0.5 * math.pi * y0 / height)
     eng.q[1] = s.y + u0 * shape

@@ -19,6 +19,7 @@ import numpy as np
 from craquelure.lattice import beam
 from craquelure.lattice.engine import Engine, lattice_system, stable_step_estimate
 from craquelure.lattice.geometry import triangular_block
+from craquelure.lattice.initial_state import probe_engine
 
 
 def block_engine(n_particles: int, effects=("beams",), seed: int = 0,
@@ -32,7 +33,7 @@ def block_engine(n_particles: int, effects=("beams",), seed: int = 0,
     s = lattice_system(x, y, kn=c.kn, ka=c.a, kb=c.b)
     params = dict(dt=0.2 * stable_step_estimate(s), area=c.area, inertia=c.inertia,
                   width=c.width, sigma0=1.0, tau0=1.0, contact_stiffness=1.0)
-    eng = Engine(s, tuple(effects), params, series_every=100, seed=seed, parallel=parallel)
+    eng = probe_engine(s, tuple(effects), params, series_every=100, seed=seed, parallel=parallel)
     rng = np.random.default_rng(seed)
     eng.set_velocity(*(1e-4 * rng.normal(size=(3, s.n))))
     return eng

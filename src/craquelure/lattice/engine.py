@@ -39,8 +39,8 @@ ROUND_OFF_STEPS = 1000
 KERNEL_TEMPLATE = "craquelure.lattice.kernel_template"
 
 
-def kernel_flags(effects, periodic_x: bool = False, node_averaged: bool = False,
-                 bending: bool = False, parallel: bool = True) -> dict[str, bool]:
+def kernel_flags(effects, periodic_x: bool, node_averaged: bool, bending: bool,
+                 parallel: bool) -> dict[str, bool]:
     """Flags of the kernel template: the effects' (from the registry) and the engine options."""
     flags = effect_flags("lattice", effects)
     flags["PERIODIC_X"] = bool(periodic_x)
@@ -189,17 +189,18 @@ def default_params(**values) -> np.ndarray:
 
 @dataclass
 class Engine:
-    """Time integration of a :class:`LatticeState` with a given effect set (kernel flags)."""
+    """Time integration of a :class:`LatticeState` with a given effect set (kernel flags) and
+    the resolved scene's options (:func:`.initial_state.engine_options`)."""
 
     system: LatticeState
     effects: tuple[str, ...]
     params: dict
+    series_every: int
+    node_averaged: bool
+    bending: bool
+    freeze_every: int  # 0: no re-freezing (melting off)
+    refreeze_radius: float
     seed: int = 0
-    series_every: int = 10
-    node_averaged: bool = False
-    bending: bool = False
-    freeze_every: int = 0
-    refreeze_radius: float = 1.1
     step: int = 0
     series: list = field(default_factory=list)
     parallel: bool | None = None  # None: parallel kernel for large systems on > 1 thread
@@ -429,7 +430,7 @@ class Engine:
         return px, py, lz
 
 
-def lattice_system(x, y, L=1.0, kn=1.0, ka=0.1, kb=0.0, rho=1.0, period_x=0.0,  # noqa: N803
+def lattice_system(x, y, L=1.0, *, kn, ka, kb, rho=1.0, period_x=0.0,  # noqa: N803
                    body=None) -> LatticeState:
     """Discs of diameter L (mass rho pi L^2/4, J = m L^2/8) bonded to neighbours closer than
     1.1 L with uniform stiffnesses."""

@@ -23,7 +23,7 @@ from craquelure.errors import SceneError
 from craquelure.lattice import beam
 from craquelure.lattice.engine import Engine, LatticeState, lattice_system, stable_step_estimate
 from craquelure.lattice.geometry import REMOVED, ROW, half_disc, remove_fraction, triangular_block
-from craquelure.scene import Scene
+from craquelure.scene import Scene, load_scene_text
 
 
 def beam_constants(scene: Scene) -> beam.BeamConstants:
@@ -61,8 +61,8 @@ def build_system(scene: Scene, seed: int) -> tuple[LatticeState, dict[str, np.nd
         col = np.concatenate([col, np.full(px.size, -1)])
         body = np.concatenate([body, np.ones(px.size, np.int64)])
     c = beam_constants(scene)
-    system = lattice_system(x, y, L, c.kn, c.a, c.b, scene.get("particles.density"),
-                            nx * L if periodic else 0.0, body)
+    system = lattice_system(x, y, L, kn=c.kn, ka=c.a, kb=c.b, rho=scene.get("particles.density"),
+                            period_x=nx * L if periodic else 0.0, body=body)
     system.unbreakable[(body[system.bi] == 1)] = 1
     removal = scene.get("particles.bond_removal")
     if removal > 0:
@@ -144,14 +144,31 @@ def make_engine(scene: Scene, seed: int) -> tuple[Engine, dict[str, np.ndarray]]
     system, labels = build_system(scene, seed)
     if not scene.has("beams"):
         system.state[:] = REMOVED
-    engine = Engine(
-        system, tuple(e for e in scene.effects), engine_params(scene, system), seed=seed,
-        series_every=scene.get("numerics.series_every"),
-        node_averaged=scene.get("fracture.variant") == "node_averaged",
-        bending=scene.get("fracture.bending"),
-        freeze_every=scene.get("melting.freeze_every", 0) if scene.has("melting") else 0,
-        refreeze_radius=scene.get("melting.refreeze_radius", 1.1))
+    engine = Engine(system, tuple(e for e in scene.effects), engine_params(scene, system),
+                    seed=seed, **engine_options(scene))
     return engine, labels
+
+
+def engine_options(scene: Scene) -> dict:
+    """The engine's options from the resolved scene; melting off: no re-freezing."""
+    melting = scene.has("melting")
+    return dict(series_every=scene.get("numerics.series_every"),
+                node_averaged=scene.get("fracture.variant") == "node_averaged",
+                bending=scene.get("fracture.bending"),
+                freeze_every=scene.get("melting.freeze_every") if melting else 0,
+                refreeze_radius=scene.get("melting.refreeze_radius") if melting else math.nan)
+
+
+# The smallest scene the schema accepts: every option is the schema's default.
+PROBE_SCENE = """{model: lattice, domain: {nx: 2, ny: 2}, particles: {}, numerics: {},
+material: {bond_model: shear_beam}, outputs: {t_end: 1.0}, effects: [beams]}"""
+
+
+def probe_engine(system: LatticeState, effects, params: dict, **options) -> Engine:
+    """An engine for a system that is not a scene's (a column, a pair, a test block): the
+    options of :data:`PROBE_SCENE`, resolved by the schema, with ``options`` replaced."""
+    probe = engine_options(load_scene_text(PROBE_SCENE, "probe"))
+    return Engine(system, tuple(effects), params, **{**probe, **options})
 
 
 def block_height(scene: Scene) -> float:

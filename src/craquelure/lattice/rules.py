@@ -11,8 +11,8 @@ def step_estimate(data: dict) -> float:
     """A lower bound of the lattice step dt_factor 2/omega_est (lattice spec section 5) from
     the scene alone: six bonds of the stiffest constant on the lightest disc."""
     c = beam_constants(SceneView(data))
-    spacing = float(lookup(data, "particles.spacing", 1.0))
-    mass = float(lookup(data, "particles.density", 1.0)) * math.pi * spacing**2 / 4
+    spacing = float(lookup(data, "particles.spacing"))
+    mass = float(lookup(data, "particles.density")) * math.pi * spacing**2 / 4
     inertia = mass * spacing**2 / 8
     k = max(c.kn, 2.0 * (c.a + c.b) / spacing**2)
     w2 = max(2 * 6 * k / mass, 2 * 6 * c.a / inertia)
@@ -36,7 +36,7 @@ def memory_estimate(data: dict) -> tuple[float, str]:
     n = int(lookup(data, "domain.nx")) * int(lookup(data, "domain.ny"))
     bonds = 3 * n
     steps = float(lookup(data, "outputs.t_end")) / step_estimate(data)
-    rows = steps / int(lookup(data, "numerics.series_every", 100)) + 2
-    frames = int(lookup(data, "outputs.frames", 5)) + 1
+    rows = steps / int(lookup(data, "numerics.series_every")) + 2
+    frames = int(lookup(data, "outputs.frames")) + 1
     need = n * 8 * 40 + bonds * 8 * 30 + rows * 17 * 8 * 3 + frames * n * 3 * 8
     return need, f"{n} particles, {bonds} bonds, {rows:.3g} energy-series rows"

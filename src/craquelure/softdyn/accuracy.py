@@ -35,7 +35,7 @@ def _run(scene, overrides: list[str], probe_tau: float):
 
 
 def run_accuracy(scene) -> xr.Dataset:
-    integrators = list(scene.get("study.integrators", ["LSODA", "BDF", "Radau"]))
+    integrators = list(scene.get("study.integrators"))
     rtols = np.asarray(scene.get("study.rtol", []), dtype=float)
     dts = np.asarray(scene.get("study.dt", []), dtype=float)  # one at least (scene rules)
     probe = float(scene.get("study.probe_time"))

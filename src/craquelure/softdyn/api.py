@@ -94,7 +94,7 @@ def workload(scene: Scene) -> dict[str, float]:
         units = sum(_integration_cost(scene, h0, float(f)) * len(scene.get("study.fh_over_fv"))
                     for f in scene.get("study.reduced_force"))
     elif kind == "accuracy":
-        runs = 1 + len(scene.get("study.integrators", ["LSODA", "BDF", "Radau"])) * len(
+        runs = 1 + len(scene.get("study.integrators")) * len(
             scene.get("study.rtol", [])) + len(scene.get("study.dt", []))
         units = runs * _integration_cost(scene, h0, force)
     else:

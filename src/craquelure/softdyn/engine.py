@@ -79,7 +79,7 @@ class Engine:
     tau_baumgarte: float
     ramp_time: float
     flags: Flags
-    linear_solver: str = "auto"
+    linear_solver: str
     pair_names: tuple[str, ...] = ()
     particle_names: tuple[str, ...] = ()
     symmetry: tuple[tuple[tuple[int, ...], tuple[float, ...]], ...] = ()

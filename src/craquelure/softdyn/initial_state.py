@@ -129,7 +129,7 @@ def build(scene) -> Setup:
     k_t = scene.get("material.k_t", 1.0)
     c_n = scene.get("material.c_n")
     c_t = scene.get("material.c_t", math.pi)
-    dim = scene.get("domain.dim", 2)
+    dim = scene.get("domain.dim")
     h0 = scene.get("particles.h0")
     force = scene.get("loads.reduced_force") * young * radius**2
     tau = eta * radius**2 / force

@@ -42,7 +42,7 @@ def validate_run_setup(view: SceneView) -> None:
 
 
 def memory_estimate(data: dict) -> tuple[float, str]:
-    samples = int(lookup(data, "outputs.n_samples", 400))
+    samples = int(lookup(data, "outputs.n_samples"))
     grid = 1
     for key in ("h0", "reduced_force", "fh_over_fv", "rtol", "dt"):
         grid *= max(1, len(lookup(data, f"study.{key}") or []))
