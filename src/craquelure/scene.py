@@ -152,9 +152,8 @@ def load_scene_text(
 def stored_scene(text: str, name: str = "scene") -> Scene:
     """The resolved scene a dataset carries (its ``scene`` attribute), read back as it was
     written: not re-validated against today's schema (a key renamed since must not make an
-    archived dataset unreadable). The run wrote every value it used; only a parameter added
-    since is filled in, with its schema default (a new parameter's default keeps the earlier
-    behaviour), so a reader needs no fallback of its own (docs/adding-an-effect.md)."""
+    archived dataset unreadable). Only parameters added since are filled in, with the schema's
+    default (which keeps the earlier behaviour): readers keep no fallbacks of their own."""
     try:
         data = _load_yaml(text)
     except (yaml.YAMLError, SceneError, ValueError, TypeError) as exc:

@@ -89,15 +89,14 @@ def settings(scene: Scene) -> Settings:
         dim=g("domain.dim"))
 
 
-# The smallest scene the schema accepts: every numerics value is the schema's default.
 PROBE_SCENE = """{model: impact, particles: {spacing: 0.004, diameter_cells: 4},
 material: {rho0: 2400.0, bulk_modulus: 1.0, shear_modulus: 1.0}, outputs: {t_end: 1.0e-5},
 effects: [elasticity]}"""
 
 
 def probe_settings(**fields) -> Settings:
-    """Settings of a probe that is not a scene (a periodic strip, a particle pair): those of
-    :data:`PROBE_SCENE`, resolved by the schema, with ``fields`` replaced."""
+    """Settings of a probe that is not a scene (a strip, a pair): those of the smallest scene,
+    :data:`PROBE_SCENE` (numerics: the schema's defaults), with ``fields`` replaced."""
     return dataclasses.replace(settings(load_scene_text(PROBE_SCENE, "probe")), **fields)
 
 

@@ -62,18 +62,15 @@ def mass_sum(m, q):
     return total
 
 
-# Accelerations, stresses and pair powers below this magnitude (SI) are set to 0 where they are
-# produced: far below any physical value, it keeps the arithmetic out of subnormal numbers
-# (tests/impact/test_subnormals.py: the results do not change). An engine constant, not a
-# scene parameter.
+# An engine constant, not a scene parameter: accelerations, stresses, pair powers below it (SI)
+# are set to 0 where produced, out of subnormal numbers (tests/impact/test_subnormals.py)
 FLUSH_BELOW = 1e-100
 
 
 @dataclass
 class Settings:
-    """Numbers the engine needs (SI): the resolved scene's (:func:`craquelure.impact.api.settings`;
-    the schema holds every default, so no field has one but the engine constant and the
-    periodic box a scene never has)."""
+    """Numbers the engine needs (SI), the resolved scene's (:func:`.api.settings`): no defaults
+    but the engine constant and the periodic box (of tests) a scene never has."""
 
     material: Concrete
     rho0: float

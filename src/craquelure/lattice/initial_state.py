@@ -159,14 +159,13 @@ def engine_options(scene: Scene) -> dict:
                 refreeze_radius=scene.get("melting.refreeze_radius") if melting else math.nan)
 
 
-# The smallest scene the schema accepts: every option is the schema's default.
 PROBE_SCENE = """{model: lattice, domain: {nx: 2, ny: 2}, particles: {}, numerics: {},
 material: {bond_model: shear_beam}, outputs: {t_end: 1.0}, effects: [beams]}"""
 
 
 def probe_engine(system: LatticeState, effects, params: dict, **options) -> Engine:
-    """An engine for a system that is not a scene's (a column, a pair, a test block): the
-    options of :data:`PROBE_SCENE`, resolved by the schema, with ``options`` replaced."""
+    """An engine for a system that is not a scene's (a column, a test block): the options of
+    the smallest scene, :data:`PROBE_SCENE` (the schema's defaults), with ``options`` set."""
     probe = engine_options(load_scene_text(PROBE_SCENE, "probe"))
     return Engine(system, tuple(effects), params, **{**probe, **options})
 
