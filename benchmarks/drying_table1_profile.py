@@ -78,7 +78,7 @@ def instrument(profile: Profile) -> None:
     """Wrap the engine's entry points (this process only)."""
     compile_rate = engine_module.compile_rate
 
-    def timed_compile(effects, kernel="quintic"):
+    def timed_compile(effects, kernel):
         key = "power_iteration_rate" if tuple(effects) == ("viscosity",) else "rate"
         return _TimedModule(compile_rate(effects, kernel), profile, key)
 

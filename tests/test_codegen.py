@@ -148,7 +148,8 @@ def _pack_softdyn(values):
         x0=np.array([[0.0, 0.0], [2.0, 0.0]]), pairs=np.array([[0, 1]]), F0=np.zeros((2, 2)),
         radius=values["R"], viscosity=values["eta"], young=values["E"], k_n=values["k_n"],
         k_t=values["k_t"], c_n=values["c_n"], c_t=values["c_t"],
-        tau_baumgarte=1.0 / values["inv_tau_B"], ramp_time=values["t_r"], flags=Flags())
+        tau_baumgarte=1.0 / values["inv_tau_B"], ramp_time=values["t_r"], flags=Flags(),
+        linear_solver="dense")
     return system.p
 
 
