@@ -6,7 +6,10 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from craquelure import scene_rules
+from craquelure.errors import SceneError
 from craquelure.scene import load_scene
 
 
@@ -31,3 +34,10 @@ def test_memory_problem_compares_the_estimate_with_the_memory_available():
     plenty = 2 * need / scene_rules.MEMORY_FRACTION
     assert scene_rules.memory_problem(data, available=plenty) is None
     assert "of memory" in scene_rules.memory_problem(data, available=need)
+
+
+def test_memory_estimate_refuses_a_scene_that_cannot_fit_and_says_how_much():
+    with pytest.raises(SceneError, match=r"needs about [\d.e+]+ GiB of memory"):
+        load_scene("impact/ci", ["particles.diameter_cells=1000000000000"])
+    with pytest.raises(SceneError, match="Shepard mesh"):
+        load_scene("drying/ci", ["domain.box_length=1000"])

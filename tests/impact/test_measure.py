@@ -1,9 +1,17 @@
 """Crack counting of :mod:`craquelure.impact.measure` on synthetic damage fields."""
 
+import math
+
 import numpy as np
+import pytest
 
 from craquelure.impact.initial_state import grid
-from craquelure.impact.measure import centre_line_crossings, main_cracks
+from craquelure.impact.measure import (
+    centre_line_crossings,
+    full_softening_opening,
+    main_cracks,
+    opening_cracks,
+)
 
 DX = 0.004
 
@@ -85,3 +93,123 @@ def test_precrack_following_coverage_and_tips():
     out = precrack_following(x, y, half, np.zeros(x.size), line, DX, 0.0)
     assert 0.4 < out["precrack_coverage"] < 0.6
     assert out["precrack_tip_extension_high"] == 0.0
+
+
+# -- opening -------------------------------------------------------------------------------
+# Cracks measured by their opening (:func:`craquelure.impact.measure.opening_cracks`, spec
+# section 6 revised 2026-12-02) on synthetic displacement fields of the 2D disc grid: nothing is
+# softened in any of them, the measure sees positions only.
+
+W_C = full_softening_opening(83.25, 3.216e6)  # 0.052 mm
+
+
+def opening_disc():
+    x, y = grid("opening_disc", 40, 1, DX)
+    return x, y, 0.5 * (y.min() + y.max())
+
+
+def measure(x0, y0, x, y, mass=None, precrack=None, plastic=None):
+    return opening_cracks(x0, y0, x, y, np.ones(x0.size) if mass is None else mass,
+                          np.zeros(x0.size) if plastic is None else plastic, DX, W_C,
+                          0.5 * (y0.min() + y0.max()), precrack=precrack)
+
+
+def test_w_c_is_the_full_softening_opening():
+    assert W_C == pytest.approx(2 * 83.25 / 3.216e6)
+    assert W_C * 1e3 == pytest.approx(0.0518, abs=1e-4)
+
+
+def test_rigid_motion_opens_nothing():
+    x0, y0, _ = opening_disc()
+    a = 0.3
+    x = math.cos(a) * x0 - math.sin(a) * y0 + 0.01
+    y = math.sin(a) * x0 + math.cos(a) * y0 - 0.02
+    out = measure(x0, y0, x, y)
+    assert out["n_cracks_opening"] == 0
+    assert out["n_main_cracks_opening"] == 0
+    assert out["max_opening"] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_rigid_split_at_x0_is_one_main_crack_with_full_coverage():
+    """Two halves moved apart by 1 mm at x = 0, a zero-mass column (x = 2 mm) along the middle
+    half of the line moving with the right half: one main crack, N_main = 1, it carries the
+    whole centre row's opening, and the pre-crack line is opened over its whole length."""
+    x0, y0, yc = opening_disc()
+    right = x0 > 0
+    x = x0 + np.where(right, 0.5e-3, -0.5e-3)
+    column = (np.abs(x0 - 0.002) < 0.5 * DX) & (np.abs(y0 - yc) <= 0.04)
+    mass = np.where(column, 0.0, 1.0)
+    out = measure(x0, y0, x, y0.copy(), mass=mass, precrack=column)
+    assert out["n_cracks_opening"] == 1
+    assert out["n_main_cracks_opening"] == 1
+    assert out["main_run_x_mid"] == pytest.approx(0.0, abs=0.5 * DX)
+    assert out["main_run_share"] == pytest.approx(1.0)
+    assert out["main_run_opening"] == pytest.approx(1e-3, rel=1e-9)
+    assert out["main_crack_theta_opening_deg"] == pytest.approx(0.0, abs=1.0)
+    assert out["precrack_coverage_opening"] == pytest.approx(1.0)
+    assert out["precrack_largest_opening_on_line"]
+    assert out["main_crack_length_opening"] == pytest.approx(0.16, abs=2 * DX)
+
+
+def test_opening_below_w_c_is_no_crack():
+    x0, y0, _ = opening_disc()
+    x = x0 + np.where(x0 > 0, 0.4 * W_C, -0.4 * W_C)  # 0.8 w_c
+    assert measure(x0, y0, x, y0.copy())["n_cracks_opening"] == 0
+
+
+def test_fully_cracked_lower_half_is_not_one_crack():
+    """Every pair of the lower half (centre row included) stretched by 5 %: an opened zone, not
+    a crack: N_main is not 1, and no run carries most of the row's opening alone."""
+    x0, y0, yc = opening_disc()
+    low = y0 <= yc
+    x = np.where(low, x0 * 1.05, x0)
+    y = np.where(low, yc + (y0 - yc) * 1.05, y0)
+    out = measure(x0, y0, x, y)
+    assert out["n_main_cracks_opening"] != 1
+    assert out["n_main_cracks_opening"] >= 10
+    assert [int(c) for c in out["row_runs_cracks"].split(",")] == [out["n_main_cracks_opening"]]
+
+
+def test_fan_of_three_opened_lines_gives_three():
+    """Four wedges rotated apart about the contact point (rays at -30, 0, +30 deg from the
+    vertical): three cracks from the contact zone, three centre-row crossings."""
+    x0, y0, yc = opening_disc()
+    apex = np.array([0.0, y0.min() - 0.5 * DX])
+    ang = np.degrees(np.arctan2(x0 - apex[0], y0 - apex[1]))  # from the vertical
+    sector = np.digitize(ang, [-30.0 + 1e-6, 0.0 + 1e-6, 30.0 + 1e-6])  # 0..3, rays on grid?
+    delta = 0.02 * (sector - 1.5)
+    rx, ry = x0 - apex[0], y0 - apex[1]
+    x = apex[0] + np.cos(delta) * rx + np.sin(delta) * ry
+    y = apex[1] - np.sin(delta) * rx + np.cos(delta) * ry
+    out = measure(x0, y0, x, y)
+    assert out["n_main_cracks_opening"] == 3
+    xs = [float(v) for v in out["row_runs_x_mm"].split(",")]
+    expected = [1e3 * (yc - apex[1]) * math.tan(math.radians(a)) for a in (-30, 0, 30)]
+    assert xs == pytest.approx(expected, abs=1e3 * DX)
+    # the largest run carries about a third, not most, of the row's opening
+    assert out["row_largest_run_share"] < 0.5
+
+
+def test_two_adjacent_opened_gaps_are_one_crack_three_are_two():
+    x0, y0, _ = opening_disc()
+    one = x0 + np.where(x0 > 0, 0.25e-3, -0.25e-3) + np.where(x0 > DX, 0.5e-3, 0.0)
+    assert measure(x0, y0, one, y0.copy())["row_runs_cracks"] == "1"
+    two = one + np.where(x0 > 2 * DX, 0.5e-3, 0.0)
+    assert measure(x0, y0, two, y0.copy())["row_runs_cracks"] == "2"
+
+
+def test_crushed_pairs_are_not_cracks():
+    x0, y0, _ = opening_disc()
+    x = x0 + np.where(x0 > 0, 0.5e-3, -0.5e-3)
+    plastic = np.full(x0.size, 0.01)
+    assert measure(x0, y0, x, y0.copy(), plastic=plastic)["n_cracks_opening"] == 0
+
+
+def test_a_crack_away_from_the_line_counts_elsewhere():
+    x0, y0, yc = opening_disc()
+    x = x0 + np.where(x0 > 0.03, 0.5e-3, 0.0)  # split at x = 32 mm
+    column = (np.abs(x0 - 0.002) < 0.5 * DX) & (np.abs(y0 - yc) <= 0.04)
+    out = measure(x0, y0, x, y0.copy(), mass=np.where(column, 0.0, 1.0), precrack=column)
+    assert out["main_cracks_elsewhere_opening"] == 1
+    assert not out["precrack_largest_opening_on_line"]
+    assert out["precrack_coverage_opening"] == 0.0

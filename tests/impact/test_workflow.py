@@ -1,6 +1,7 @@
 """The 3D campaign of the workflow (config impact.dims, impact.three_d): its runs per profile,
 and the per-run threads, memory, run time and overrides of rule impact_run by scene."""
 
+import shlex
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -8,6 +9,7 @@ import pytest
 import yaml
 
 from craquelure.impact import workflow
+from craquelure.impact.material import standard_concrete
 from craquelure.scene import load_scene, project_root
 
 
@@ -102,3 +104,24 @@ def test_judged_runs_are_the_3d_campaign_runs_when_3d_is_run():
                                                  "none", 1.0, 0)
     flat = {**paper, "dims": [2]}
     assert set(workflow.judged_runs(flat)["maps"]) <= set(workflow.campaign_runs(flat))
+
+
+def test_regime_runs_and_their_overrides_are_valid_scenes():
+    section = yaml.safe_load((project_root() / "config" / "config.yaml").read_text())["impact"]
+    runs = workflow.regime_runs(section)
+    assert len(runs) == len(set(runs)) == 24
+    name = runs[-1].rsplit("/", 1)[1][:-3]  # ft9.648_aauto_v15
+    ft, a, v = name[2:].split("_")
+
+    class W:
+        pass
+
+    w = W()
+    w.scene, w.ft, w.a, w.v = section["scene"], ft, a[1:], v[1:]
+    args = shlex.split(workflow.regime_overrides(section)(w))
+    scene = load_scene("impact/default", args[1::2])
+    assert scene.get("material.f_t") == pytest.approx(9.648e6)
+    assert scene.get("numerics.contact_a") == "auto"
+    assert scene.get("particles.impact_velocity") == 15
+    assert scene.get("outputs.t_end") == pytest.approx(5e-4)
+    assert standard_concrete().f_t == pytest.approx(3.216e6, rel=1e-3)

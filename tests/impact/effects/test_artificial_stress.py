@@ -7,12 +7,15 @@ import math
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 from craquelure.impact.api import probe_settings
 from craquelure.impact.effects.artificial_stress import artificial_stress_tensor
 from craquelure.impact.engine import kernels_for
 from craquelure.impact.material import standard_concrete
 from craquelure.sph.kernels import CUBIC, kernel_dwdr
+
+from .tensors import components, matrix
 
 RHO = 2400.0
 EPS = 0.3
@@ -101,3 +104,15 @@ def test_pair_term_weight_and_antisymmetry(h_over_delta, r_over_delta):
     assert ay[0] == pytest.approx(exp_y, rel=1e-12)
     assert ax[1] == pytest.approx(-ax[0], rel=1e-12)
     assert ay[1] == pytest.approx(-ay[0], rel=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_artificial_stress_3d_is_objective(seed):
+    """R = −ε Σ_a <σ_a>+ n_a n_aᵀ / ρ² for a full 3x3 stress."""
+    rng = np.random.default_rng(seed)
+    lam = np.array([rng.uniform(0, 5e6), rng.uniform(-5e6, 5e6), rng.uniform(-9e6, 0)])
+    q = Rotation.random(random_state=10 + seed).as_matrix()
+    s = components(q @ np.diag(lam) @ q.T)
+    got = matrix(artificial_stress_tensor(s, RHO, 0.3))
+    want = q @ np.diag(-0.3 * np.maximum(lam, 0) / RHO**2) @ q.T
+    assert np.allclose(got, want, atol=1e-12 * np.abs(want).max())

@@ -102,22 +102,3 @@ def test_node_averaged_variant_breaks_one_beam_per_node_under_tension():
     assert sum(broken) > 0
     series = eng.series_array()
     assert series[-1, 8] > 0  # fracture energy booked
-
-
-@pytest.mark.parametrize("tau, cut", [(1.5, 40.0), (2.0, 100.0)])
-def test_cutoff_power_law_fit_recovers_exponent_and_cutoff(tau, cut):
-    """Maximum likelihood on 3000 sizes drawn from s^-tau exp(-s/s*): tau within 0.1 (the
-    standard error is ~0.03 at this sample size) and s* within 35 %; the log-binned
-    straight-line slope of the same sample is steeper than -tau (it ignores the cut-off)."""
-    from craquelure.lattice import fragments
-
-    grid = np.arange(1, 20000)
-    w = grid ** -tau * np.exp(-grid / cut)
-    sample = np.random.default_rng(11).choice(grid, size=3000, p=w / w.sum())
-    t_fit, c_fit = fragments.fit_cutoff_power_law(sample)
-    assert t_fit == pytest.approx(tau, abs=0.1)
-    assert c_fit == pytest.approx(cut, rel=0.35)
-    c, d, n = fragments.size_distribution(np.r_[sample.max() + 1, sample])
-    slope, _ = fragments.fit_slope(c, d, n)
-    assert slope < -tau
-    assert np.isnan(fragments.fit_cutoff_power_law(sample[:5])[0])
