@@ -5,8 +5,6 @@ test of the validation over every built-in scene (its own section below)."""
 from __future__ import annotations
 
 import re
-import subprocess
-import sys
 from functools import cache
 from pathlib import Path
 
@@ -212,54 +210,6 @@ def test_builtin_scenes_are_valid_and_listed():
         assert scene.model == name.split("/")[0]
 
 
-# --- the same through the CLI -------------------------------------------------------------
-
-
-def write_scene(tmp_path: Path, text: str) -> Path:
-    path = tmp_path / "scene.yaml"
-    path.write_text(text)
-    return path
-
-
-@pytest.mark.parametrize("case", INVALID, ids=[c[0] for c in INVALID])
-def test_cli_check_rejects_invalid_scenes(case, tmp_path, capsys):
-    _, edit, overrides, fragments = case
-    path = write_scene(tmp_path, ci_text(edit))
-    argv = ["check", str(path)]
-    for item in overrides or ():
-        argv += ["--set", item]
-    assert cli.main(argv) == 2
-    out, err = capsys.readouterr()
-    assert err.startswith("craquelure check: error: ")
-    for fragment in fragments:
-        assert fragment in err, (fragment, err)
-    assert "valid" not in out
-
-
-def test_cli_check_valid_scene_prints_resolved_scene_effects_and_numbers(capsys):
-    assert cli.main(["check", "drying/ci", "--set", "numerics.dt=2e-3"]) == 0
-    out, _ = capsys.readouterr()
-    assert "# scene ci (model drying): valid" in out
-    assert "dt: 0.002" in out
-    assert "xsph_epsilon: 0.5" in out  # defaults are shown
-    for name in load_scene("drying/ci").effects:
-        assert f"  {name} " in out
-    assert "neighbours per particle: 49.2" in out  # N pi h^2 / L^2 - 1 = 1600 pi 0.04 / 4 - 1
-    assert "steps: 4000" in out  # t_end / dt = 8 / 0.002
-
-
-def test_cli_subprocess_exit_code_and_stderr(tmp_path):
-    path = write_scene(tmp_path, ci_text(("  h: 0.2\n", "  h: -0.2\n")))
-    proc = subprocess.run([sys.executable, "-m", "craquelure", "check", str(path)],
-                          capture_output=True, text=True, timeout=120)
-    assert proc.returncode != 0
-    assert "numerics.h: -0.2 is not allowed; must be > 0" in proc.stderr
-    assert "Traceback" not in proc.stderr
-    proc = subprocess.run([sys.executable, "-m", "craquelure", "scenes"],
-                          capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 0 and "drying/ci" in proc.stdout
-
-
 # -- property-based validation -----------------------------------------------------------------
 # Property-based test of scene validation over every built-in scene of every model.
 #
@@ -275,7 +225,7 @@ def test_cli_subprocess_exit_code_and_stderr(tmp_path):
 #
 # CI cost: the default (derandomised) profile draws 400 validation examples (~15 s) and 30
 # short runs on the small scenes (~30 s once the kernels are compiled); `pytest
-# --hypothesis-profile thorough tests/test_scene_fuzz.py` draws ten times as many at random.
+# --hypothesis-profile thorough tests/test_scene.py -k mutated` draws ten times as many at random.
 # Short runs keep the built-in effect list (a new list compiles new kernels, ~20 s each); the
 # validation examples mutate effect lists freely.
 
