@@ -1,5 +1,6 @@
 """Model dispatch: every model provides a run stage; unknown models are named; every model has
-the contract's files; no core module imports a model and the import graph has no cycle."""
+the contract's files; no core module imports a model and the import graph has no cycle; the
+tests mirror the package (tests/<path>/test_<module>.py)."""
 
 from __future__ import annotations
 
@@ -113,3 +114,60 @@ def test_the_graph_sees_function_level_imports_and_circles():
     assert "craquelure.drying.integrators" in graph["craquelure.drying.rules"]
     planted = {**graph, "craquelure.models": graph["craquelure.models"] | {"craquelure.scene"}}
     assert [set(c) for c in find_cycles(planted)] == [{"craquelure.models", "craquelure.scene"}]
+
+
+# -- tests mirror the package ---------------------------------------------------------------
+# The tests of src/craquelure/<path>/<module>.py are tests/<path>/test_<module>.py, and every
+# test file under tests/ is named after the module it tests. The exceptions, each with its
+# reason (keep the list short; a module gets a test file as soon as it gets a test):
+NOT_MIRRORED = {
+    "__main__.py": "`python -m craquelure` is cli.main: tests/test_cli.py runs it in a process",
+    "errors.py": "exception classes only; each message is asserted where it is raised",
+    # the command-line wrappers: argparse to one call of the module that does the work, each
+    # run through cli.main in the tests of that module
+    "commands/campaign.py": "tests/test_io.py, tests/drying/test_analysis.py",
+    "commands/export.py": "tests/test_export.py",
+    "commands/fragments.py": "tests/test_io.py, tests/drying/test_analysis.py",
+    "commands/init.py": "tests/test_io.py, tests/test_cf.py",
+    "commands/run.py": "tests/test_io.py, tests/killed_run.py (every model's test_api.py)",
+    "commands/scenes.py": "tests/test_cli.py",
+    "commands/verify.py": "tests/test_archive.py",
+    # data tables (units, long names): tests/test_cf.py checks every model's variables
+    "drying/metadata.py": "tests/test_cf.py",
+    "impact/metadata.py": "tests/test_cf.py",
+    "lattice/metadata.py": "tests/test_cf.py",
+    "softdyn/metadata.py": "tests/test_cf.py",
+    # figures of the workflow's results: drawn end to end by tests/workflow (the CI profile)
+    "lattice/figures.py": "tests/workflow",
+    "softdyn/figures.py": "tests/workflow",
+    "lattice/bench.py": "engine set-up of the lattice benchmarks (benchmarks/lattice_*.py)",
+}
+# package markers; commands/__init__.py's shared --set/--set-file arguments are tested in
+# tests/test_scene.py (test_set_file_*)
+NOT_MIRRORED_NAMES = {"__init__.py"}
+# test suites organised by purpose, not by module
+SUITES = {"workflow", "hard_cases", "reference"}
+TESTS_OF_NO_MODULE = {"test_docs.py": "the documentation site and the paths it names"}
+TESTS = Path(__file__).parent
+
+
+def test_every_module_has_its_test_file():
+    modules = {str(p.relative_to(PACKAGE)) for p in PACKAGE.rglob("*.py")}
+    assert len(modules) > 100  # the walk found the package
+    missing = sorted(m for m in modules - set(NOT_MIRRORED)
+                     if Path(m).name not in NOT_MIRRORED_NAMES
+                     and not (TESTS / Path(m).parent / f"test_{Path(m).name}").is_file())
+    assert missing == [], "add tests/<path>/test_<module>.py (or a reason to NOT_MIRRORED)"
+    assert sorted(set(NOT_MIRRORED) - modules) == []  # no stale exception
+    mirrored = sorted(m for m in NOT_MIRRORED
+                      if (TESTS / Path(m).parent / f"test_{Path(m).name}").is_file())
+    assert mirrored == []  # an exception that has its file is no longer one
+
+
+def test_every_test_file_is_named_after_its_module():
+    files = [p.relative_to(TESTS) for p in TESTS.rglob("test_*.py")
+             if p.relative_to(TESTS).parts[0] not in SUITES]
+    assert len(files) > 100
+    stray = sorted(str(f) for f in files if str(f) not in TESTS_OF_NO_MODULE
+                   and not (PACKAGE / f.parent / f.name.removeprefix("test_")).is_file())
+    assert stray == [], "name the file tests/<path>/test_<module>.py after the module it tests"
