@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from craquelure.drying.accuracy import error_versus_wall_time
 from craquelure.scene import load_scene
 
 
+@pytest.mark.slow
 def test_rkc2_sits_on_the_error_versus_cost_study():
     """The error-controlled rkc2 is run at each tolerance: its error against the RK4 reference
     falls by >= 20x from tolerance 1e-2 to 1e-6 (measured 80x: 3.1e-3 to 3.8e-5) while it

@@ -136,6 +136,7 @@ def test_run_is_independent_of_the_thread_count(tmp_path, small_scene):
         np.testing.assert_array_equal(out[1][name].values, out[2][name].values)
 
 
+@pytest.mark.slow
 def test_killed_cli_run_resumes_bit_identically(tmp_path):
     """SIGKILL after the first checkpoint, then ``--resume``: the uninterrupted dataset."""
     from ..killed_run import kill_and_resume, same_dataset
@@ -151,6 +152,7 @@ KILLED_RUN = ["drying/ci", "--seed", "2", "--set", "outputs.t_end=1.0",
               "--set", "particles.n=400", "--set", "numerics.checkpoint_every=25"]
 
 
+@pytest.mark.slow
 def test_sigterm_run_checkpoints_and_resumes_bit_identically(tmp_path):
     """SIGTERM: a checkpoint at the next step (not the last periodic one), exit 3 with one
     line naming it; --resume gives the uninterrupted dataset (shared with the test above)."""

@@ -54,6 +54,7 @@ def _random_resolved_velocities(x, y, length, amplitude, rng, k_max=2):
     return v * (amplitude / np.abs(v).max())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("integrator", ["rk4", "abm4"])
 def test_long_run_stability_of_a_random_velocity_field(make_scene, integrator):
     """Check 9 as written: 50 time units without drying at dt = 0.004 from random initial
@@ -116,6 +117,7 @@ def _early_and_late_speed(eng, check_each_step):
     return early, late
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("integrator", ["rk4", "abm4"])
 def test_long_run_stability(make_scene, integrator):
     """Check 9 with per-particle random velocities (white noise at the particle scale) of
@@ -167,6 +169,7 @@ def _strip_error(xrel, sigma_xx, cap, width):
     return np.abs(sigma_xx[inside] - exact).max()
 
 
+@pytest.mark.slow
 def test_thin_layer_strip_matches_exact_solution(make_scene):
     """Check 10: sigma_xx(x) matches F[1 - cosh(x/xi)/cosh(l/2xi)] within 0.1 F for
     |x| < l/2 - 1.5h, with the paper's discretisation (no boundary particles). Measured

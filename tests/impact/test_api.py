@@ -84,6 +84,7 @@ def test_contact_scale_rejects_bad_values(value):
         load_scene("impact/ci", [f"numerics.contact_a={value}"])
 
 
+@pytest.mark.slow
 def test_divergence_stops_without_output(tmp_path):
     # mass-based penalty with a = 10: sqrt(a) > 2, the contact oscillator is unstable
     scene = load_scene("impact/ci", [*CI, "numerics.contact_a=10.0", "particles.gap=0.0",
@@ -172,6 +173,7 @@ def test_dt_min_is_the_stability_step():
 # -- checkpoint and resume -----------------------------------------------------------------
 # Impact runs checkpoint through the runner: a killed run resumes bit-identically.
 
+@pytest.mark.slow
 def test_killed_cli_run_resumes_bit_identically(tmp_path):
     full, resumed, err = kill_and_resume(tmp_path, [
         "impact/ci", "--seed", "1", "--set", "outputs.t_end=1.0e-4",
@@ -181,6 +183,7 @@ def test_killed_cli_run_resumes_bit_identically(tmp_path):
     same_dataset(full, resumed)
 
 
+@pytest.mark.slow
 def test_killed_3d_run_resumes_bit_identically(tmp_path):
     """The 3D state (z, v_z, six stress components, the k-d tree's neighbour list) goes
     through the same checkpoint: the tiny 3D CI disc (336 particles)."""
@@ -192,6 +195,7 @@ def test_killed_3d_run_resumes_bit_identically(tmp_path):
     same_dataset(full, resumed)
 
 
+@pytest.mark.slow
 def test_sigterm_run_checkpoints_and_resumes_bit_identically(tmp_path):
     """SIGTERM (a scheduler's time limit): a checkpoint at the next step, exit 3 with one
     line naming it; --resume gives the uninterrupted dataset (shared with the test above)."""

@@ -67,6 +67,7 @@ def test_checkpoint_of_another_seed_is_ignored(tmp_path, capsys):
     same_dataset(open_dataset(out), open_dataset(fresh))
 
 
+@pytest.mark.slow
 def test_killed_cli_run_resumes_bit_identically(tmp_path):
     """A real interruption: ``craquelure run`` is killed (SIGKILL) once its first checkpoint
     exists; ``--resume`` completes it to the dataset of an uninterrupted run."""
@@ -81,6 +82,7 @@ def test_killed_cli_run_resumes_bit_identically(tmp_path):
     same_dataset(full, resumed)
 
 
+@pytest.mark.slow
 def test_sigterm_inside_a_long_frame_checkpoints_and_resumes(tmp_path):
     """One frame of ~140,000 steps (about 7 s on an idle core; dt_factor 0.03 so that the
     frame outlasts the first progress line, which comes after 2 s): SIGTERM once the first

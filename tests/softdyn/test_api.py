@@ -3,9 +3,12 @@ phase scan resumes from its finished points to the uninterrupted dataset."""
 
 import signal
 
+import pytest
+
 from ..killed_run import check_message, kill_and_resume, same_dataset, stop_and_resume
 
 
+@pytest.mark.slow
 def test_killed_cli_run_resumes_bit_identically(tmp_path):
     full, resumed, err = kill_and_resume(tmp_path, ["softdyn/t1_phase_ci",
                                                     "--checkpoint-every", "1"])
@@ -14,6 +17,7 @@ def test_killed_cli_run_resumes_bit_identically(tmp_path):
     same_dataset(full, resumed)
 
 
+@pytest.mark.slow
 def test_sigint_run_checkpoints_and_resumes_bit_identically(tmp_path):
     """SIGINT (Ctrl-C) as SIGTERM: the finished points are checkpointed, the point in progress
     is redone on resume; exit 3, one line naming the checkpoint; the uninterrupted dataset."""

@@ -36,6 +36,7 @@ def elastic_runs():
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("contact", ["contact_bulk", "contact_mass", "contact_bulk_spec"])
 def test_elastic_disc_impulse_restitution_energy(elastic_runs, contact):
     sp, eng, series, _ = elastic_runs[contact]
@@ -54,6 +55,7 @@ def peak(run) -> float:
     return float(run[2]["contact_force"].max())
 
 
+@pytest.mark.slow
 def test_peak_forces_of_both_formulas_agree(elastic_runs):
     """Check 9 with the project's scale factors (mass-based 0.1, bulk half-cell 6.27);
     measured 5.10e5 and 5.14e5 N/m."""
@@ -63,6 +65,7 @@ def test_peak_forces_of_both_formulas_agree(elastic_runs):
     assert abs(bulk - mass) / max(bulk, mass) < 0.25
 
 
+@pytest.mark.slow
 def test_bulk_peak_is_converged_in_the_penalty_stiffness(elastic_runs):
     """The reason for ``auto``: at the half-cell stiffness the peak no longer depends on the
     penalty, the disc's compliance sets it: 4x stiffer (a = 25) changes it by < 5 %
@@ -71,6 +74,7 @@ def test_bulk_peak_is_converged_in_the_penalty_stiffness(elastic_runs):
     assert abs(stiffer - auto) / stiffer < 0.05
 
 
+@pytest.mark.slow
 def test_spec_bulk_penalty_peak_is_rigid_mass_on_springs(elastic_runs):
     """Why the spec's a = 0.1 fails check 9 (reported, not the project's value): the peak
     follows a rigid disc of mass M on the penalty springs of the N_c bottom-row particles,
