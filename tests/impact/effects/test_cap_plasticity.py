@@ -144,8 +144,8 @@ def test_equibiaxial_compression_on_the_initial_coupled_surface():
 
 def tension(rate: float | None, n: int = 4000, **kw):
     dif = 1.0 if rate is None else 7.0
-    strain = np.concatenate([np.linspace(0, 2 * dif * MAT.kappa0, n // 2),
-                             np.linspace(2 * dif * MAT.kappa0, 1.05 * dif * MAT.kappa_f,
+    strain = np.concatenate([np.linspace(0, 2 * dif * MAT.eps_0, n // 2),
+                             np.linspace(2 * dif * MAT.eps_0, 1.05 * dif * MAT.eps_f,
                                          n // 2)[1:]])
     path = np.zeros((strain.size, 4))
     path[:, 1] = strain
