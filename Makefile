@@ -38,7 +38,9 @@ docs: install
 	$(MKDOCS)
 
 # The unit tests, for a developer between edits: no end-to-end workflow (tests/workflow), no
-# hard cases (tests/hard_cases), nothing marked slow. `make test` stays the whole suite.
+# hard cases (tests/hard_cases), nothing marked slow (the long physics runs, the killed and
+# signalled CLI runs, the documentation site's build: docs/performance.md lists them).
+# `make test` stays the whole suite, slow tests included.
 test-fast: install
 	$(BIN)/pytest -q -m "not slow and not slurm" --ignore=tests/workflow --ignore=tests/hard_cases
 

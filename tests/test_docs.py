@@ -94,6 +94,7 @@ def test_links_are_rewritten_for_the_site_and_missing_targets_warned(hooks, capl
     assert page == "[x](configuration.md#keys)"
 
 
+@pytest.mark.slow
 def test_site_builds_strict_and_renders_every_equation_offline(tmp_path):
     """`mkdocs build --strict` (warnings, broken links and anchors are errors), then each API
     page in headless Chromium without network: every equation typeset by the site's own

@@ -464,6 +464,7 @@ BASE_MEMORY = {name: memory_estimate(load_scene(name).data)[0] for name in RUN_S
 
 
 # a short run costs ~10x a validation: a quarter of the profile's examples (100 in CI)
+@pytest.mark.slow
 @settings(max_examples=max(1, settings.default.max_examples // 4))
 @given(case=mutations(names=RUN_SCENES, kinds=["scale", "scale", "scale", "value"]))
 def test_accepted_mutated_scene_runs_or_stops_with_a_named_error(case, tmp_path_factory):

@@ -240,6 +240,7 @@ def test_scene_is_elastic_with_av_and_as_and_rings_approach():
     assert (sp.vx[left] > 0).all() and (sp.vx[~left] < 0).all()
 
 
+@pytest.mark.slow
 def test_rings_collide_symmetrically_and_conserve_momentum():
     """Coarse rings (Delta = 2 mm) through first contact: total momentum stays zero and the
     two centres of mass mirror each other."""

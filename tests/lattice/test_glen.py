@@ -16,6 +16,7 @@ def scene():
     return load_scene("lattice/glen", SMALL)
 
 
+@pytest.mark.slow
 def test_viscosity_slope_is_minus_two(scene):
     taus = np.geomspace(2e-3, 2e-2, 4)
     mu = [glen.measure(scene, t)["mu"] for t in taus]
