@@ -70,6 +70,7 @@ def test_ccdf_bands_bracket_the_curve_and_shrink_with_more_samples():
     assert width(many) < 0.6 * width(few)  # ~ sqrt(3/24) = 0.35
 
 
+@pytest.mark.slow
 def test_all_figures_written_as_png_and_pdf(data, tmp_path):
     campaign, summary, run = data
     outputs = {name: tmp_path / f"{name}.png" for name in FIGURES}
