@@ -104,7 +104,7 @@ W_C = full_softening_opening(83.25, 3.216e6)  # 0.052 mm
 
 
 def opening_disc():
-    x, y = grid("opening_disc", 40, 1, DX)
+    x, y = grid("disc", 40, 1, DX)
     return x, y, 0.5 * (y.min() + y.max())
 
 
