@@ -20,18 +20,18 @@ The base receives :math:`-F^c_i`; :math:`F(t) = \sum_i F^c_i` (per metre of thic
 Penalty energy :math:`\tfrac12 k g_i^2` enters the energy balance.
 
 Decision on a (``numerics.contact_a: auto``; spec check 9, measured 2026-11-22,
-``tests/impact/test_contact.py``). The spec writes formula (2) with LS-DYNA's default scale
-factor 0.1, which in 2D gives every particle k = 1.0e9 N/m whatever Δ: a penalty layer as
-compliant as a concrete layer 30Δ thick. The penalty then governs the contact instead of the
-concrete: at 1 m/s the elastic disc bounces on its springs like a rigid mass,
-F_max ≈ v √(N_c k M) (20-cell disc: 2.44e5 N/m against 5.14e5 N/m with formula (1), which
-the disc's own compliance limits); at the paper's 15 m/s the disc sinks 0.14Δ into the base,
-the contact lasts 970 instead of 750 µs and the crushed area is 18 % smaller than with any
-stiffer penalty (a = 1, 6.3 and 25 agree within 2 %). A penalty stiffness is a numerical
-parameter whose results must not depend on it, so ``auto`` takes the stiffness of the concrete
-the spring stands for: the contact radius r_c = Δ/2 says the particle's material reaches Δ/2
-below its centre, and that half cell (face A = Δ^{d−1}, height Δ/2, laterally confined by its
-neighbours) has the uniaxial-strain stiffness
+``tests/impact/effects/test_contact_bulk.py``). The spec writes formula (2) with LS-DYNA's
+default scale factor 0.1, which in 2D gives every particle k = 1.0e9 N/m whatever Δ: a penalty
+layer as compliant as a concrete layer 30Δ thick. The penalty then governs the contact instead
+of the concrete: at 1 m/s the elastic disc bounces on its springs like a rigid mass, F_max ≈ v
+√(N_c k M) (20-cell disc: 2.44e5 N/m against 5.14e5 N/m with formula (1), which the disc's own
+compliance limits); at the paper's 15 m/s the disc sinks 0.14Δ into the base, the contact lasts
+970 instead of 750 µs and the crushed area is 18 % smaller than with any stiffer penalty (a = 1,
+6.3 and 25 agree within 2 %). A penalty stiffness is a numerical parameter whose results must
+not depend on it, so ``auto`` takes the stiffness of the concrete the spring stands for: the
+contact radius r_c = Δ/2 says the particle's material reaches Δ/2 below its centre, and that
+half cell (face A = Δ^{d−1}, height Δ/2, laterally confined by its neighbours) has the
+uniaxial-strain stiffness
 
 .. math::
     k = \frac{M A}{\Delta/2} = 2 M \Delta^{d-2}, \quad M = K + \tfrac43 G

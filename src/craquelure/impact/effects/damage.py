@@ -14,7 +14,7 @@ r"""Rankine tensile damage, crack band with linear softening (spec section 2.3).
 :math:`\tilde\sigma_1` is the largest principal value including zz; in 3D (xz, yz non-zero) the
 principal values and axes come from Jacobi rotations (:func:`principal`).
 
-Crack-band width [D, calibrated by spec check 7, ``tests/impact/test_crack_band.py``]: the spec's
+Crack-band width [D, calibrated by spec check 7, ``tests/impact/test_experiments.py``]: the spec's
 first guess ℓ_c = h(0) over-dissipates, because the band the SPH kernel actually produces is wider
 than h(0). Measured on the notched 200 mm bar pulled at 0.05 m/s (2026-11-22): the crack between
 two particle columns softens *both* columns (the velocity gradient across the opening is shared
