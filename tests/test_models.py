@@ -147,7 +147,8 @@ NOT_MIRRORED = {
 NOT_MIRRORED_NAMES = {"__init__.py"}
 # test suites organised by purpose, not by module
 SUITES = {"workflow", "hard_cases", "reference"}
-TESTS_OF_NO_MODULE = {"test_docs.py": "the documentation site and the paths it names"}
+TESTS_OF_NO_MODULE = {"test_docs.py": "the documentation site and the paths it names",
+                      "test_defaults.py": "one default per parameter, read from every module"}
 TESTS = Path(__file__).parent
 
 

@@ -11,12 +11,12 @@ from craquelure.drying.engine import VX, VY, X, compile_rate
 
 def test_effect_sets_compile_to_distinct_specialisations():
     """Each effect set gets its own generated module whose flags are compile-time constants."""
-    full = compile_rate(("elasticity", "viscosity", "drying"))
-    visc = compile_rate(("viscosity",))
+    full = compile_rate(("elasticity", "viscosity", "drying"), "quintic")
+    visc = compile_rate(("viscosity",), "quintic")
     assert full is not visc
     assert full.ELASTICITY and full.DRYING and not full.SUBSTRATE
     assert visc.VISCOSITY and not visc.ELASTICITY and not visc.DRYING
-    assert compile_rate(("viscosity",)) is visc
+    assert compile_rate(("viscosity",), "quintic") is visc
 
 
 @pytest.mark.parametrize("effects", [

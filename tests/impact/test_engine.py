@@ -9,8 +9,8 @@ import numba
 import numpy as np
 import pytest
 
-from craquelure.impact.api import initial_state, settings, simulate
-from craquelure.impact.engine import Engine, Settings, State, kernels_for
+from craquelure.impact.api import initial_state, probe_settings, settings, simulate
+from craquelure.impact.engine import Engine, State, kernels_for
 from craquelure.impact.initial_state import build_specimen
 from craquelure.impact.material import standard_concrete
 from craquelure.scene import load_scene
@@ -63,9 +63,9 @@ def periodic_block(nx, ny, spacing=0.004, effects=("elasticity", "artificial_vis
     rho0 = 2400.0
     st = State.grid(x, y, 0.0, 0.0, np.full(x.size, rho0 * spacing**2), rho0,
                       kappa * 1.2 * spacing)
-    s = Settings(material=MAT, rho0=rho0, spacing=spacing, effects=tuple(effects),
-                 av_alpha=1.0, av_beta=2.0, as_epsilon=as_epsilon,
-                 periodic_box=(nx * spacing, ny * spacing), plane_stress=plane_stress)
+    s = probe_settings(material=MAT, rho0=rho0, spacing=spacing, effects=tuple(effects),
+                       av_alpha=1.0, av_beta=2.0, as_epsilon=as_epsilon,
+                       periodic_box=(nx * spacing, ny * spacing), plane_stress=plane_stress)
     return s, st
 
 
@@ -151,9 +151,9 @@ def periodic_block_3d(nx, ny, nz, effects=("elasticity",), as_epsilon=0.0):
     x, y, z = ((a.ravel() + 0.5) * DELTA for a in g)
     rho0 = 2400.0
     st = State.grid(x, y, 0.0, 0.0, np.full(x.size, rho0 * DELTA**3), rho0, 1.2 * DELTA, z=z)
-    s = Settings(material=MAT, rho0=rho0, spacing=DELTA, effects=tuple(effects),
-                 av_alpha=1.0, av_beta=2.0, as_epsilon=as_epsilon,
-                 periodic_box=(nx * DELTA, ny * DELTA, nz * DELTA), dim=3)
+    s = probe_settings(material=MAT, rho0=rho0, spacing=DELTA, effects=tuple(effects),
+                       av_alpha=1.0, av_beta=2.0, as_epsilon=as_epsilon,
+                       periodic_box=(nx * DELTA, ny * DELTA, nz * DELTA), dim=3)
     return s, st
 
 
@@ -329,7 +329,7 @@ def test_plane_stress_dzz_solves_the_plastic_return():
     """The out-of-plane rate found by the secant iteration leaves |sigma_zz| <= 1e-9 of the
     stress scale after trial + return, for states far beyond the cone (uniaxial and biaxial
     compression rates up to 1e4 1/s, shear, spin); the returned stress is on the cone."""
-    mod = kernels_for(("elasticity", "plasticity"), plane_stress=True)
+    mod = kernels_for(("elasticity", "plasticity"), periodic=False, plane_stress=True, dim=2)
     prm = np.zeros(mod.N_PARAMS)
     prm[mod.P_BULK], prm[mod.P_SHEAR] = MAT.bulk, MAT.shear
     prm[mod.P_ALPHA_DP], prm[mod.P_K_DP] = MAT.dp

@@ -176,7 +176,7 @@ def lattice_weights(kappa, n=18, seed=0, dim=3):
     n^dim lattice, with the specimen's own weights (draw_weights)."""
     g = (np.arange(n) + 0.5) * DELTA
     pts = np.array(np.meshgrid(*([g] * dim), indexing="ij")).reshape(dim, -1).T
-    m = draw_weights("uniform", len(pts), np.random.default_rng(seed))
+    m = draw_weights("uniform", len(pts), np.random.default_rng(seed), 0.3, 4.0)
     h = 1.2 * kappa * DELTA
     tree = cKDTree(pts, boxsize=n * DELTA)
     pairs = tree.query_pairs(2 * h, output_type="ndarray")

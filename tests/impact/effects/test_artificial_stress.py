@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from craquelure.impact.api import probe_settings
 from craquelure.impact.effects.artificial_stress import artificial_stress_tensor, auto_epsilon
-from craquelure.impact.engine import Engine, Settings, kernels_for
+from craquelure.impact.engine import Engine, kernels_for
 from craquelure.impact.material import standard_concrete
 from craquelure.sph.kernels import CUBIC, kernel_dwdr
 from tests.impact.test_engine import MAT, periodic_block
@@ -79,10 +80,11 @@ def test_pair_term_weight_and_antisymmetry(h_over_delta, r_over_delta):
     f = W(r)/W(Delta) at the same h (normalisation cancels; f(Delta) = 1 whatever h), and
     a_1 = -a_0 (equal masses: momentum conserved)."""
     delta = 0.004
-    k = kernels_for(("elasticity", "artificial_stress"))
-    prm = Settings(material=standard_concrete(), rho0=RHO, spacing=delta,
-                   effects=("elasticity", "artificial_stress"), av_alpha=1.0, av_beta=2.0,
-                   as_epsilon=EPS).params(k)
+    k = kernels_for(("elasticity", "artificial_stress"), periodic=False, plane_stress=False,
+                    dim=2)
+    prm = probe_settings(material=standard_concrete(), rho0=RHO, spacing=delta,
+                         effects=("elasticity", "artificial_stress"), av_alpha=1.0, av_beta=2.0,
+                         as_epsilon=EPS).params(k)
     h = h_over_delta * delta
     r = r_over_delta * delta
     x = np.array([0.01, 0.01 + r * math.cos(0.4)])

@@ -6,15 +6,16 @@ import math
 import numpy as np
 
 from craquelure.lattice import beam
-from craquelure.lattice.engine import Engine, lattice_system, stable_step_estimate
+from craquelure.lattice.engine import lattice_system, stable_step_estimate
 from craquelure.lattice.geometry import triangular_block
+from craquelure.lattice.initial_state import probe_engine
 
 from ..test_engine import small_block
 
 
 def test_rigid_rotation_gives_no_force():
     s, _ = small_block(6, 6, model="euler_bernoulli")
-    eng = Engine(s, ("beams",), dict(dt=0.1), series_every=1)
+    eng = probe_engine(s, ("beams",), dict(dt=0.1), series_every=1)
     phi = 0.9
     c, sn = math.cos(phi), math.sin(phi)
     rot = np.vstack([c * s.x - sn * s.y, sn * s.x + c * s.y, np.full(s.n, phi)])
@@ -32,7 +33,7 @@ def test_tumbling_fragment_keeps_continuous_bond_rotation():
     x, y, _ = triangular_block(2, 2)
     c = beam.euler_bernoulli(1.0, 0.7)
     s = lattice_system(x, y, kn=c.kn, ka=c.a, kb=c.b)
-    eng = Engine(s, ("beams",), dict(dt=0.2 * stable_step_estimate(s)), series_every=10)
+    eng = probe_engine(s, ("beams",), dict(dt=0.2 * stable_step_estimate(s)), series_every=10)
     omega = 0.05
     xc, yc = s.x.mean(), s.y.mean()
     eng.set_velocity(-omega * (s.y - yc), omega * (s.x - xc), np.full(s.n, omega))

@@ -1,18 +1,22 @@
 """Effects on demand: the contact effect (a head-on collision conserves energy and momentum,
 friction dissipates the sliding energy, the contact list is every unbonded pair within reach)."""
 
+
 import numpy as np
 import pytest
 
-from craquelure.lattice.engine import Engine, lattice_system
+from craquelure.lattice.engine import (
+    lattice_system,
+)
 from craquelure.lattice.geometry import INTACT, REMOVED, triangular_block
+from craquelure.lattice.initial_state import probe_engine
 
 from .free_particles import particles
 
 
 def test_contact_head_on_collision_conserves_energy_and_momentum():
     s = particles([0.0, 1.5], [0.0, 0.0])
-    eng = Engine(s, ("contact",), dict(dt=0.01, contact_stiffness=10.0, skin=0.5),
+    eng = probe_engine(s, ("contact",), dict(dt=0.01, contact_stiffness=10.0, skin=0.5),
                  series_every=10)
     eng.set_velocity([0.05, -0.05], [0.0, 0.0])
     eng.run(4000)
@@ -28,7 +32,7 @@ def test_friction_dissipates_sliding_energy():
     s = particles([0.0, 0.0], [0.0, 0.95])
     s.fix[:, 0] = 1
     s.load[1, 1] = -0.01
-    eng = Engine(s, ("contact",), dict(dt=0.01, contact_stiffness=10.0, friction=0.5,
+    eng = probe_engine(s, ("contact",), dict(dt=0.01, contact_stiffness=10.0, friction=0.5,
                                        friction_viscosity=5.0, skin=0.5), series_every=10)
     eng.set_velocity([0.0, 0.02], [0.0, 0.0])
     eng.run(2000)
@@ -44,10 +48,11 @@ def test_contact_list_is_every_unbonded_pair_within_reach():
     ascending i; here against a brute-force search on a jittered block."""
     rng = np.random.default_rng(3)
     x, y, _ = triangular_block(9, 8)
-    s = lattice_system(x + 0.05 * rng.normal(size=x.size), y + 0.05 * rng.normal(size=x.size))
+    s = lattice_system(x + 0.05 * rng.normal(size=x.size), y + 0.05 * rng.normal(size=x.size),
+                       kn=1.0, ka=0.1, kb=0.0)
     s.state[rng.choice(s.bi.size, 12, replace=False)] = 0
     s.state[rng.choice(s.bi.size, 5, replace=False)] = REMOVED
-    eng = Engine(s, ("beams", "contact"), dict(dt=0.01, skin=0.3))
+    eng = probe_engine(s, ("beams", "contact"), dict(dt=0.01, skin=0.3), series_every=10)
     reach = 1.0 + 0.3
     d = np.hypot(s.x[:, None] - s.x[None, :], s.y[:, None] - s.y[None, :])
     near = {(i, j) for i, j in zip(*np.nonzero(d < reach), strict=True) if i < j}

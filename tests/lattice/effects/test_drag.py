@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from craquelure.lattice.engine import Engine
+from craquelure.lattice.initial_state import probe_engine
 
 from .free_particles import FLUID, particles
 
@@ -12,7 +12,7 @@ from .free_particles import FLUID, particles
 def test_drag_decays_velocity_exponentially():
     s = particles([0.0], [-1.0])
     rate = 0.05
-    eng = Engine(s, FLUID, dict(dt=0.05, drag_rate=rate, water_level=0.0), series_every=10)
+    eng = probe_engine(s, FLUID, dict(dt=0.05, drag_rate=rate, water_level=0.0), series_every=10)
     eng.set_velocity([1.0], [0.0])
     eng.run(400)
     v = (eng.q[0, 0] - eng.qm[0, 0]) / eng.dt

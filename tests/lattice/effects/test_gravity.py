@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from craquelure.lattice.engine import Engine
+from craquelure.lattice.initial_state import probe_engine
 
 from .free_particles import FLUID, particles
 
@@ -14,7 +14,7 @@ def test_gravity_along_a_slope():
     x0, y0 = np.array([0.0]), np.array([5.0])
     s = particles(x0, y0)
     g, beta = 0.01, math.radians(70.0)
-    eng = Engine(s, FLUID, dict(dt=0.1, g=g, slope_angle=beta), series_every=1)
+    eng = probe_engine(s, FLUID, dict(dt=0.1, g=g, slope_angle=beta), series_every=1)
     eng.run(10)
     t = eng.time
     factor = 0.5 * (t * t + t * eng.dt)
