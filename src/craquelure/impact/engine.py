@@ -63,7 +63,7 @@ def mass_sum(m, q):
 
 
 # An engine constant, not a scene parameter: accelerations, stresses, pair powers below it (SI)
-# are set to 0 where produced, out of subnormal numbers (tests/impact/test_subnormals.py)
+# are set to 0 where produced, out of subnormal numbers (tests/impact/test_kernel_template.py)
 FLUSH_BELOW = 1e-100
 
 
