@@ -24,7 +24,7 @@ LOCAL_RULES = {
     "drying_onset_study", "drying_criterion_study", "drying_criterion_summary",
     "drying_validation", "drying_transition", "drying_transition_figure",
     "drying_transition_study", "drying_kappa_figure",
-    "impact_summary", "impact_figures",
+    "impact_summary", "impact_figures", "impact_judged_figures",
     "lattice_glen_figure", "lattice_scene_figure",
     "softdyn_sweep", "softdyn_fig4", "softdyn_fig3", "softdyn_pair_figure", "softdyn_summary",
 }
