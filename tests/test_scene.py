@@ -543,3 +543,13 @@ def test_duplicate_keys_are_an_error():
     text = Path(load_scene("drying/ci").path).read_text() + "\noutputs: {t_end: 3.0}\n"
     with pytest.raises(SceneError, match="outputs: duplicate key"):
         load_scene_text(text)
+
+
+def test_schema_default_reads_the_schema_and_names_what_is_missing():
+    from craquelure.scene import schema_default
+
+    assert schema_default("lattice", "contact.skin") == 0.2
+    with pytest.raises(KeyError, match="no default"):
+        schema_default("lattice", "contact.stiffness")
+    with pytest.raises(KeyError, match="no field"):
+        schema_default("lattice", "contact.nonsense")

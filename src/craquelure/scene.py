@@ -107,6 +107,19 @@ def model_schema(model: str) -> dict[str, Any]:
     return yaml.safe_load(text)
 
 
+def schema_default(model: str, dotted: str) -> Any:
+    """The default the model's schema gives ``dotted`` (e.g. ``contact.skin``); KeyError if it
+    gives none."""
+    node = model_schema(model)
+    for key in dotted.split("."):
+        node = node.get("properties", {}).get(key)
+        if node is None:
+            raise KeyError(f"{model} schema has no field {dotted!r}")
+    if "default" not in node:
+        raise KeyError(f"{model} schema gives {dotted!r} no default")
+    return copy.deepcopy(node["default"])
+
+
 def resolve_scene_path(ref: str | Path) -> Path:
     """A path to a YAML file, or a built-in scene name such as ``drying/default``."""
     path = Path(ref)

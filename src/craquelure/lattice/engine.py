@@ -179,12 +179,28 @@ def stable_step_estimate(system: LatticeState) -> float:
 
 
 def default_params(**values) -> np.ndarray:
+    """The kernel's parameter vector. A parameter the caller leaves unset is neutral (an effect
+    that is off, a unit block for a probe), except the ones whose value the schema owns
+    (:data:`.initial_state.SCHEMA_OWNED`): those are NaN, so a caller that forgets them stops
+    at :func:`require_schema_owned` instead of running on a second copy of the default."""
     p = dict.fromkeys(PARAMS, 0.0)
-    p.update(energy_tolerance=0.05, energy_floor=1e-300, area=1.0, inertia=1.0 / 12,
-             width=1.0, sigma0=1.0, tau0=1.0, E_b=1.0, block=1.0, skin=0.2, rho=1.0,
-             cell_area=math.sqrt(3) / 2, friction_viscosity=1.0, water_level=-math.inf,
-             bed_level=-math.inf, mass_damping_until=math.inf)
+    p.update(energy_floor=1e-300, area=1.0, inertia=1.0 / 12,
+             width=1.0, sigma0=1.0, tau0=1.0, E_b=1.0, block=1.0, rho=1.0,
+             cell_area=math.sqrt(3) / 2, water_level=-math.inf,
+             bed_level=-math.inf, mass_damping_until=math.inf,
+             energy_tolerance=math.nan, skin=math.nan, friction_viscosity=math.nan)
     return pack_parameters(PARAMS, values, defaults=p)
+
+
+def require_schema_owned(p: np.ndarray, contact: bool) -> None:
+    """The energy check's tolerance always, and contact's skin and friction regularisation
+    when contact is on, must come from the scene (or the schema for a probe)."""
+    names = ("energy_tolerance",) + (("skin", "friction_viscosity") if contact else ())
+    missing = [n for n in names if math.isnan(p[PARAMS.index(n)])]
+    if missing:
+        raise ValueError(f"lattice engine: parameter(s) {', '.join(missing)} not given; they "
+                         "come from the resolved scene (engine_params) or, for a system that "
+                         "is not a scene's, from probe_engine (the schema's defaults)")
 
 
 @dataclass
@@ -214,6 +230,7 @@ class Engine:
                                   self.bending, parallel)
         self.kernel = specialise(KERNEL_TEMPLATE, self.flags, "lattice")
         self.p = default_params(**{**self.params, "period_x": s.period_x})
+        require_schema_owned(self.p, self.flags["CONTACT"])
         self.dt = float(self.p[0])
         self.q = np.ascontiguousarray(np.vstack([s.x, s.y, s.theta]))
         self.qm = self.q.copy()

@@ -23,7 +23,7 @@ from craquelure.errors import SceneError
 from craquelure.lattice import beam
 from craquelure.lattice.engine import Engine, LatticeState, lattice_system, stable_step_estimate
 from craquelure.lattice.geometry import REMOVED, ROW, half_disc, remove_fraction, triangular_block
-from craquelure.scene import Scene, load_scene_text
+from craquelure.scene import Scene, load_scene_text, schema_default
 
 
 def beam_constants(scene: Scene) -> beam.BeamConstants:
@@ -125,7 +125,10 @@ def engine_params(scene: Scene, system: LatticeState) -> dict[str, float]:
     if scene.has("gravity") or scene.has("buoyancy"):
         p.update(g=g("material.g"), slope_angle=math.radians(g("material.slope_angle")))
     if scene.has("buoyancy") or scene.has("drag"):
-        p.update(water_level=g("domain.water_level", -math.inf), rho_w=g("material.rho_w", 1.0))
+        # drag alone may have no water line (drag.everywhere); no line: nothing is below it
+        p.update(water_level=g("domain.water_level", -math.inf))
+    if scene.has("buoyancy"):
+        p.update(rho_w=g("material.rho_w"))
     if scene.has("drag"):
         p.update(drag_rate=g("drag.rate"), drag_everywhere=float(g("drag.everywhere")))
     if scene.has("bed"):
@@ -163,11 +166,19 @@ PROBE_SCENE = """{model: lattice, domain: {nx: 2, ny: 2}, particles: {}, numeric
 material: {bond_model: shear_beam}, outputs: {t_end: 1.0}, effects: [beams]}"""
 
 
+# Kernel parameters that a probe may leave unset and whose default the schema holds: the
+# schema path each one is read from (engine_params reads the same paths from a scene).
+SCHEMA_OWNED = {"energy_tolerance": "numerics.energy_tolerance", "skin": "contact.skin",
+                "friction_viscosity": "contact.friction_viscosity"}
+
+
 def probe_engine(system: LatticeState, effects, params: dict, **options) -> Engine:
     """An engine for a system that is not a scene's (a column, a test block): the options of
-    the smallest scene, :data:`PROBE_SCENE` (the schema's defaults), with ``options`` set."""
+    the smallest scene, :data:`PROBE_SCENE` (the schema's defaults), with ``options`` set, and
+    the :data:`SCHEMA_OWNED` parameters from the schema unless ``params`` sets them."""
     probe = engine_options(load_scene_text(PROBE_SCENE, "probe"))
-    return Engine(system, tuple(effects), params, **{**probe, **options})
+    owned = {name: schema_default("lattice", path) for name, path in SCHEMA_OWNED.items()}
+    return Engine(system, tuple(effects), {**owned, **params}, **{**probe, **options})
 
 
 def block_height(scene: Scene) -> float:
