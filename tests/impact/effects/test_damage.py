@@ -68,3 +68,43 @@ def test_homogeneous_disc_damage_is_mirror_symmetric():
     d = eng.state.dmg
     assert d.max() > 0.1  # damage has started
     assert np.abs(d - d[mirror]).max() <= 0.05
+
+
+def _cycle_work(corners, steps=2000):
+    """Work of the nominal stress of a fully damaged plane-strain point (D = 1) around a closed
+    strain path (trapezoidal, ``steps`` per leg), in units of E eps^2/2 for eps = 1e-4."""
+    E, nu, eps = 30e9, 0.2, 1e-4  # noqa: N806
+    bulk, shear = E / (3 * (1 - 2 * nu)), E / (2 * (1 + nu))
+    lam = bulk - 2 * shear / 3
+
+    def nominal(e):
+        tr = e[0] + e[1]
+        s = (lam * tr + 2 * shear * e[0], lam * tr + 2 * shear * e[1], 2 * shear * e[2],
+             lam * tr, 0.0, 0.0)
+        _, d, n = damage_update(s, 1.0, E, 1e-4, 1e-3)
+        assert d == 1.0
+        return np.array(n)
+
+    pts = [eps * np.array(c, float) for c in corners]
+    work = 0.0
+    for a, b in zip(pts, pts[1:] + pts[:1], strict=True):
+        path = a + np.outer(np.linspace(0, 1, steps + 1), b - a)
+        sig = np.array([nominal(e) for e in path])
+        mid = 0.5 * (sig[1:] + sig[:-1])
+        de = np.diff(path, axis=0)
+        work += float(np.sum(mid[:, 0] * de[:, 0] + mid[:, 1] * de[:, 1]
+                             + 2 * mid[:, 2] * de[:, 2]))
+    return work / (0.5 * E * eps**2)
+
+
+def test_cracked_point_nominal_stress_is_no_potential_when_its_axes_rotate():
+    """Why the disc's energy has an 'unattributed' part (docs/impact.md, energy partition): at
+    fixed D = 1 the nominal stress sigma~ - <sigma~>+ (split on the stress's principal axes)
+    does no work around a strain cycle that keeps the axes (tension-compression square), but
+    a cycle that rotates them (shear, stretch, back) does about 0.35 E eps^2/2 per cycle, of
+    the sign of the cycle's sense: energy no law books."""
+    assert abs(_cycle_work([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)])) < 1e-9
+    forward = _cycle_work([(0, 0, 0), (0, 0, 1), (1, 0, 1), (1, 0, 0)])
+    backward = _cycle_work([(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)])
+    assert forward == pytest.approx(0.346, abs=0.005)
+    assert backward == pytest.approx(-forward, rel=1e-9)
