@@ -185,6 +185,12 @@ def test_onset_verdicts_respect_what_the_sample_size_can_decide():
     out = statistics.check_onset(times, many, np.full(100, 25.0), 100.0, 0.05, n_boot=100)
     assert out["verdict"] == "reproduced"
     assert out["all_samples_broken"]["ci95_over_t_star"] == [pytest.approx(0.3)] * 2
+    assert out["unbroken_at_end"] == 0 and out["unbroken_at_end_ci95"][0] == 0.0
+    assert out["unbroken_at_end_ci95"][1] == pytest.approx(1 - 0.025 ** (1 / 100))
+    never = np.ones((8, times.size), int)  # 8 samples, one fragment throughout
+    out = statistics.check_onset(times, never, np.full(8, 25.0), 100.0, 0.05, n_boot=100)
+    assert out["unbroken_at_end_fraction"] == 1.0
+    assert out["unbroken_at_end_ci95"] == [pytest.approx(0.025 ** (1 / 8)), 1.0]
 
 
 def test_claim_recomputed_from_a_three_seed_collapse_check_stays_inconclusive():

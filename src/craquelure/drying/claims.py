@@ -164,6 +164,12 @@ def collapse_claim(summary: dict) -> Claim:
                  deciding=_collapse_number(c15, verdict), figure="drying_scaled_distribution.png")
 
 
+
+def _share(c16: dict) -> str:
+    """The unbroken share's exact 95 % interval (summaries made before it was recorded: none)."""
+    ci = c16.get("unbroken_at_end_ci95")
+    return "" if ci is None else f" (exact 95 % interval {ci[0]:.2f}-{ci[1]:.2f})"
+
 def onset_claim(summary: dict) -> Claim:
     c16 = summary["checks"]["check16_onset"]
     c16 = {**c16, "partial": True}
@@ -179,7 +185,7 @@ def onset_claim(summary: dict) -> Claim:
                 f"{item('first_removal_median')}; samples broken (>= 2 fragments): first "
                 f"{item('first_sample_broken')}, half {item('half_samples_broken')}, all "
                 f"{item('all_samples_broken')}; {c16['unbroken_at_end']} of "
-                f"{c16['n_samples']} unbroken at the end")
+                f"{c16['n_samples']} unbroken at the end{_share(c16)}")
     return Claim(MODEL, "fragments appear early: the first sample breaks by 0.40 t*, all are "
                  "broken before 0.8 t* (100 samples)",
                  "paper Figs. 4-6 (t = 90, 150, 180); drying spec check 16",

@@ -79,7 +79,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from craquelure.validation import POWER_NEEDED, verdict_of
+from craquelure.validation import POWER_NEEDED, fraction_interval, verdict_of
 
 LEVEL = 0.01  # tests (a) and (b) of check 14
 SEVERAL_FRAGMENTS = 4  # (c): t0 bound where every sample has >= 4 fragments (mean <= L^2/4)
@@ -537,6 +537,9 @@ def check_onset(times: np.ndarray, n_fragments: np.ndarray, first_removal: np.nd
         "all_samples_broken": stat(breaks, "max"),
         "unbroken_at_end": int(np.sum(~np.isfinite(breaks))),
     }
+    # the share of samples still one fragment at the end, with its exact 95 % interval
+    out["unbroken_at_end_fraction"] = out["unbroken_at_end"] / n_s
+    out["unbroken_at_end_ci95"] = list(fraction_interval(out["unbroken_at_end"], n_s, 0.95))
     first = out["first_sample_broken"]["over_t_star"]
     last = out["all_samples_broken"]["over_t_star"]
     first_ok = first is not None and first <= FIRST_BROKEN_MAX
