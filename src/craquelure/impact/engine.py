@@ -338,9 +338,9 @@ class Engine:
         e_p = float(np.dot(st.m, st.wp))
         e_d = float(np.dot(st.m, st.wd))
         # damage: booked by its own law (the secant energy the damage growth releases);
-        # unattributed: what the internal energy holds beyond elastic, plastic and damage,
-        # mainly the work cracked points absorb when their principal axes turn (the split
-        # on the effective stress's axes is no potential's gradient; docs/impact.md)
+        # unattributed: what the internal energy holds beyond elastic, plastic and damage;
+        # it sits in fully damaged points (the stress split is no potential's gradient when
+        # their axes turn; docs/impact.md, energy partition)
         return {"kinetic": self.kinetic_energy(), "internal": e_int, "elastic": e_el,
                 "plastic": e_p, "damage": e_d, "unattributed": e_int - e_el - e_p - e_d,
                 "viscous": self.e_av,
