@@ -127,38 +127,45 @@ def test_3d_run_row(runs):
     assert row["class_settled_from"] in [h["t"] for h in hist]
 
 
-def crack_columns(ds, columns_x: list[float], layer: str):
-    """A copy of ``ds`` whose only cracked particles are the full-height columns at reference
-    x in ``columns_x`` (nearest grid column), in the mid-thickness layer or a face layer;
-    nothing crushed. Written into the final fields and the last snapshot."""
-    x0, z0 = ds["x0"].values, ds["z0"].values
+def split_at_columns(ds, columns_x: list[float], layer: str, opening: float = 1e-3):
+    """A copy of ``ds`` at rest (positions = reference) but for rigid splits at reference x in
+    ``columns_x``: the particles of one layer (the mid-thickness layer or a face layer) beyond
+    each column moved ``opening`` away from the centre line; nothing softened, damaged or
+    crushed. Written into the final fields and the last snapshot."""
+    x0, y0, z0 = ds["x0"].values, ds["y0"].values, ds["z0"].values
     layers = np.unique(np.round(z0, 9))
     z = layers[len(layers) // 2] if layer == "mid" else layers[0]
-    cracked = np.zeros(x0.size, bool)
-    for x in columns_x:
-        col = x0[np.argmin(np.abs(x0 - x))]
-        cracked |= np.isclose(x0, col) & np.isclose(z0, z)
-    crack, zero = cracked.astype(float), np.zeros(x0.size)
+    in_layer = np.isclose(z0, z)
+    x = x0.copy()
+    for col in columns_x:
+        side = np.sign(col) if col != 0 else 1.0
+        beyond = in_layer & (side * (x0 - col) > 0)
+        x[beyond] += side * opening
+    zero = np.zeros(x0.size)
     out = ds.copy(deep=True)
-    for key, value in (("softening", crack), ("damage", crack), ("plastic_strain", zero)):
+    for key, value in (("x", x), ("y", y0), ("softening", zero), ("damage", zero),
+                       ("plastic_strain", zero)):
         out[key].values[:] = value
         out[f"snap_{key}"].values[-1] = value
     return out
 
 
 @pytest.mark.parametrize("columns_x,layer,expected", [
-    ([0.0], "mid", "splits once"),          # one vertical crack from the contact up
-    ([-0.015, 0.015], "mid", "fans out"),   # two, 30 mm apart (clusters join within 15 mm)
-    ([0.0], "face", "no main crack"),       # cracks on a face only: not on the measured layer
+    ([0.0], "mid", "splits once"),          # one vertical split through the centre
+    ([-0.015, 0.015], "mid", "fans out"),   # two, 30 mm apart
+    ([0.0], "face", "no main crack"),       # a split of a face layer only: not on the measured one
 ])
-def test_3d_classification_reads_the_mid_thickness_layer(runs, tmp_path, columns_x, layer,
-                                                         expected):
-    ds = crack_columns(open_dataset(runs["3D"]), columns_x, layer)
+def test_3d_classification_counts_openings_on_the_mid_thickness_layer(runs, tmp_path, columns_x,
+                                                                     layer, expected):
+    """Cracks are counted by their opening (as check 12 counts them): a rigid split with nothing
+    softened is a crack, and the softening clusters' count (secondary) sees none."""
+    ds = split_at_columns(open_dataset(runs["3D"]), columns_x, layer)
     path = tmp_path / "synthetic.nc"
     ds.to_netcdf(path)
     row = regime.regime_row(path)
     assert row["dim"] == "3D" and row["class"] == expected
     assert row["class_history"][-1]["class"] == expected
+    assert row["n_main_cracks_softening"] == 0
 
 
 def test_class_settles_from_the_last_change():
@@ -174,6 +181,7 @@ def test_class_settles_from_the_last_change():
 def _row(dim, a, f_t, v, n):
     return {"dim": dim, "scene": "s" + dim, "contact_a": a, "f_t": f_t, "impact_velocity": v,
             "t_end": 3e-4 if dim == "3D" else 5e-4, "n_main_cracks": n, "centre_crossings": n,
+            "n_main_cracks_softening": n,
             "class": regime.classify(n), "class_settled_from": 2e-4}
 
 

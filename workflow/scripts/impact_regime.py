@@ -23,5 +23,5 @@ if "snakemake" in globals():
     for r in rows:
         print(f"{r['dim']} f_t {r['f_t'] / 1e6:.3g} MPa, a {r['contact_a']:.3g}, "
               f"v {r['impact_velocity']:g} m/s: {r['class']} ({r['n_main_cracks']} main, "
-              f"{r['centre_crossings']} crossings; this class from "
+              f"{r['n_main_cracks_softening']} by softening; this class from "
               f"{1e6 * (r['class_settled_from'] or r['t_end']):.0f} us of {1e6 * r['t_end']:.0f})")

@@ -4,14 +4,17 @@ it fan out, over tensile strength f_t, contact stiffness (penalty scale a) and i
 
 Each run is a short homogeneous run: of the campaign's 2D scene (``impact.regime`` config
 section: f_t values, ``numerics.contact_a`` values, speeds, end time) or of the 3D disc
-(``impact.regime.three_d``: its scene, end time and grid). A run is classified by the revised
-check-12 main cracks (:func:`craquelure.impact.measure.revised_cracks`: cracked clusters from
-the contact zone reaching >= 0.5 D), measured as for every run
+(``impact.regime.three_d``: its scene, end time and grid). A run is classified by its main
+cracks counted by opening, as check 12 counts them
+(:func:`craquelure.impact.measure.opening_metrics`: runs of the centre row's neighbour pairs
+opened beyond w_c, separated by closed material), measured as for every run
 (:func:`craquelure.impact.analysis.run_metrics`; a 3D run on its mid-thickness layer):
-``splits once`` (one main crack), ``fans out`` (two or more) or ``no main crack``; the
-centre-row crossings of all cracks are given too. The class is also taken at each field
-snapshot before the end, so that a row says from when on its class no longer changed (is the
-run long enough to classify?).
+``splits once`` (one main crack), ``fans out`` (two or more) or ``no main crack``. The
+softening clusters' count of before 2026-12-03 (cracked clusters from the contact zone
+reaching >= 0.5 D, :func:`craquelure.impact.measure.revised_cracks`) stays as a secondary
+number. The class is also taken at each field snapshot before the end (from the snapshot's
+positions), so that a row says from when on its class no longer changed (is the run long
+enough to classify?).
 """
 
 from __future__ import annotations
@@ -21,7 +24,8 @@ from pathlib import Path
 from craquelure.io import open_dataset
 
 CLASSES = ("no main crack", "splits once", "fans out")
-SNAPSHOT_FIELDS = ("softening", "damage", "plastic_strain")
+SNAPSHOT_FIELDS = ("x", "y", "softening", "damage", "plastic_strain")
+MAIN_CRACKS = "n_main_cracks_opening"  # the count that classifies (run_metrics' key)
 
 
 def classify(n_main: int) -> str:
@@ -30,14 +34,14 @@ def classify(n_main: int) -> str:
 
 def class_history(ds) -> list[dict]:
     """Main cracks and class at each field snapshot (the last one is the end of the run), from
-    the snapshot's crack indicator, damage and plastic strain."""
+    the snapshot's positions (openings), crack indicator, damage and plastic strain."""
     from craquelure.impact.analysis import run_metrics
 
     out = []
     for i, t in enumerate(ds["snapshot_time"].values):
         at = ds.assign({k: ds[f"snap_{k}"].isel(snapshot_time=i, drop=True)
                         for k in SNAPSHOT_FIELDS})
-        n_main = int(run_metrics(at)["n_main_cracks_revised"])
+        n_main = int(run_metrics(at)[MAIN_CRACKS])
         out.append({"t": float(t), "n_main_cracks": n_main, "class": classify(n_main)})
     return out
 
@@ -66,16 +70,18 @@ def regime_row(path: Path) -> dict:
 
     ds = open_dataset(path)
     m = run_metrics(ds)  # the current measurement code, from the final fields
-    n_main = int(m["n_main_cracks_revised"])
-    x_mid = m["main_crack_x_mid"]
+    n_main = int(m[MAIN_CRACKS])
+    x_mid = m["main_run_x_mid"]
     history = class_history(ds)
     return {"dim": f"{int(m['dim'])}D", "scene": str(ds.attrs.get("scene_name", "")),
             "f_t": float(m["f_t"]), "contact_a": float(m["contact_a"]),
             "impact_velocity": float(m["impact_velocity"]),
             "t_end": float(ds["time"].values[-1]), "n_main_cracks": n_main,
-            "main_crossings_x_mm": m["main_crossings_x_mm"],
+            "main_runs_x_mm": m["row_runs_x_mm"],
             "main_crack_x_mid_mm": None if x_mid is None else 1e3 * x_mid,
+            "main_run_share": m["main_run_share"],
             "centre_crossings": int(m["centre_crossings"]),
+            "n_main_cracks_softening": int(m["n_main_cracks_revised"]),
             "cracked_fraction": float(m["cracked_fraction"]),
             "crushed_area": float(m["crushed_area"]),
             "energy_balance_error_max": float(m["energy_balance_error_max"]),
@@ -107,7 +113,8 @@ def _limits(values: list[float], below: float, above: float) -> tuple[float, flo
 def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     """One row of panels per dimension (2D above 3D), one panel per contact scale a: f_t (x)
     against impact speed (y), marker = class, number = main cracks (centre-row crossings in
-    brackets; * if the class changed after the last snapshot). Returns the panels' titles."""
+    brackets: the softening clusters' main cracks; * if the class changed after the last
+    snapshot). Returns the panels' titles."""
     from craquelure.plotting import plt, save
 
     maps = regime_maps(rows)
@@ -132,7 +139,7 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
                 ax.scatter(r["f_t"] / 1e6, r["impact_velocity"], marker=marker, color=color,
                            s=160, label=r["class"] if r["class"] not in seen else None)
                 seen.add(r["class"])
-                ax.annotate(f"{r['n_main_cracks']} ({r['centre_crossings']})"
+                ax.annotate(f"{r['n_main_cracks']} ({r['n_main_cracks_softening']})"
                             + ("*" if changed_at_end(r) else ""),
                             (r["f_t"] / 1e6, r["impact_velocity"]), textcoords="offset points",
                             xytext=(9, -3), fontsize=7)
@@ -144,8 +151,9 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
             ax.set_xlim(*xlim)  # the same axes in every panel: 2D and 3D compare point by point
             ax.set_ylim(*ylim)
             ax.legend(fontsize=7, loc="upper center", ncol=3)
-    fig.suptitle("homogeneous disc: main cracks from the contact zone (centre-row crossings; "
-                 "* class changed after the last snapshot); 3D on its mid-thickness layer\n"
+    fig.suptitle("homogeneous disc: main cracks by opening (softening clusters' count in "
+                 "brackets; * class changed after the last snapshot); 3D on its mid-thickness "
+                 "layer\n"
                  f"{label}", fontsize=8)
     save(fig, out)
     return titles
