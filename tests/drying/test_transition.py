@@ -74,6 +74,25 @@ def test_rows_say_inconclusive_below_three_sizes(ensemble, tmp_path):
     assert transition_claims(three)[1].verdict in ("reproduced", "partly", "not reproduced")
 
 
+def test_exponent_row_decides_only_what_its_intervals_can(ensemble, tmp_path):
+    """Ising inside and percolation outside: reproduced; both inside: inconclusive (the
+    named alternative cannot be told apart); Ising outside: not reproduced."""
+    ds = tr.transition(ensemble, n_bins=40, n_boot=20)
+
+    def verdict(intervals, name):
+        out = ds.copy()
+        out.attrs.update({f"{k}_ci95": np.array(v) for k, v in intervals.items()})
+        return transition_claims(write_dataset(out, tmp_path / name / "transition.nc"))[1]
+
+    narrow = {"beta_over_nu": [0.12, 0.13], "gamma_over_nu": [1.7, 1.8], "one_over_nu": [0.9, 1.1]}
+    wide = {"beta_over_nu": [0.05, 0.5], "gamma_over_nu": [1.0, 3.0], "one_over_nu": [0.3, 4.0]}
+    off = {**narrow, "gamma_over_nu": [2.0, 2.4]}
+    assert verdict(narrow, "narrow").verdict == "reproduced"
+    wide_row = verdict(wide, "wide")
+    assert wide_row.verdict == "inconclusive" and "percolation" in wide_row.note
+    assert verdict(off, "off").verdict == "not reproduced"
+
+
 def test_sample_records_of_a_fragment_dataset():
     rng = np.random.default_rng(1)
     ds = synthetic(4.0, 1, np.array([0.0, 0.5]), rng)
