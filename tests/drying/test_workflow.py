@@ -186,7 +186,7 @@ def test_criterion_campaign_takes_its_own_seed_count():
                                  "faithful_trace_reduced.yaml"))
     main = jobs.campaign_fragments(SimpleNamespace(scene="paper_speed"))
     trace = jobs.campaign_fragments(SimpleNamespace(scene="paper_speed_Ctrace"))
-    assert len(main) == 37 and len(trace) == 2
+    assert len(main) == 37 and len(trace) == 8
     assert trace[0] == "results/drying/paper_speed_Ctrace/fragments/seed1.nc"
     assert jobs.criterion_folders() == ["paper_speed_Ctrace"]
 
@@ -196,8 +196,11 @@ def test_table1_overlay_plans_eight_seeds_per_criterion_and_the_transition():
     assert len(jobs.campaign_fragments(SimpleNamespace(scene="table1_rkc2"))) == 8
     assert len(jobs.campaign_fragments(SimpleNamespace(scene="table1_rkc2_Ctrace"))) == 8
     groups = jobs.transition_fragments()
-    assert list(groups) == ["paper_speed", "table1_rkc2"]
+    assert list(groups) == ["paper_speed_small", "paper_speed", "table1_rkc2"]
+    assert all(len(paths) == 8 for paths in groups.values())
     assert groups["table1_rkc2"][-1] == "results/drying/table1_rkc2_Ctrace/fragments/seed8.nc"
+    assert groups["paper_speed_small"][0] == (
+        "results/drying/paper_speed_small_Ctrace/fragments/seed1.nc")
 
 
 def test_transition_groups_skip_sizes_without_seeds():
