@@ -75,8 +75,9 @@ def test_rows_say_inconclusive_below_three_sizes(ensemble, tmp_path):
 
 
 def test_exponent_row_decides_only_what_its_intervals_can(ensemble, tmp_path):
-    """Ising inside and percolation outside: reproduced; both inside: inconclusive (the
-    named alternative cannot be told apart); Ising outside: not reproduced."""
+    """Ising inside an interval narrower than its gap to percolation: reproduced; intervals
+    wider than every gap: inconclusive, even when a percolation value falls just outside one
+    (the named alternative cannot be told apart); Ising outside: not reproduced."""
     ds = tr.transition(ensemble, n_bins=40, n_boot=20)
 
     def verdict(intervals, name):
@@ -90,6 +91,10 @@ def test_exponent_row_decides_only_what_its_intervals_can(ensemble, tmp_path):
     assert verdict(narrow, "narrow").verdict == "reproduced"
     wide_row = verdict(wide, "wide")
     assert wide_row.verdict == "inconclusive" and "percolation" in wide_row.note
+    # the campaign of 2026-12-03: percolation's beta/nu 0.104 just below a 0.64-wide interval
+    edge = {"beta_over_nu": [0.109, 0.748], "gamma_over_nu": [0.855, 3.01],
+            "one_over_nu": [0.237, 4.87]}
+    assert verdict(edge, "edge").verdict == "inconclusive"
     assert verdict(off, "off").verdict == "not reproduced"
 
 

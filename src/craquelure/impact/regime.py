@@ -112,9 +112,9 @@ def _limits(values: list[float], below: float, above: float) -> tuple[float, flo
 
 def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     """One row of panels per dimension (2D above 3D), one panel per contact scale a: f_t (x)
-    against impact speed (y), marker = class, number = main cracks (centre-row crossings in
-    brackets: the softening clusters' main cracks; * if the class changed after the last
-    snapshot). Returns the panels' titles."""
+    against impact speed (y), marker = class, number = main cracks by opening (the softening
+    clusters' count in brackets; * if the class changed after the last snapshot). Returns the
+    panels' titles."""
     from craquelure.plotting import plt, save
 
     maps = regime_maps(rows)
