@@ -10,7 +10,9 @@ import pytest
 from craquelure.drying.integrators import (
     StepController,
     Stepper,
+    abm4_step,
     rkc2_error,
+    rkc2_error_norm,
     rkc2_step,
     rkc_coefficients,
     rkc_stability,
@@ -127,3 +129,58 @@ def test_controller_rejects_shrinks_and_grows_back():
 def test_unknown_integrator_names_the_allowed_values():
     with pytest.raises(ValueError, match="abm4, rk4, rk2, rkc2"):
         Stepper("rkc4")
+
+
+# -- the fused vector loops are the numpy expressions they replace, to the last bit -----------
+def _states(seed: int, n: int = 3001):
+    rng = np.random.default_rng(seed)
+    return [rng.standard_normal((8, n)) * 10.0 ** rng.uniform(-3, 3, (8, 1)) for _ in range(6)]
+
+
+def test_rkc2_step_equals_its_numpy_stage_formula_bitwise():
+    y, f0, *_ = _states(1)
+    lam = -np.linspace(0.1, 300.0, y.size).reshape(y.shape)
+
+    def rate(state, t):
+        return lam * state + np.sin(t)
+
+    dt, s = 0.2, 8
+    mu, nu, mu_t, gamma_t, c, *_ = rkc_coefficients(s)
+    previous, current = y, y + (mu_t[1] * dt) * f0
+    for j in range(2, s + 1):
+        r = rate(current, c[j - 1] * dt)
+        following = ((1.0 - mu[j] - nu[j]) * y + mu[j] * current + nu[j] * previous
+                     + (mu_t[j] * dt) * r + (gamma_t[j] * dt) * f0)
+        previous, current = current, following
+    assert np.array_equal(rkc2_step(y, f0, 0.0, dt, rate, s), current)
+
+
+def test_abm4_step_equals_its_numpy_formula_bitwise():
+    y, fn, f1, f2, f3, fp = _states(2)
+    dt = 0.004
+    expected = y + (dt / 24.0) * (9.0 * fp + 19.0 * fn - 5.0 * f1 + f2)
+    predicted = y + (dt / 24.0) * (55.0 * fn - 59.0 * f1 + 37.0 * f2 - 9.0 * f3)
+    seen = []
+
+    def rate(state, t):
+        seen.append(state.copy())
+        return fp
+
+    assert np.array_equal(abm4_step(y, (fn, f1, f2, f3), 0.0, dt, rate), expected)
+    assert np.array_equal(seen[0], predicted)
+
+
+def test_rkc2_error_norm_equals_the_masked_numpy_norm_and_ignores_removed_particles():
+    y0, y1, f0, f1, *_ = _states(3)
+    scale = np.linspace(0.5, 4.0, 8)
+    alive = np.random.default_rng(4).random(y0.shape[1]) > 0.3
+    estimate = rkc2_error(y0, y1, f0, f1, 0.37)
+    expected = float((np.abs(estimate[:, alive]) / scale[:, None]).max())
+    assert rkc2_error_norm(y0, y1, f0, f1, 0.37, scale, alive) == expected
+    # a removed particle's entries do not count, a present one's NaN or inf makes the norm inf
+    dead, live = np.flatnonzero(~alive)[0], np.flatnonzero(alive)[0]
+    y1[3, dead] = np.nan
+    assert rkc2_error_norm(y0, y1, f0, f1, 0.37, scale, alive) == expected
+    y1[5, live] = np.inf
+    assert rkc2_error_norm(y0, y1, f0, f1, 0.37, scale, alive) == math.inf
+    assert rkc2_error_norm(y0, y1, f0, f1, 0.37, scale, np.zeros_like(alive)) == 0.0

@@ -54,7 +54,7 @@ from craquelure.drying.integrators import (
     RKC_SPECTRAL_SAFETY,
     StepController,
     Stepper,
-    rkc2_error,
+    rkc2_error_norm,
     rkc_stages,
 )
 from craquelure.errors import SimulationDiverged
@@ -356,10 +356,6 @@ class DryingEngine:
         scale[SXX:SXY + 1] = sigma
         return self.tolerance * scale
 
-    def _error_norm(self, estimate: np.ndarray) -> float:
-        rows = np.abs(estimate[:, self.alive]) / self.error_scale[:, None]
-        return float(rows.max(initial=0.0)) if np.isfinite(rows).all() else math.inf
-
     def _removal_step_limit(self, before: np.ndarray, dt: float) -> float:
         """Largest next step for which no particle's linearly predicted mean stress passes
         sigma_Y by more than removal_tolerance sigma_Y."""
@@ -395,7 +391,8 @@ class DryingEngine:
             self.stage_evaluations += self.stepper.stages
             if not self.adapt:
                 break
-            err = self._error_norm(rkc2_error(self.state, new, self.f_current, f_new, dt))
+            err = rkc2_error_norm(self.state, new, self.f_current, f_new, dt,
+                                  self.error_scale, self.alive)
             if ctrl.propose(err, dt):
                 break
             if ctrl.dt_next < self.dt_floor:

@@ -66,6 +66,12 @@ Stabilised explicit scheme for the real viscous spectrum, not bound by the visco
 Every step takes ``f0 = f(y_n, t_n)`` (already known: it is the last evaluation of the previous
 step) and returns ``y_{n+1}``; the caller evaluates ``f(y_{n+1})`` once, which both ends this
 step (fracture test, ABM history, RKC error estimate) and starts the next.
+
+The per-step vector work (the RKC stage combinations, ABM4's predictor and corrector, the RKC
+error norm) runs in fused numba loops on the run's threads, each element computed by the same
+operations in the same order as the numpy expression it replaces, so the results are
+bit-identical; as numpy temporaries it was serial work between the parallel pair passes, 6 % of
+a step (issue 28: it bounds what two threads can gain).
 """
 
 from __future__ import annotations
@@ -75,6 +81,7 @@ from collections.abc import Callable, Sequence
 from functools import cache
 
 import numpy as np
+from numba import njit, prange
 
 Rate = Callable[[np.ndarray, float], np.ndarray]
 
@@ -85,6 +92,52 @@ REAL_AXIS_LIMIT = {"rk4": 2.785, "abm4": 1.285, "rk2": 2.0}
 RKC_DAMPING = 2.0 / 13.0
 # Safety factor on the power-iteration estimate of the spectral radius (a lower bound).
 RKC_SPECTRAL_SAFETY = 1.2
+# columns per block of the parallel error norm (one partial maximum per block)
+NORM_BLOCK = 4096
+
+
+@njit(parallel=True, cache=True)
+def _rkc_stage(a, y, b, current, c, previous, d, rate, e, f0, out):
+    for i in prange(out.size):
+        out[i] = a * y[i] + b * current[i] + c * previous[i] + d * rate[i] + e * f0[i]
+
+
+@njit(parallel=True, cache=True)
+def _abm4_predictor(y, h, fn, f1, f2, f3, out):
+    for i in prange(out.size):
+        out[i] = y[i] + h * (55.0 * fn[i] - 59.0 * f1[i] + 37.0 * f2[i] - 9.0 * f3[i])
+
+
+@njit(parallel=True, cache=True)
+def _abm4_corrector(y, h, fp, fn, f1, f2, out):
+    for i in prange(out.size):
+        out[i] = y[i] + h * (9.0 * fp[i] + 19.0 * fn[i] - 5.0 * f1[i] + f2[i])
+
+
+@njit(parallel=True, cache=True)
+def _rkc2_error_norm(y0, y1, f0, f1, h, scale, alive):
+    """max over alive columns of |0.8 (y0 - y1) + h (f0 + f1)| / scale[row] (rows of
+    (nrow, ncol) arrays); inf if any of those is not finite."""
+    nrow, ncol = y0.shape
+    blocks = (ncol + NORM_BLOCK - 1) // NORM_BLOCK
+    peak = np.zeros(blocks)
+    bad = np.zeros(blocks, np.bool_)
+    for b in prange(blocks):
+        m = 0.0
+        for j in range(b * NORM_BLOCK, min(ncol, (b + 1) * NORM_BLOCK)):
+            if alive[j]:
+                for r in range(nrow):
+                    x = abs(0.8 * (y0[r, j] - y1[r, j]) + h * (f0[r, j] + f1[r, j])) / scale[r]
+                    if not x <= np.inf:  # NaN or inf
+                        bad[b] = True
+                    elif x > m:
+                        m = x
+        peak[b] = m
+    return np.inf if bad.any() else peak.max()
+
+
+def _flat(a: np.ndarray) -> np.ndarray:
+    return np.ascontiguousarray(a).reshape(-1)
 
 
 def rk4_step(y: np.ndarray, f0: np.ndarray, t: float, dt: float, f: Rate) -> np.ndarray:
@@ -103,9 +156,13 @@ def abm4_step(y: np.ndarray, history: Sequence[np.ndarray], t: float, dt: float,
               f: Rate) -> np.ndarray:
     """``history = (F_n, F_{n-1}, F_{n-2}, F_{n-3})``."""
     fn, f1, f2, f3 = history
-    predicted = y + (dt / 24.0) * (55.0 * fn - 59.0 * f1 + 37.0 * f2 - 9.0 * f3)
+    h = dt / 24.0
+    predicted = np.empty_like(y)
+    _abm4_predictor(_flat(y), h, _flat(fn), _flat(f1), _flat(f2), _flat(f3), _flat(predicted))
     fp = f(predicted, t + dt)
-    return y + (dt / 24.0) * (9.0 * fp + 19.0 * fn - 5.0 * f1 + f2)
+    corrected = np.empty_like(y)
+    _abm4_corrector(_flat(y), h, _flat(fp), _flat(fn), _flat(f1), _flat(f2), _flat(corrected))
+    return corrected
 
 
 # -- Runge-Kutta-Chebyshev ---------------------------------------------------------------------
@@ -166,8 +223,9 @@ def rkc2_step(y: np.ndarray, f0: np.ndarray, t: float, dt: float, f: Rate,
     current = y + (mu_t[1] * dt) * f0
     for j in range(2, stages + 1):
         rate = f(current, t + c[j - 1] * dt)
-        following = ((1.0 - mu[j] - nu[j]) * y + mu[j] * current + nu[j] * previous
-                     + (mu_t[j] * dt) * rate + (gamma_t[j] * dt) * f0)
+        following = np.empty_like(y)
+        _rkc_stage(1.0 - mu[j] - nu[j], _flat(y), mu[j], _flat(current), nu[j], _flat(previous),
+                   mu_t[j] * dt, _flat(rate), gamma_t[j] * dt, _flat(f0), _flat(following))
         previous, current = current, following
     return current
 
@@ -176,6 +234,15 @@ def rkc2_error(y0: np.ndarray, y1: np.ndarray, f0: np.ndarray, f1: np.ndarray,
                dt: float) -> np.ndarray:
     """Local error estimate of an RKC2 step, (12 (y0 - y1) + 6 dt (f0 + f1)) / 15."""
     return 0.8 * (y0 - y1) + (0.4 * dt) * (f0 + f1)
+
+
+def rkc2_error_norm(y0: np.ndarray, y1: np.ndarray, f0: np.ndarray, f1: np.ndarray, dt: float,
+                    scale: np.ndarray, alive: np.ndarray) -> float:
+    """Scaled max-norm of :func:`rkc2_error` over the columns with ``alive`` (rows scaled by
+    ``scale``), in one pass without temporaries; inf if any scaled entry is not finite."""
+    arrays = [np.ascontiguousarray(a, dtype=np.float64) for a in (y0, y1, f0, f1)]
+    return float(_rkc2_error_norm(*arrays, 0.4 * dt, np.ascontiguousarray(scale, np.float64),
+                                  np.ascontiguousarray(alive)))
 
 
 class StepController:
