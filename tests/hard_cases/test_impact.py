@@ -128,7 +128,7 @@ def stretched_block(as_epsilon, steps=8000):
     for n in range(steps):
         eng.step()
         if n % 100 == 99:
-            eng.check()
+            eng.check_health()
             smallest = min(smallest, min_pair_distance(s, st))
     return smallest
 

@@ -289,7 +289,7 @@ class ImpactRun(runner.EngineRun):
 
     def finish(self) -> None:
         """The final health check and field snapshot."""
-        self.engine.check()
+        self.engine.check_health()
         self._snapshot()
 
     def parts(self) -> dict[str, object]:

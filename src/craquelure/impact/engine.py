@@ -381,7 +381,7 @@ class Engine:
             return Divergence("time step", f"dt collapsed to {self.dt:.3g} s")
         return None
 
-    def check(self) -> None:
+    def check_health(self) -> None:
         """Raise :class:`SimulationDiverged` when :meth:`health` fails (outside the runner)."""
         bad = self.health()
         if bad is not None:

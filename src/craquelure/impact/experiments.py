@@ -60,8 +60,8 @@ def crack_band_bar(spacing: float, height_cells: int, kappa: float = 1.0, speed:
         eng.step()
         drive()
         if eng.step_count % 500 == 0:
-            eng.check()
-    eng.check()
+            eng.check_health()
+    eng.check_health()
     cpu = time.process_time() - t0
     net = (height_cells - 2) * spacing
     e = eng.energies()
@@ -141,7 +141,7 @@ def p_wave_mode(spacing: float, kappa: float = 1.0, length: float = 0.2, cfl: fl
         if eng.t > 4.0 * np.pi / omega:
             raise RuntimeError("no oscillation of the P-wave mode within two periods")
     cpu = time.process_time() - t0
-    eng.check()
+    eng.check_health()
     measured = np.pi / (crossings[1] - crossings[0])
     return {"spacing": spacing, "kappa": kappa, "particles": int(x.size), "steps": eng.step_count,
             "omega_exact": omega, "omega": measured,

@@ -58,7 +58,7 @@ class Guard:
     def where(self, t: float, step: int) -> str:
         return f"at t = {t / self.time_unit:.6g} tau (step {step})"
 
-    def check(self, t: float, y: np.ndarray, step: int) -> None:
+    def check_health(self, t: float, y: np.ndarray, step: int) -> None:
         """Raise the runner's :class:`SimulationDiverged` when :meth:`health` fails."""
         bad = self.health(t, y)
         if bad is not None:
@@ -205,7 +205,7 @@ def _adaptive(system, cls, t_end, rtol, atol, event, rec, guard, max_steps, prog
             if not np.all(np.isfinite(y_new)) or system.min_gap(y_new) <= 0.0:
                 n_rej += 1
                 if n_rej > MAX_REJECTIONS:
-                    guard.check(t_new, y_new, n_steps)
+                    guard.check_health(t_new, y_new, n_steps)
                     raise SimulationDiverged(
                         f"a gap closed (h <= 0) {guard.where(t_new, n_steps)} after "
                         f"{MAX_REJECTIONS} step rejections")
@@ -214,7 +214,7 @@ def _adaptive(system, cls, t_end, rtol, atol, event, rec, guard, max_steps, prog
                              max_step=max_step)
                 continue
             n_steps += 1
-            guard.check(t_new, y_new, n_steps)
+            guard.check_health(t_new, y_new, n_steps)
             interp = solver.dense_output()
             rec.take(t_new, interp)
             if event.crossed(t_old, t_new, y_new, interp):
@@ -257,7 +257,7 @@ def _heun(system, t_end, dt, event, rec, guard, max_steps, progress, unit):
             if system.min_gap(y_new) <= 0.0:
                 raise SimulationDiverged(f"a gap closed (h <= 0) {guard.where(t_new, step)}: "
                                          f"the heun step dt = {dt / unit:g} tau is too large")
-            guard.check(t_new, y_new, step)
+            guard.check_health(t_new, y_new, step)
 
             def interp(tt, t0=t, y0=y, t1=t_new, y1=y_new):
                 w = (tt - t0) / (t1 - t0)

@@ -155,7 +155,7 @@ def clumping_run(as_epsilon, frozen=False, kappa=1.0):
         if n == 500:
             sig_early = float(st.sig[:, 0].std())
         if n % 100 == 0 or n == 1999:
-            eng.check()
+            eng.check_health()
             dx = st.x[:, None] - st.x[None, :]
             dy = st.y[:, None] - st.y[None, :]
             dx -= s.periodic_box[0] * np.rint(dx / s.periodic_box[0])
