@@ -156,15 +156,20 @@ def _pack_softdyn(values):
 def _pack_drying(values):
     from craquelure.drying.engine import parameters
 
-    class Scene:  # the scene paths the engine reads, each with its own value
+    class Scene:  # every effect on; the scene paths the engine reads, each with its own value
         paths = {"material.lame_lambda": "lame_lambda", "material.lame_mu": "lame_mu",
                  "material.eta": "eta", "material.drying_rate": "drying_rate",
                  "material.thickness": "thickness", "numerics.xsph_epsilon": "xsph_epsilon",
                  "numerics.h": "support", "domain.box_length": "box_length",
                  "material.drying_stress_cap": "drying_stress_cap"}
 
-        def get(self, path, default=None):
+        def get(self, path):
             return values[self.paths[path]]
+
+        optional = get
+
+        def has(self, effect):
+            return True
 
     return parameters(Scene())
 

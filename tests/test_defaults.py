@@ -94,6 +94,41 @@ def test_each_parameter_has_one_default(model):
     assert not found, "second defaults:\n" + "\n".join(found)
 
 
+# names a scene is read through in the package: a two-argument ``get`` on one is a fallback
+SCENE_NAMES = {"scene", "sc", "view"}
+
+
+def scene_fallbacks(tree: ast.AST):
+    """(line, key) of every fallback read of a scene: :func:`fallback_reads`, and
+    ``scene.get(key, x)`` / ``self.scene.get(key, x)`` whatever the key expression."""
+    yield from fallback_reads(tree)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and getattr(node.func, "attr", None) == "get" \
+                and len(node.args) == 2 and not isinstance(node.args[0], ast.Constant):
+            owner = node.func.value
+            name = getattr(owner, "attr", None) or getattr(owner, "id", None)
+            if name in SCENE_NAMES:
+                yield node.lineno, ast.unparse(node.args[0])
+
+
+def test_no_scene_read_has_a_fallback():
+    """No read of a scene value anywhere in the package passes a fallback, for a parameter with
+    a schema default or without one: a parameter without one is either read inside its
+    effect's ``if scene.has(...)`` (the effect requires it; the kernel packs a neutral value
+    otherwise) or optional, read with ``scene.optional`` where its absence is given a meaning."""
+    found = [f"{path.relative_to(PACKAGE.parent)}:{line}: {key}"
+             for path in sorted(PACKAGE.rglob("*.py"))
+             for line, key in scene_fallbacks(ast.parse(path.read_text()))]
+    assert not found, "scene reads with a fallback:\n" + "\n".join(found)
+
+
+def test_the_fallback_check_finds_every_form():
+    tree = ast.parse("scene.get('material.eta', 0.0)\ng(\n    'domain.pad', None)\n"
+                     "self.scene.get(path, None)\nscene.get(key)\nds.attrs.get('seed', 0)\n")
+    assert sorted(scene_fallbacks(tree)) == [(1, "material.eta"), (2, "domain.pad"),
+                                             (4, "path")]
+
+
 def test_the_check_finds_a_second_default(tmp_path):
     """Each of the three forms is found in a module written for the purpose."""
     module = tmp_path / "engine.py"

@@ -41,3 +41,20 @@ def test_memory_estimate_refuses_a_scene_that_cannot_fit_and_says_how_much():
         load_scene("impact/ci", ["particles.diameter_cells=1000000000000"])
     with pytest.raises(SceneError, match="Shepard mesh"):
         load_scene("drying/ci", ["domain.box_length=1000"])
+
+
+def test_optional_is_the_value_or_none_when_the_scene_does_not_set_it():
+    """``optional`` reads a parameter the schema leaves optional: its value when set (a falsy
+    one too), None when absent; ``get`` of the same absent key raises."""
+    scene = load_scene("drying/onset_fixed_f")
+    assert scene.optional("material.drying_stress_cap") == 5.0e-3
+    assert scene.optional("numerics.step_control.dt_max") == 0.2  # nested, schema default
+    assert scene.optional("particles.excluded_bands") == []
+    assert scene.optional("outputs.times") is not None
+    view = scene_rules.SceneView({"model": "drying", "effects": [], "outputs": {"t_end": 1.0},
+                                  "material": {"eta": 0.0}})
+    assert view.optional("material.eta") == 0.0
+    assert view.optional("material.lame_lambda") is None
+    assert view.optional("domain.box_length") is None  # a section the data does not have
+    with pytest.raises(KeyError):
+        view.get("material.lame_lambda")

@@ -310,7 +310,7 @@ def _check_effects(data: dict[str, Any]) -> None:
     for name in listed:
         effect = known[name]
         for dotted in effect.requires:
-            if scene_rules.SceneView(data).get(dotted, None) is None:
+            if scene_rules.SceneView(data).optional(dotted) is None:
                 problems.append(f"effect {name!r} needs {dotted}, which the scene does not set")
         for other in effect.conflicts:
             if other in listed:

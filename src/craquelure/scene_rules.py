@@ -77,6 +77,11 @@ class SceneAccess:
             return default
         return value
 
+    def optional(self, dotted: str) -> Any | None:
+        """The value of a parameter the schema leaves optional, None when the scene does not
+        set it: the caller states what its absence means (its schema description says)."""
+        return lookup(self.data, dotted)
+
     def has(self, effect: str) -> bool:
         return effect in self.data["effects"]
 

@@ -4,14 +4,18 @@ every tolerance is the spec's unless stated."""
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
 import pytest
+import yaml
 
-from craquelure.drying.engine import VX, VY, X, Y
+from craquelure.drying.engine import NEUTRAL_PARAMETERS, VX, VY, X, Y, parameters
 from craquelure.drying.integrators import rkc_stages
+from craquelure.drying.kernel_template import PARAMS
 from craquelure.errors import SimulationDiverged
+from craquelure.scene import load_scene_text
 
 
 def _oscillator_error(make_scene, make_lattice_engine, integrator, dt, t_end=2.0):
@@ -283,3 +287,24 @@ def test_rkc2_steps_shrink_at_removal_and_grow_between(make_scene):
     assert after.any() and dt[after].max() < 0.05
     last = int(np.nonzero(removed > 0)[0][-1])
     assert dt[last + 1:].max(initial=0.0) > 0.1
+
+
+@pytest.mark.parametrize("effects, off", [
+    (["viscosity", "xsph", "continuity"],
+     ["lame_lambda", "lame_mu", "thickness", "drying_rate", "drying_stress_cap"]),
+    (["elasticity", "continuity"], ["eta", "thickness", "drying_rate", "drying_stress_cap"]),
+    (["substrate", "drying"], ["lame_lambda", "eta"]),
+])
+def test_an_off_effects_parameters_are_its_neutral_values(make_scene, effects, off):
+    """The kernel's parameter vector holds NEUTRAL_PARAMETERS for the material constants of
+    effects that are off, whether or not the scene gives them (no fallback reads them), and
+    the scene's values for the effects that are on."""
+    given = make_scene(effects=effects, material={"drying_stress_cap": 1.0})
+    data = copy.deepcopy(given.data)
+    for key in off:
+        del data["material"][key]
+    p = parameters(given)
+    assert np.array_equal(p, parameters(load_scene_text(yaml.safe_dump(data), name="absent")))
+    for key in NEUTRAL_PARAMETERS:
+        expected = NEUTRAL_PARAMETERS[key] if key in off else given.get(f"material.{key}")
+        assert p[PARAMS.index(key)] == expected, key

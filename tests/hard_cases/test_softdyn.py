@@ -13,7 +13,7 @@ from craquelure.softdyn import theory
 from craquelure.softdyn.initial_state import build, predictions
 
 BASE = load_scene("softdyn/t1_single_ci")
-H_STAR = theory.h_star(BASE.get("loads.reduced_force"), BASE.get("material.k_n", 1.0))
+H_STAR = theory.h_star(BASE.get("loads.reduced_force"), BASE.get("material.k_n"))
 
 
 def test_deep_hertz_t1_takes_the_hertzian_time():

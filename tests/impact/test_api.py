@@ -1,5 +1,6 @@
 """Run datasets (provenance, determinism, divergence) and the workflow helpers."""
 
+import copy
 from pathlib import Path
 
 import numba
@@ -8,7 +9,7 @@ import pytest
 import yaml
 
 from craquelure.errors import SceneError, SimulationDiverged
-from craquelure.impact import workflow
+from craquelure.impact import kernel_template, workflow
 from craquelure.impact.api import (
     derived_numbers,
     run,
@@ -16,8 +17,9 @@ from craquelure.impact.api import (
     simulate,
 )
 from craquelure.impact.initial_state import build_specimen
+from craquelure.impact.material import NEUTRAL
 from craquelure.io import open_dataset
-from craquelure.scene import load_scene, project_root
+from craquelure.scene import load_scene, load_scene_text, project_root
 
 from ..killed_run import check_message, kill_and_resume, same_dataset, stop_and_resume
 
@@ -75,6 +77,35 @@ def test_contact_scale_auto(overrides, expected):
     0.1 with the mass-based one; a number is taken as given."""
     scene = load_scene("impact/ci", overrides)
     assert settings(scene).contact_a == pytest.approx(expected, rel=1e-3)
+
+
+@pytest.mark.parametrize("effects, off", [
+    ("[elasticity, artificial_viscosity, contact_bulk]", ["f_c", "f_t", "G_F"]),
+    ("[elasticity, plasticity, contact_bulk]", ["f_t", "G_F"]),
+    ("[elasticity, damage, contact_bulk]", ["f_c"]),
+])
+def test_an_off_effects_strengths_are_the_neutral_ones(effects, off):
+    """The kernel's parameter vector and the concrete do not depend on a strength or fracture
+    energy whose effects are all off (they hold NEUTRAL), whether or not the scene gives it:
+    no fallback reads it; the effects that are on read the scene's."""
+    given = load_scene("impact/ci", [f"effects={effects}"])
+    data = copy.deepcopy(given.data)
+    for name in off:
+        del data["material"][name]
+    st, st_absent = settings(given), settings(load_scene_text(yaml.safe_dump(data), "absent"))
+    assert st.material == st_absent.material
+    assert np.array_equal(st.params(kernel_template), st_absent.params(kernel_template))
+    for name in ("f_c", "f_t", "G_F"):
+        expected = NEUTRAL[name] if name in off else given.get(f"material.{name}")
+        assert getattr(st.material, name) == expected, name
+
+
+def test_without_contact_the_penalty_scale_is_not_read():
+    """No contact effect: a enters nothing, and a run records the spec's 0.1 whatever the
+    scene's numerics.contact_a."""
+    for a in ("auto", "5.0"):
+        scene = load_scene("impact/ci", ["effects=[elasticity]", f"numerics.contact_a={a}"])
+        assert settings(scene).contact_a == 0.1
 
 
 @pytest.mark.parametrize("value", ["stiff", "0", "-1"])

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from craquelure.impact.material import drive, standard_concrete
+from craquelure.impact.material import MATERIAL_CONSTANTS, NEUTRAL, drive, standard_concrete
+from craquelure.registry import known_effects
 
 MAT = standard_concrete()
 
@@ -76,3 +77,12 @@ def test_fully_cracked_point_carries_compression():
     # sigma = E eps at eps = -1e-3 (29.7 MPa, below f_c)
     assert np.all(sig[up.size:, 1] <= 1e-6 * MAT.f_t)
     assert sig[-1, 1] == pytest.approx(MAT.young * eps[-1, 1], rel=1e-2)
+
+
+def test_material_constants_are_read_by_the_effects_that_require_them():
+    """Each constant of the concrete is read when one of the effects listing its key in
+    ``requires=`` is on (so the scene sets it), and only then; NEUTRAL covers every one."""
+    effects = known_effects("impact")
+    for _, key, readers in MATERIAL_CONSTANTS:
+        assert set(readers) == {e for e, eff in effects.items() if key in eff.requires}, key
+    assert set(NEUTRAL) == {name for name, _, _ in MATERIAL_CONSTANTS}

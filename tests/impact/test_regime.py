@@ -83,7 +83,7 @@ def test_3d_grid_has_its_own_scene_end_time_and_resources(profile):
             assert workflow.regime_resource(sec, key)(w) == cfg[key]
     # the 2D runs keep the 2D grid's end time and the 2D section's resources
     flat = scene_of(runs2[0], sec)
-    assert flat.get("domain.dim", 2) == 2
+    assert flat.get("domain.dim") == 2
     assert flat.get("outputs.t_end") == pytest.approx(sec["regime"]["t_end"])
     assert workflow.regime_resource(sec, "threads")(wildcards(runs2[0])) == sec["threads"]
 

@@ -3,15 +3,22 @@ bodies never bonded to each other (the pad's own bonds unbreakable), the boundar
 and top loads of the scene, the seeded bond disorder, and a time step that is the scene's
 fraction of the stiffest oscillator's stable step."""
 
+import copy
 import math
 
 import numpy as np
 import pytest
+import yaml
 
-from craquelure.lattice.engine import stable_step_estimate
+from craquelure.lattice.engine import PARAMS, default_params, stable_step_estimate
 from craquelure.lattice.geometry import REMOVED
-from craquelure.lattice.initial_state import block_height, build_system, time_step
-from craquelure.scene import load_scene
+from craquelure.lattice.initial_state import (
+    block_height,
+    build_system,
+    engine_params,
+    time_step,
+)
+from craquelure.scene import load_scene, load_scene_text
 
 
 def test_block_loads_and_clamps_follow_the_scene():
@@ -68,3 +75,38 @@ def test_time_step_is_the_fraction_of_the_stiffest_oscillator():
     w2 += 1.5 * calving.get("contact.stiffness") * math.sqrt(0.1 * system.L) / system.mass.min()
     assert time_step(calving, system) == pytest.approx(
         calving.get("numerics.dt_factor") * 2 / math.sqrt(w2), rel=1e-12)
+
+
+def packed_params(scene):
+    system, _ = build_system(scene, 0)
+    return default_params(**engine_params(scene, system), period_x=system.period_x)
+
+
+def test_buoyancy_off_leaves_its_densities_unread():
+    """Without buoyancy the kernel's parameter vector is the same whether or not the scene
+    gives material.rho and rho_w (default_params' neutral values, no fallback to the disc
+    density); with buoyancy it holds the scene's."""
+    small = ["domain.nx=30", "domain.ny=8"]
+    on = load_scene("lattice/calving", small)
+    given = on.with_overrides(["effects=[beams, fracture, contact, gravity, drag, bed]"])
+    data = copy.deepcopy(given.data)
+    del data["material"]["rho"], data["material"]["rho_w"]
+    p = packed_params(given)
+    assert np.array_equal(p, packed_params(load_scene_text(yaml.safe_dump(data), "absent")))
+    assert p[PARAMS.index("rho")] == default_params()[PARAMS.index("rho")]
+    assert p[PARAMS.index("rho_w")] == default_params()[PARAMS.index("rho_w")]
+    assert packed_params(on)[PARAMS.index("rho")] == on.get("material.rho")
+
+
+def test_optional_lattice_keys_mean_what_their_absence_says():
+    """numerics.mass_damping_until absent: mass damping to the end (inf); domain.water_level
+    absent with drag: no water line (-inf, nothing below it)."""
+    scene = load_scene("lattice/calving", ["domain.nx=30", "domain.ny=8"])
+    assert packed_params(scene)[PARAMS.index("mass_damping_until")] == 150.0
+    data = copy.deepcopy(scene.data)
+    del data["numerics"]["mass_damping_until"], data["domain"]["water_level"]
+    data["effects"] = ["beams", "gravity", "drag", "bed"]
+    data["drag"]["everywhere"] = True
+    p = packed_params(load_scene_text(yaml.safe_dump(data), "absent"))
+    assert p[PARAMS.index("mass_damping_until")] == math.inf
+    assert p[PARAMS.index("water_level")] == -math.inf

@@ -1,12 +1,21 @@
 """The T1 of four spheres: spec checks 2 (along a run), 7, 8, 9 and the literal-rule jam."""
 
+import copy
 import math
 
 import numpy as np
 import pytest
+import yaml
 
-from craquelure.scene import load_scene
-from craquelure.softdyn.initial_state import build, series_dataset
+from craquelure.scene import load_scene, load_scene_text
+from craquelure.softdyn.initial_state import (
+    NEUTRAL,
+    RIGID_YOUNG,
+    build,
+    material_constants,
+    predictions,
+    series_dataset,
+)
 
 SQRT3 = math.sqrt(3.0)
 
@@ -182,3 +191,37 @@ def test_threshold_follows_the_deformed_angle(force, occurs):
     assert res.stopped == occurs
     assert (0.6 < cot) == occurs
     assert abs(cot - 0.6) > 0.005  # the sign is not a round-off call
+
+
+@pytest.mark.parametrize("effects, off", [
+    ("[lubrication_normal, lubrication_tangential]", ["k_n", "k_t"]),
+    ("[lubrication_normal, hertz]", ["c_t"]),
+    ("[lubrication_normal]", ["k_n", "k_t", "c_t"]),
+])
+def test_an_off_effects_constants_are_the_neutral_ones(effects, off):
+    """The kernel's parameter vector, the time unit and the theory's predictions do not depend
+    on a constant whose effects are all off (it is NEUTRAL), whether or not the scene gives it:
+    no fallback reads it; the effects that are on read the scene's."""
+    given = load_scene("softdyn/t1_single_ci", [f"effects={effects}", "material.k_n=2.0",
+                                                "material.k_t=3.0", "material.c_t=4.0"])
+    data = copy.deepcopy(given.data)
+    for key in off:
+        del data["material"][key]
+    absent = load_scene_text(yaml.safe_dump(data), "absent")
+    a, b = build(given), build(absent)
+    assert np.array_equal(a.system.p, b.system.p) and a.tau == b.tau
+    assert predictions(given) == predictions(absent)
+    constants = material_constants(given)
+    for key in NEUTRAL:
+        assert constants[key] == (NEUTRAL[key] if key in off else given.get(f"material.{key}"))
+
+
+def test_young_is_the_force_unit_whenever_given():
+    """E sets F = F~ E R^2 with or without hertz; a rigid scene without it has E = 1."""
+    rigid = load_scene("softdyn/t1_single_ci", ["effects=[lubrication_normal]",
+                                                "material.young=2.0"])
+    assert build(rigid).force == pytest.approx(2.0 * rigid.get("loads.reduced_force"))
+    data = copy.deepcopy(rigid.data)
+    del data["material"]["young"]
+    assert material_constants(load_scene_text(yaml.safe_dump(data), "absent"))["young"] \
+        == RIGID_YOUNG

@@ -1,5 +1,5 @@
 """Workflow helpers of the softdyn rules: the config's overrides, the scene file and one batch
-dataset per ``sweep_batches`` (default 1), named without reading the scene."""
+dataset per ``sweep_batches`` (required by the config schema), named without reading the scene."""
 
 import yaml
 
@@ -12,7 +12,9 @@ def test_batches_and_scene_paths():
     jobs = Jobs({"sweep_batches": 3, "set": ["numerics.rtol=1e-6"]})
     files = jobs.sweep_batch_files(w)
     assert files == [f"results/softdyn/t1_sweep_ci/batches/b{b}.nc" for b in range(3)]
-    assert Jobs({}).sweep_batch_files(w) == ["results/softdyn/t1_sweep_ci/batches/b0.nc"]
+    # the config schema requires the count (the workflow keeps no default of its own)
+    schema = yaml.safe_load((project_root() / "workflow/schemas/config.schema.yaml").read_text())
+    assert "sweep_batches" in schema["properties"]["softdyn"]["required"]
     assert jobs.overrides() == ["numerics.rtol=1e-6"]
     jobs.overrides().append("x=1")  # a copy: the config section is not edited
     assert jobs.overrides() == ["numerics.rtol=1e-6"]

@@ -167,10 +167,18 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
         "first_removal_time": first_removal_time(run),
         "connectivity": 4,
         "fracture_stress_measure": str(scene.get("material.fracture_stress_measure")),
-        **onset_prediction(run, t_star(scene) if scene.get("material.yield_stress", None)
-                           and scene.get("material.drying_rate", None) else math.nan),
+        **onset_prediction(run, onset_time_scale(scene)),
     })
     return ds
+
+
+def onset_time_scale(scene) -> float:
+    """t* = sigma_Y/v_r of the run, NaN without a yield stress (optional without fracture) or
+    without a drying stress that grows (the drying effect off, or v_r = 0)."""
+    sigma_y = scene.optional("material.yield_stress")
+    if sigma_y and scene.has("drying") and scene.get("material.drying_rate"):
+        return t_star(scene)
+    return math.nan
 
 
 def onset_prediction(run: xr.Dataset, tstar: float) -> dict[str, float]:

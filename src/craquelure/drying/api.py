@@ -27,7 +27,12 @@ from craquelure import runner
 from craquelure.drying.engine import VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.drying.integrators import REAL_AXIS_LIMIT, RKC_SPECTRAL_SAFETY, rkc_stages
-from craquelure.drying.rules import initial_state_problems, run_step, viscous_spectral_radius
+from craquelure.drying.rules import (
+    SNAPSHOTS_WITHOUT_TIMES,
+    initial_state_problems,
+    run_step,
+    viscous_spectral_radius,
+)
 from craquelure.errors import CraquelureError, SceneError
 from craquelure.io import read_dataset
 from craquelure.provenance import WallClock
@@ -128,9 +133,9 @@ INITIAL_STATE_VARS = ("x", "y", "mass", "rho", "sigma_e_xx", "sigma_e_yy", "sigm
 
 def output_times(scene: Scene) -> np.ndarray:
     t_end = float(scene.get("outputs.t_end"))
-    times = scene.get("outputs.times", None)
-    if times is None:
-        return np.linspace(t_end / 10, t_end, 10)
+    times = scene.optional("outputs.times")
+    if times is None:  # equally spaced up to t_end
+        return np.linspace(t_end / SNAPSHOTS_WITHOUT_TIMES, t_end, SNAPSHOTS_WITHOUT_TIMES)
     times = np.asarray(sorted(times), float)
     if times.size and times[-1] > t_end + 1e-12:
         raise CraquelureError(f"outputs.times: {times[-1]} is after outputs.t_end = {t_end}")

@@ -205,8 +205,8 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
                      ("h", "box_length", "phi0", "mesh_spacing", "mesh_spacing_h", "edge_depth")
                      if key in first.attrs})
     for key, path in SCENE_NUMBERS.items():
-        value = scene.get(path, None)
-        if value is not None:
+        value = scene.optional(path)
+        if value is not None:  # recorded when the scene sets it
             ds.attrs[key] = value
     ds.attrs["fracture_stress_measure"] = str(scene.get("material.fracture_stress_measure"))
     ds.attrs.update({"scene_name": str(first.attrs.get("scene_name", scene.name)),

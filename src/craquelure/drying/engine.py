@@ -76,17 +76,33 @@ def compile_rate(effects, kernel: str):
     return specialise(template.__name__, flags, "drying")
 
 
+# The kernel's value of a parameter whose effect is off: that effect's branch is compiled out,
+# and these make it contribute nothing where the engine reads the vector itself (energy bound,
+# error scale, drying stress): no stiffness, no viscosity, no drying, no cap; the substrate's
+# H = 1 only keeps mu/H^2 finite.
+NEUTRAL_PARAMETERS = dict(lame_lambda=0.0, lame_mu=0.0, eta=0.0, drying_rate=0.0,
+                          thickness=1.0, drying_stress_cap=math.inf)
+
+
 def parameters(scene: Scene) -> np.ndarray:
-    return pack_parameters(template.PARAMS, dict(
-        lame_lambda=scene.get("material.lame_lambda", 0.0),
-        lame_mu=scene.get("material.lame_mu", 0.0),
-        eta=scene.get("material.eta", 0.0),
-        drying_rate=scene.get("material.drying_rate", 0.0),
-        thickness=scene.get("material.thickness", 1.0),
-        xsph_epsilon=scene.get("numerics.xsph_epsilon"),
-        support=scene.get("numerics.h"),
-        box_length=scene.get("domain.box_length"),
-        drying_stress_cap=scene.get("material.drying_stress_cap", math.inf)))
+    """The rate kernel's parameter vector: each effect's material constants when it is on (its
+    ``requires=`` guarantees them), :data:`NEUTRAL_PARAMETERS` when it is off."""
+    values = dict(xsph_epsilon=scene.get("numerics.xsph_epsilon"),
+                  support=scene.get("numerics.h"), box_length=scene.get("domain.box_length"))
+    if scene.has("elasticity"):
+        values.update(lame_lambda=scene.get("material.lame_lambda"),
+                      lame_mu=scene.get("material.lame_mu"))
+    if scene.has("substrate"):
+        values.update(lame_mu=scene.get("material.lame_mu"),
+                      thickness=scene.get("material.thickness"))
+    if scene.has("viscosity"):
+        values["eta"] = scene.get("material.eta")
+    if scene.has("drying"):
+        values["drying_rate"] = scene.get("material.drying_rate")
+        cap = scene.optional("material.drying_stress_cap")
+        if cap is not None:  # absent: sigma_dry grows without bound
+            values["drying_stress_cap"] = cap
+    return pack_parameters(template.PARAMS, values, defaults=NEUTRAL_PARAMETERS)
 
 
 class DryingEngine:
@@ -114,12 +130,15 @@ class DryingEngine:
         self.params = parameters(scene)
         self.effects = scene.effects
         self.fracture = scene.has("fracture")
-        self.yield_stress = float(scene.get("material.yield_stress", math.inf))
+        # no yield stress (only without fracture, which requires it): nothing is removed, and
+        # kappa is recorded from the first F > 0
+        sigma_y = scene.optional("material.yield_stress")
+        self.yield_stress = math.inf if sigma_y is None else float(sigma_y)
         self.fracture_measure = str(scene.get("material.fracture_stress_measure"))
         # kappa is recorded from F >= 20 a sigma_Y (module docstring)
         self.kappa_min_f = (KAPPA_AMPLITUDE_FACTOR
                             * float(scene.get("material.initial_stress_amplitude"))
-                            * float(scene.get("material.yield_stress", 0.0)))
+                            * (0.0 if sigma_y is None else float(sigma_y)))
         kernel = scene.get("numerics.kernel")
         self.rate_module = compile_rate(self.effects, kernel)
         self.viscous_module = compile_rate(("viscosity",), kernel)

@@ -69,8 +69,10 @@ def build_initial_state(scene: Scene, seed: int, check: bool = True) -> xr.Datas
         # particle stands for L^2 / particles.n of area whatever was excluded.
         mass = np.full(n, rho0 * length**2 / scene.get("particles.n"))
         attrs.update(cg_iterations=0, cg_residual=float("nan"), stopped_by="equal_masses")
-    amplitude = scene.get("material.initial_stress_amplitude") * scene.get(
-        "material.yield_stress", 0.0)
+    # sigma_e ~ U(-a, a) sigma_Y: none without a yield stress (optional without fracture)
+    sigma_y = scene.optional("material.yield_stress")
+    amplitude = scene.get("material.initial_stress_amplitude") * (
+        0.0 if sigma_y is None else sigma_y)
     stress = rng.uniform(-amplitude, amplitude, size=(3, n)) if amplitude > 0 else np.zeros((3, n))
     p = ("particle",)
     ds = xr.Dataset(

@@ -7,11 +7,17 @@ import math
 from craquelure.drying.integrators import REAL_AXIS_LIMIT
 from craquelure.scene_rules import SceneView, lookup, steps_problem
 
+# Snapshots of a run whose scene gives no outputs.times: this many, equally spaced up to t_end.
+SNAPSHOTS_WITHOUT_TIMES = 10
+
 
 def viscous_spectral_radius(scene) -> float:
-    """Estimate 6.7 eta/(rho0 h^2) of the viscous operator (drying spec section 8)."""
-    eta = scene.get("material.eta", 0.0) if scene.has("viscosity") else 0.0
-    return 6.7 * eta / (scene.get("material.rho0") * scene.get("numerics.h") ** 2)
+    """Estimate 6.7 eta/(rho0 h^2) of the viscous operator (drying spec section 8); 0 without
+    the viscosity effect (which requires eta)."""
+    if not scene.has("viscosity"):
+        return 0.0
+    return 6.7 * scene.get("material.eta") / (scene.get("material.rho0")
+                                              * scene.get("numerics.h") ** 2)
 
 
 def run_step(data: dict) -> float:
@@ -37,8 +43,8 @@ def run_step(data: dict) -> float:
 def scene_problems(data: dict) -> list[str]:
     out = []
     t_end = float(lookup(data, "outputs.t_end"))
-    times = lookup(data, "outputs.times") or []
-    late = [t for t in times if t > t_end * (1 + 1e-12)]
+    times = SceneView(data).optional("outputs.times")  # absent: equally spaced up to t_end
+    late = [] if times is None else [t for t in times if t > t_end * (1 + 1e-12)]
     if late:
         out.append(f"outputs.times: {late[0]!r} is after outputs.t_end = {t_end!r}; snapshot "
                    f"times must lie in [0, t_end]")
@@ -56,7 +62,7 @@ def scene_problems(data: dict) -> list[str]:
         out.append(f"domain.box_length: {length!r} is not allowed; the periodic box must be at "
                    f"least twice the neighbour search radius numerics.h x (1 + "
                    f"numerics.neighbour_skin) = {radius:g}")
-    for k, band in enumerate(lookup(data, "particles.excluded_bands") or []):
+    for k, band in enumerate(lookup(data, "particles.excluded_bands")):
         if band["lo"] >= band["hi"]:
             out.append(f"particles.excluded_bands[{k}]: lo = {band['lo']!r} must be below "
                        f"hi = {band['hi']!r}")
@@ -70,7 +76,8 @@ def memory_estimate(data: dict) -> tuple[float, str]:
     pairs = n * min(n, n * math.pi * (h * (1 + skin)) ** 2 / length**2 + 1)
     shepard = float(lookup(data, "numerics.mass_solve.shepard_spacing")) * h
     mesh = (length / shepard) ** 2
-    snaps = len(lookup(data, "outputs.times") or range(10)) + 1
+    times = SceneView(data).optional("outputs.times")
+    snaps = (SNAPSHOTS_WITHOUT_TIMES if times is None else len(times)) + 1
     rsa = 0.0
     if lookup(data, "particles.placement") == "rsa":  # cell grid of side min-separation / sqrt 2
         rsa = 2 * n / float(lookup(data, "particles.rsa_min_separation")) ** 2

@@ -123,7 +123,7 @@ def run_metrics(ds) -> dict:
     out = measure.run_metrics(x0, y0, crack, plastic, precrack, spacing,
                               float(run_fact(ds, "radius")), cracked, crushed, centre_y,
                               z0=ds["z0"].values if "z0" in ds else None)
-    G_F, f_t = g("material.G_F", None), g("material.f_t", None)
+    G_F, f_t = scene.optional("material.G_F"), scene.optional("material.f_t")
     # no fracture energy or tensile strength in the scene: nothing can open to a crack
     w_c = measure.full_softening_opening(G_F, f_t) if G_F and f_t else float("inf")
     half = None
@@ -145,7 +145,7 @@ def run_metrics(ds) -> dict:
         "min_y_final": float(ds["y"].values.min()),
         "n_zero_mass": int(np.sum(ds["mass"].values == 0)),
         "kappa": g("numerics.kappa"), "effects": ",".join(scene.effects),
-        "f_t": g("material.f_t", None), "impact_velocity": g("particles.impact_velocity"),
+        "f_t": f_t, "impact_velocity": g("particles.impact_velocity"),
         "plane": g("domain.plane"), "distribution": g("particles.masses.distribution"),
         "precrack_layout": g("particles.precrack"), "dim": run_dim(ds, scene),
     })

@@ -27,20 +27,24 @@ from craquelure.impact.effects.contact_mass import DEFAULT_SCALE
 from craquelure.impact.effects.damage import crack_band_width
 from craquelure.impact.engine import Engine, Settings, State
 from craquelure.impact.initial_state import Specimen, build_specimen, initial_smoothing_length
-from craquelure.impact.material import Concrete
+from craquelure.impact.material import MATERIAL_CONSTANTS, NEUTRAL, Concrete
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene, load_scene_text
 from craquelure.throughput import prediction_lines
 
 
 def concrete(scene: Scene) -> Concrete:
-    band = scene.get("material.crack_band_width") or crack_band_width(
-        scene.get("particles.spacing"), initial_smoothing_length(scene))
-    mat = Concrete(bulk=scene.get("material.bulk_modulus", 1.0),
-                   shear=scene.get("material.shear_modulus", 1.0),
-                   f_c=scene.get("material.f_c", 1e30), f_bc_ratio=scene.get("material.f_bc_ratio"),
-                   f_t=scene.get("material.f_t", 1e30), G_F=scene.get("material.G_F", 1e30),
-                   band=band, gfc_ratio=scene.get("material.G_fc_ratio"))
+    """The concrete of a scene: each constant from the scene when an effect that requires it is
+    on, else :data:`~craquelure.impact.material.NEUTRAL` (the effect is compiled out)."""
+    values = dict(NEUTRAL)
+    for name, key, effects in MATERIAL_CONSTANTS:
+        if any(scene.has(e) for e in effects):
+            values[name] = scene.get(key)
+    band = scene.get("material.crack_band_width")
+    if band is None:  # null: the spec's max(2 Delta, 5 h(0)/3)
+        band = crack_band_width(scene.get("particles.spacing"), initial_smoothing_length(scene))
+    mat = Concrete(**values, f_bc_ratio=scene.get("material.f_bc_ratio"), band=band,
+                   gfc_ratio=scene.get("material.G_fc_ratio"))
     if scene.has("damage"):
         mat.check()
     for name in ("compressive_damage", "rate_effects"):
@@ -62,8 +66,11 @@ def material_model(scene: Scene) -> str:
 def contact_scale(scene: Scene) -> float:
     """Penalty scale factor a of the run: the scene's number, or for ``auto`` the spec's 0.1
     with the mass-based formula and the half-cell stiffness a = 2√2 M/K with the bulk one
-    (:func:`~craquelure.impact.effects.contact_bulk.half_cell_scale`)."""
-    a = scene.get("numerics.contact_a", "auto")
+    (:func:`~craquelure.impact.effects.contact_bulk.half_cell_scale`). Without contact, a
+    enters nothing; the run records the spec's 0.1."""
+    if not (scene.has("contact_bulk") or scene.has("contact_mass")):
+        return DEFAULT_SCALE
+    a = scene.get("numerics.contact_a")  # both contact effects require it
     if a != "auto":
         return float(a)
     if scene.has("contact_bulk"):

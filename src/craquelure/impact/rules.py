@@ -23,7 +23,7 @@ def scene_problems(data: dict) -> list[str]:
             out.append("particles.shape: 'rings' is not allowed with domain.dim = 3; allowed "
                        "values: disc, rectangle")
     precrack = lookup(data, "particles.precrack")
-    layouts = lookup(data, "precracks") or {}
+    layouts = lookup(data, "precracks")
     if precrack != "none" and precrack not in layouts:
         out.append(f"particles.precrack: {precrack!r} is not allowed; allowed values: none, "
                    f"{', '.join(layouts)} (the layouts under precracks)")
@@ -57,6 +57,6 @@ def memory_estimate(data: dict) -> tuple[float, str]:
     t_end = float(lookup(data, "outputs.t_end"))
     series_dt = float(lookup(data, "outputs.series_dt"))
     samples = t_end / series_dt + 2
-    snaps = len(lookup(data, "outputs.snapshot_times") or []) + 1
+    snaps = len(lookup(data, "outputs.snapshot_times")) + 1
     need = n * 8 * 80 + pairs * 32 + samples * 17 * 8 * 2 + snaps * n * 5 * 8
     return need, f"{n:.3g} particles, {pairs:.3g} neighbour pairs, {samples:.3g} series samples"

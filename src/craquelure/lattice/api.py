@@ -151,13 +151,15 @@ def to_dataset(scene: Scene, engine: Engine, labels: dict, frames: dict) -> xr.D
                                   "frame_time": ("frame", frames["time"])})
     c = beam_constants(scene)
     moduli = beam.lattice_moduli(c.kn, c.ks)
+    water, bed = scene.optional("domain.water_level"), scene.optional("domain.bed_level")
     ds.attrs.update({
         "dt": engine.dt, "steps": engine.step, "kn": c.kn, "ks": c.ks, "E_b": c.E_b,
         "beam_width": c.width, "E": moduli["E"], "nu": moduli["nu"], "P_modulus": moduli["M"],
         "rho2": float(s.mass[0] / beam.cell_area(s.L)), "L": s.L, "period_x": s.period_x,
         "n_particles": s.n, "n_bonds_final": int(s.bi.size),
-        "water_level": float(scene.get("domain.water_level", np.nan)),
-        "bed_level": float(scene.get("domain.bed_level", np.nan))})
+        # NaN: the scene has no water line / bed
+        "water_level": math.nan if water is None else float(water),
+        "bed_level": math.nan if bed is None else float(bed)})
     return ds
 
 

@@ -28,8 +28,9 @@ from craquelure.scene import Scene, load_scene_text, schema_default
 
 def beam_constants(scene: Scene) -> beam.BeamConstants:
     L = scene.get("particles.spacing")  # noqa: N806
-    model = scene.get("material.bond_model", "euler_bernoulli")
-    E = scene.get("material.youngs_modulus", None)  # noqa: N806
+    # no bond model (only without beams, which requires one): the E-B constants
+    model = scene.optional("material.bond_model")
+    E = scene.optional("material.youngs_modulus")  # noqa: N806
     if E is not None:  # with material.poisson_ratio (scene rules)
         kn, ks = beam.stiffness_from_moduli(E, scene.get("material.poisson_ratio"))
         if model == "shear_beam":
@@ -51,7 +52,7 @@ def build_system(scene: Scene, seed: int) -> tuple[LatticeState, dict[str, np.nd
     x, y, row = triangular_block(nx, ny, L, 0.0, y0)
     col = np.arange(x.size) % nx
     body = np.zeros(x.size, np.int64)
-    pad = scene.get("domain.pad", None)
+    pad = scene.optional("domain.pad")
     if pad is not None:  # never with domain.periodic_x (scene rules)
         px, py = half_disc(pad["radius"], 0.0, 0.0, L)
         px = px + 0.5 * (x.min() + x.max())
@@ -106,14 +107,15 @@ def engine_params(scene: Scene, system: LatticeState) -> dict[str, float]:
         dt=time_step(scene, system),
         beta=2.0 * g("numerics.bond_damping") * math.sqrt(m / c.kn),
         gamma=g("numerics.mass_damping"),
-        mass_damping_until=g("numerics.mass_damping_until", math.inf),
         area=c.area, inertia=c.inertia, width=c.width, E_b=c.E_b, block=system.L,
         cell_area=beam.cell_area(system.L),
         load_ramp=g("loads.ramp_time"),
         energy_tolerance=g("numerics.energy_tolerance"),
         energy_floor=1e-12 * system.n * c.kn * system.L**2,
-        rho=g("material.rho", g("particles.density")),
     )
+    until = scene.optional("numerics.mass_damping_until")
+    if until is not None:  # absent: mass damping to the end (default_params: no end)
+        p["mass_damping_until"] = until
     if scene.has("fracture"):
         p.update(sigma0=g("material.sigma0"), tau0=g("material.tau0"),
                  fracture_start=g("fracture.start_time"))
@@ -125,10 +127,13 @@ def engine_params(scene: Scene, system: LatticeState) -> dict[str, float]:
     if scene.has("gravity") or scene.has("buoyancy"):
         p.update(g=g("material.g"), slope_angle=math.radians(g("material.slope_angle")))
     if scene.has("buoyancy") or scene.has("drag"):
-        # drag alone may have no water line (drag.everywhere); no line: nothing is below it
-        p.update(water_level=g("domain.water_level", -math.inf))
+        # drag alone may have no water line (drag.everywhere): default_params' -inf, nothing
+        # is below it
+        water = scene.optional("domain.water_level")
+        if water is not None:
+            p.update(water_level=water)
     if scene.has("buoyancy"):
-        p.update(rho_w=g("material.rho_w"))
+        p.update(rho_w=g("material.rho_w"), rho=g("material.rho"))
     if scene.has("drag"):
         p.update(drag_rate=g("drag.rate"), drag_everywhere=float(g("drag.everywhere")))
     if scene.has("bed"):
@@ -136,7 +141,7 @@ def engine_params(scene: Scene, system: LatticeState) -> dict[str, float]:
         p.update(bed_level=g("domain.bed_level"), bed_stiffness=kb,
                  bed_damping=g("bed.damping_ratio") * 2.0 * math.sqrt(kb / m),
                  bed_friction=g("bed.friction_rate"))
-    pad = g("domain.pad", None)
+    pad = scene.optional("domain.pad")
     if pad is not None:
         p.update(drive_amplitude=pad["amplitude"], drive_period=pad["period"],
                  drive_start=pad["press_time"])

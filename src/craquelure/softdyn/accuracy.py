@@ -36,8 +36,8 @@ def _run(scene, overrides: list[str], probe_tau: float):
 
 def run_accuracy(scene) -> xr.Dataset:
     integrators = list(scene.get("study.integrators"))
-    rtols = np.asarray(scene.get("study.rtol", []), dtype=float)
-    dts = np.asarray(scene.get("study.dt", []), dtype=float)  # one at least (scene rules)
+    rtols = np.asarray(scene.get("study.rtol"), dtype=float)
+    dts = np.asarray(scene.get("study.dt"), dtype=float)  # one at least (scene rules)
     probe = float(scene.get("study.probe_time"))
     ref_rtol = float(scene.get("study.reference_rtol"))
     t_ref, y_ref, w_ref, n_ref = _run(scene, ["numerics.integrator=LSODA",

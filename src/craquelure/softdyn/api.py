@@ -22,7 +22,12 @@ from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 from craquelure.softdyn import studies, theory
 from craquelure.softdyn.accuracy import run_accuracy
-from craquelure.softdyn.initial_state import build, predictions, series_dataset
+from craquelure.softdyn.initial_state import (
+    build,
+    material_constants,
+    predictions,
+    series_dataset,
+)
 from craquelure.throughput import prediction_lines
 
 
@@ -43,7 +48,7 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     setup = build(scene)
     pred = predictions(scene)
     ft = scene.get("loads.reduced_force")
-    k_n, c_n = scene.get("material.k_n", 1.0), scene.get("material.c_n")
+    k_n, c_n = material_constants(scene)["k_n"], scene.get("material.c_n")
     # Fastest relaxation: the far CD pair (h ~ 1.46 R) relaxes at (k_n/c_n)(h/a)^3/F~ per tau.
     far_gap = math.sqrt(3.0) * (2.0 + scene.get("particles.h0")) - 2.0 \
         if scene.get("particles.arrangement") == "t1" else scene.get("particles.h0")
@@ -74,7 +79,7 @@ def _integration_cost(scene: Scene, h0: float, force: float) -> float:
     log(1 + T) (1 + log10(1/F~)), T the simulated time in tau (the predicted T1 duration,
     or t_end when the run goes on past the stop or the stop is not the T1's)."""
     t_end = scene.get("outputs.t_end")
-    k_n, c_n = scene.get("material.k_n", 1.0), scene.get("material.c_n")
+    k_n, c_n = material_constants(scene)["k_n"], scene.get("material.c_n")
     t = t_end
     if scene.get("particles.arrangement") == "t1" and not scene.get("outputs.run_past_stop"):
         t = min(t_end, theory.t_separation(h0, force, k_n, c_n) + theory.t_poiseuille(h0, c_n))
@@ -95,7 +100,7 @@ def workload(scene: Scene) -> dict[str, float]:
                     for f in scene.get("study.reduced_force"))
     elif kind == "accuracy":
         runs = 1 + len(scene.get("study.integrators")) * len(
-            scene.get("study.rtol", [])) + len(scene.get("study.dt", []))
+            scene.get("study.rtol")) + len(scene.get("study.dt"))
         units = runs * _integration_cost(scene, h0, force)
     else:
         units = _integration_cost(scene, h0, force)

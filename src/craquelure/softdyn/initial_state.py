@@ -38,6 +38,27 @@ T1_PARTICLES = ("A", "B", "C", "D")
 T1_PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
 T1_PAIR_NAMES = ("AB", "AC", "AD", "BC", "BD", "CD")
 
+# Constants of an effect that is off: the Hertz stiffnesses (rigid spheres) and the Couette
+# prefactor (no sliding film). Their kernel branches are compiled out, so they contribute
+# nothing; the unit k_n is also the one the Hertz theory's h* of a rigid scene is quoted at.
+NEUTRAL = {"k_n": 1.0, "k_t": 1.0, "c_t": math.pi}
+# E of a scene that gives none (only without hertz, which requires it): forces in units of R^2
+RIGID_YOUNG = 1.0
+
+
+def material_constants(scene) -> dict[str, float]:
+    """E, k_n, k_t and c_t of a scene: each effect's own when it is on (its ``requires=``),
+    :data:`NEUTRAL` when it is off; E, the force unit F = F~ E R^2, whenever the scene gives
+    it."""
+    out = dict(NEUTRAL)
+    if scene.has("hertz"):
+        out.update(k_n=scene.get("material.k_n"), k_t=scene.get("material.k_t"))
+    if scene.has("lubrication_tangential"):
+        out["c_t"] = scene.get("material.c_t")
+    young = scene.optional("material.young")
+    out["young"] = RIGID_YOUNG if young is None else young
+    return out
+
 
 @dataclass
 class Setup:
@@ -68,7 +89,7 @@ class Setup:
         if kind == "angle":
             theta_end = math.radians(self.scene.get("outputs.theta_end_deg"))
             return lambda t, y: theta_end - t1_angle(sysm.unpack(y)[0])
-        gap_end = self.scene.get("outputs.gap_end", None)
+        gap_end = self.scene.optional("outputs.gap_end")
         if gap_end is None:
             raise SceneError("outputs.gap_end: required with stop: gap")
         sign = 1.0 if self.scene.get("loads.direction") == "tension" else -1.0
@@ -91,7 +112,7 @@ class Setup:
         if sample_times_tau is None:
             sample_times_tau = sample_times(sc)
         method = sc.get("numerics.integrator")
-        dt = sc.get("numerics.dt", None)
+        dt = sc.optional("numerics.dt")  # heun's step; absent: adaptive steps (heun refuses)
         return integrate(
             self.system, sc.get("outputs.t_end") * self.tau, method=method,
             rtol=sc.get("numerics.rtol"), atol=sc.get("numerics.atol"),
@@ -124,11 +145,9 @@ def build(scene) -> Setup:
     flags = flags_for(scene)
     radius = scene.get("material.radius")
     eta = scene.get("material.viscosity")
-    young = scene.get("material.young", 1.0)
-    k_n = scene.get("material.k_n", 1.0)
-    k_t = scene.get("material.k_t", 1.0)
+    constants = material_constants(scene)
+    young, k_n, k_t, c_t = (constants[k] for k in ("young", "k_n", "k_t", "c_t"))
     c_n = scene.get("material.c_n")
-    c_t = scene.get("material.c_t", math.pi)
     dim = scene.get("domain.dim")
     h0 = scene.get("particles.h0")
     force = scene.get("loads.reduced_force") * young * radius**2
@@ -171,7 +190,7 @@ def build(scene) -> Setup:
 def predictions(scene) -> dict[str, float]:
     """h*, h0/h*, T_P, T_H and the quadrature T_sep (units of R and tau)."""
     ft = scene.get("loads.reduced_force")
-    k_n, c_n, h0 = scene.get("material.k_n", 1.0), scene.get("material.c_n"), \
+    k_n, c_n, h0 = material_constants(scene)["k_n"], scene.get("material.c_n"), \
         scene.get("particles.h0")
     hs = theory.h_star(ft, k_n)
     return {"h_star": hs, "h0_over_h_star": h0 / hs, "T_P": theory.t_poiseuille(h0, c_n),

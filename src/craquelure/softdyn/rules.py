@@ -10,7 +10,7 @@ from craquelure.softdyn.initial_state import build
 def scene_problems(data: dict) -> list[str]:
     out = []
     t_end = float(lookup(data, "outputs.t_end"))
-    dt = lookup(data, "numerics.dt")
+    dt = SceneView(data).optional("numerics.dt")  # heun's step
     if dt is not None and dt > t_end:
         out.append(f"numerics.dt: {dt!r} is not allowed; the step must not be longer than "
                    f"outputs.t_end = {t_end!r} (the run would take no step)")
@@ -37,7 +37,7 @@ def validate_run_setup(view: SceneView) -> None:
         studies.sweep_grid(view)
     elif kind == "phase":
         studies.phase_points(view)
-    elif kind == "accuracy" and not (view.get("study.rtol", None) or view.get("study.dt", None)):
+    elif kind == "accuracy" and not (view.get("study.rtol") or view.get("study.dt")):
         raise SceneError("study.rtol / study.dt: an accuracy study needs at least one list")
 
 
@@ -45,6 +45,6 @@ def memory_estimate(data: dict) -> tuple[float, str]:
     samples = int(lookup(data, "outputs.n_samples"))
     grid = 1
     for key in ("h0", "reduced_force", "fh_over_fv", "rtol", "dt"):
-        grid *= max(1, len(lookup(data, f"study.{key}") or []))
+        grid *= max(1, len(lookup(data, f"study.{key}")))
     need = samples * 64 * 8 * grid + 1e6
     return need, f"{samples} samples x {grid} study points"

@@ -21,17 +21,17 @@ import xarray as xr
 
 from craquelure.errors import SceneError
 from craquelure.softdyn import theory
-from craquelure.softdyn.initial_state import SQRT3, build, t1_angle
+from craquelure.softdyn.initial_state import SQRT3, build, material_constants, t1_angle
 
 
 def sweep_grid(scene) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(h0 values, force values, mask[h0, force] of points inside the window)."""
-    h0 = np.asarray(scene.get("study.h0", []), dtype=float)
-    force = np.asarray(scene.get("study.reduced_force", []), dtype=float)
+    h0 = np.asarray(scene.get("study.h0"), dtype=float)
+    force = np.asarray(scene.get("study.reduced_force"), dtype=float)
     if h0.size == 0 or force.size == 0:
         raise SceneError("study.h0 and study.reduced_force: a sweep needs both lists")
     lo, hi = scene.get("study.window")
-    k_n = scene.get("material.k_n", 1.0)
+    k_n = material_constants(scene)["k_n"]
     ratio = h0[:, None] / np.array([theory.h_star(f, k_n) for f in force])[None, :]
     return h0, force, (ratio >= lo * (1 - 1e-9)) & (ratio <= hi * (1 + 1e-9))
 
@@ -160,8 +160,8 @@ def _single_points(datasets):
 
 def phase_points(scene) -> list[tuple[float, float]]:
     """The (F_h/F_v, F~) grid of a phase scan, row by row."""
-    ratios = np.asarray(scene.get("study.fh_over_fv", []), dtype=float)
-    force = np.asarray(scene.get("study.reduced_force", []), dtype=float)
+    ratios = np.asarray(scene.get("study.fh_over_fv"), dtype=float)
+    force = np.asarray(scene.get("study.reduced_force"), dtype=float)
     if ratios.size == 0 or force.size == 0:
         raise SceneError("study.fh_over_fv and study.reduced_force: a phase scan needs both")
     return [(float(r), float(f)) for r in ratios for f in force]
@@ -187,8 +187,8 @@ def phase_point(scene, r: float, f: float) -> xr.Dataset:
 
 def phase_dataset(scene, points: list[xr.Dataset]) -> xr.Dataset:
     """The phase scan's dataset from its points (in the order of :func:`phase_points`)."""
-    ratios = np.asarray(scene.get("study.fh_over_fv", []), dtype=float)
-    force = np.asarray(scene.get("study.reduced_force", []), dtype=float)
+    ratios = np.asarray(scene.get("study.fh_over_fv"), dtype=float)
+    force = np.asarray(scene.get("study.reduced_force"), dtype=float)
     shape = (ratios.size, force.size)
     out = {k: np.array([float(p[k]) for p in points]).reshape(shape) for k in PHASE_VALUES}
     dims = ("fh_over_fv", "force")

@@ -18,7 +18,7 @@ class Jobs:
         return f"config/scenes/softdyn/{wildcards.scene}.yaml"
 
     def n_batches(self) -> int:
-        return int(self.section.get("sweep_batches", 1))
+        return int(self.section["sweep_batches"])  # required by the config schema
 
     def sweep_batch_files(self, wildcards) -> list[str]:
         """One dataset per batch (``sweep_batches`` jobs): as many as the config asks for; the
