@@ -11,10 +11,12 @@ import yaml
 from craquelure.errors import SceneError, SimulationDiverged
 from craquelure.impact import kernel_template, workflow
 from craquelure.impact.api import (
+    concrete,
     derived_numbers,
     run,
     settings,
     simulate,
+    softening,
 )
 from craquelure.impact.initial_state import build_specimen
 from craquelure.impact.material import NEUTRAL
@@ -98,6 +100,19 @@ def test_an_off_effects_strengths_are_the_neutral_ones(effects, off):
     for name in ("f_c", "f_t", "G_F"):
         expected = NEUTRAL[name] if name in off else given.get(f"material.{name}")
         assert getattr(st.material, name) == expected, name
+
+
+def test_softening_is_zero_without_a_softening_law():
+    """Damage off: no point softens, whatever its strain (the neutral strengths once made every
+    point of an elastic run read fully softened, s = 1). Damage on: s runs linearly from 0 at
+    eps_0 to 1 at eps_f."""
+    strain = np.array([0.0, 1e-4, 1e-2, 1.0])
+    elastic = concrete(load_scene("impact/ci", ["effects=[elasticity, contact_bulk]"]))
+    assert np.array_equal(softening(strain, elastic), np.zeros(4))
+    cracking = concrete(load_scene("impact/ci", ["effects=[elasticity, damage, contact_bulk]"]))
+    e0, ef = cracking.eps_0, cracking.eps_f
+    assert softening(np.array([0.5 * e0, e0, 0.5 * (e0 + ef), ef, 2 * ef]), cracking) == \
+        pytest.approx([0.0, 0.0, 0.5, 1.0, 1.0])
 
 
 def test_without_contact_the_penalty_scale_is_not_read():

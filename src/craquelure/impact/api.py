@@ -46,7 +46,7 @@ def concrete(scene: Scene) -> Concrete:
     mat = Concrete(**values, f_bc_ratio=scene.get("material.f_bc_ratio"), band=band,
                    gfc_ratio=scene.get("material.G_fc_ratio"))
     if scene.has("damage"):
-        mat.check()
+        mat.validate()
     for name in ("compressive_damage", "rate_effects"):
         if scene.has(name) and not scene.has("cap_plasticity"):
             raise SceneError(f"effects: {name} acts on the cap model's surface and needs "
@@ -199,7 +199,11 @@ def _penalty(scene: Scene, st: Settings):
 
 
 def softening(eps_max: np.ndarray, mat: Concrete) -> np.ndarray:
-    """s = (eps_max - eps_0)/(eps_f - eps_0) in [0, 1]: 1 - residual strength / f_t."""
+    """s = (eps_max - eps_0)/(eps_f - eps_0) in [0, 1]: 1 - residual strength / f_t; 0 without a
+    softening law (damage off: the neutral strengths give eps_f <= eps_0, which a scene with
+    damage on is refused for, :meth:`Concrete.validate`)."""
+    if not mat.eps_f > mat.eps_0:
+        return np.zeros_like(eps_max)
     return np.clip((eps_max - mat.eps_0) / (mat.eps_f - mat.eps_0), 0.0, 1.0)
 
 

@@ -106,7 +106,7 @@ class Concrete:
     def hillerborg_length(self) -> float:
         return self.young * self.G_F / self.f_t**2
 
-    def check(self) -> None:
+    def validate(self) -> None:
         from craquelure.errors import SceneError
 
         if self.eps_f <= self.eps_0:

@@ -29,7 +29,7 @@ def scene_problems(data: dict) -> list[str]:
                    f"{', '.join(layouts)} (the layouts under precracks)")
     if "damage" in data["effects"]:
         try:
-            concrete(SceneView(data)).check()
+            concrete(SceneView(data)).validate()
         except ArithmeticError as exc:
             out.append(f"material.f_t, material.G_F: the softening law cannot be computed from "
                        f"these magnitudes ({exc})")
