@@ -113,7 +113,7 @@ def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any]
     times = run["time"].values
     start = summary.get("initial_stage_end")  # None when no snapshot has every sample broken
     late = np.flatnonzero(times >= start) if start is not None else np.zeros(0, int)
-    if late.size == 0:
+    if late.size == 0 or times.size <= n_panels:  # an archived run holds only its panels
         late = np.arange(times.size)
     picks = np.unique(late[np.linspace(0, late.size - 1, min(n_panels, late.size)).astype(int)])
     length = float(run.attrs["box_length"])

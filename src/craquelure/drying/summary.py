@@ -239,6 +239,76 @@ def _onset(campaign: xr.Dataset, tstar: float, x_intercept: float | None,
     }
 
 
+def checks_of(campaign: xr.Dataset, n_boot: int = N_BOOTSTRAP,
+              n_power: int = statistics.N_POWER,
+              n_power_collapse: int = statistics.N_POWER_COLLAPSE) -> dict[str, Any]:
+    """Checks 14-16 (:mod:`craquelure.drying.statistics`) of one campaign (one labelling), with
+    whether its sample meets the spec's size."""
+    attrs = campaign.attrs
+    tstar = t_star(attrs)
+    window = window_of(campaign)["mask"]
+    times = campaign["time"].values.astype(float)
+    total, count = per_sample_totals(campaign)
+    n_particles, n_seeds = int(attrs["n_particles"]), int(campaign.sizes["seed"])
+    c14 = statistics.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
+                                        b_star_of(attrs), n_boot, n_power)
+    k_window = np.flatnonzero(window)
+    f_index = campaign["fragment_time_index"].values
+    in_window = np.isin(f_index, k_window)
+    c15 = statistics.check_collapse(
+        campaign["fragment_area"].values[in_window],
+        np.searchsorted(campaign["seed"].values, campaign["fragment_seed"].values[in_window]),
+        np.searchsorted(k_window, f_index[in_window]), n_seeds, k_window.size, n_boot,
+        n_power_collapse)
+    c16 = statistics.check_onset(times, campaign["n_fragments"].values,
+                                 campaign["first_removal_time"].values, tstar,
+                                 drying_number(attrs)["pi"], n_boot)
+    for check in (c14, c15):
+        if "error" in check:
+            # Too short a window or too few fragments: the sample cannot decide the claim.
+            check.update(verdict="inconclusive", note=f"no test: {check['error']}",
+                         conditions={}, undecided={check["error"]: "a longer or larger run"})
+    for check in (c14, c15, c16):
+        check["pass"] = check["verdict"] == "reproduced"
+    enough = (n_particles >= 40000 and n_seeds >= 100) or (n_particles >= 10000
+                                                           and n_seeds >= 300)
+    return {
+        "labelling": str(attrs.get("labelling", "periodic")),
+        "sample_size_meets_spec": bool(enough),
+        "check14_inverse_mean_area_linear": c14,
+        "check15_scaling_collapse": c15,
+        "check16_onset": c16,
+    }
+
+
+def b_star_of(attrs) -> float:
+    """The order-of-magnitude slope b* = mu v_r / ((lambda + 2 mu) H^2 sigma_Y) of 1/<S>_t."""
+    lam, mu = float(attrs["lame_lambda"]), float(attrs["lame_mu"])
+    return (mu * float(attrs["drying_rate"])
+            / ((lam + 2 * mu) * float(attrs["thickness"]) ** 2 * float(attrs["yield_stress"])))
+
+
+def campaign_sizing(checks: dict[str, dict[str, Any]], minimum: int = 40,
+                    maximum: int = 100) -> dict[str, Any]:
+    """Seeds for power >= 0.8 on checks 14 and 15 against their named alternatives, per
+    labelling (``{labelling: checks}``; a check whose rates already reach 0.8 needs the seeds
+    it has), and the campaign size they call for within [``minimum``, ``maximum``] (the
+    maximum where a check is not decided even at the end of its seed grid)."""
+    needed: dict[str, dict[str, int | None]] = {}
+    for name, c in checks.items():
+        n_s = int(c["check14_inverse_mean_area_linear"].get("n_samples", 0))
+        per = {}
+        for key in ("check14_inverse_mean_area_linear", "check15_scaling_collapse"):
+            rates = [c[key].get("power", 0.0), c[key].get("confirmation_rate", 1.0)]
+            decided = all(r is not None and r >= statistics.POWER_NEEDED for r in rates)
+            per[key] = n_s if decided else c[key].get("seeds_needed")
+        needed[name] = per
+    values = [v for per in needed.values() for v in per.values()]
+    size = maximum if None in values else min(maximum, max([minimum, *values]))
+    return {"seeds_needed": needed, "seeds_to_run": int(size), "minimum": minimum,
+            "maximum": maximum}
+
+
 def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
               n_boot: int = N_BOOTSTRAP, n_power: int = statistics.N_POWER,
               n_power_collapse: int = statistics.N_POWER_COLLAPSE) -> dict[str, Any]:
@@ -256,36 +326,13 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
     h = float(attrs["h"])
     s_min = math.pi * h * h
     fits_smin = _fits(times, *per_sample_totals(campaign, s_min), window, n_boot)
-    lam, mu = float(attrs["lame_lambda"]), float(attrs["lame_mu"])
-    b_star = (mu * float(attrs["drying_rate"])
-              / ((lam + 2 * mu) * float(attrs["thickness"]) ** 2 * float(attrs["yield_stress"])))
+    b_star = b_star_of(attrs)
     collapse = _collapse(campaign, win)
     onset = _onset(campaign, tstar, fits.get("x_intercept"), collapse["collapse_onset_time"])
     n_particles, n_seeds = int(attrs["n_particles"]), int(campaign.sizes["seed"])
 
-    # Checks 14-16 as revised (craquelure.drying.statistics).
-    c14 = statistics.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
-                                    b_star, n_boot, n_power)
-    k_window = np.flatnonzero(window)
-    f_index = campaign["fragment_time_index"].values
-    in_window = np.isin(f_index, k_window)
-    c15 = statistics.check_collapse(
-        campaign["fragment_area"].values[in_window],
-        np.searchsorted(campaign["seed"].values, campaign["fragment_seed"].values[in_window]),
-        np.searchsorted(k_window, f_index[in_window]), n_seeds, k_window.size, n_boot,
-        n_power_collapse)
     pi = drying_number(attrs)
-    c16 = statistics.check_onset(times, campaign["n_fragments"].values,
-                             campaign["first_removal_time"].values, tstar, pi["pi"], n_boot)
-    for check in (c14, c15):
-        if "error" in check:
-            # Too short a window or too few fragments: the sample cannot decide the claim.
-            check.update(verdict="inconclusive", note=f"no test: {check['error']}",
-                         conditions={}, undecided={check["error"]: "a longer or larger run"})
-    for check in (c14, c15, c16):
-        check["pass"] = check["verdict"] == "reproduced"
-    enough = (n_particles >= 40000 and n_seeds >= 100) or (n_particles >= 10000
-                                                           and n_seeds >= 300)
+    checks = checks_of(campaign, n_boot, n_power, n_power_collapse)
     measure = str(attrs.get("fracture_stress_measure", SOURCE_MEASURE))
     return {
         "profile": profile,
@@ -318,12 +365,8 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
         "sensitivity_s_min": {"s_min": s_min, "fit": fits_smin},
         "onset": onset,
         "collapse": collapse,
-        "checks": {
-            "sample_size_meets_spec": bool(enough),
-            "check14_inverse_mean_area_linear": c14,
-            "check15_scaling_collapse": c15,
-            "check16_onset": c16,
-        },
+        "labelling": str(attrs.get("labelling", "periodic")),
+        "checks": checks,
     }
 
 def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: bool,
@@ -373,11 +416,27 @@ def json_ready(value: Any) -> Any:
     return value
 
 
+# Which labelling the source most likely used: it binarises a snapshot and clusters it, and
+# never says that its clusters wrap around the periodic box.
+SOURCE_LABELLING = "open"
+SOURCE_LABELLING_NOTE = ("it binarises a snapshot and clusters it, and never says the clusters "
+                         "wrap around the periodic box")
+
+
 def write_summary(campaign_path: str | Path, out: str | Path, profile: str = "",
-                  scene_name: str = "", n_boot: int = N_BOOTSTRAP) -> dict[str, Any]:
-    """Summarise a campaign file into a JSON file (with the provenance of both)."""
+                  scene_name: str = "", n_boot: int = N_BOOTSTRAP,
+                  open_campaign_path: str | Path | None = None) -> dict[str, Any]:
+    """Summarise a campaign file into a JSON file (with the provenance of both); with the
+    campaign of the open-image labelling, its checks 14-16 too (``checks_open_image``) and the
+    seed count both labellings' checks 14 and 15 need (``campaign_sizing``)."""
     campaign = open_dataset(campaign_path)
     summary = summarise(campaign, profile=profile, scene_name=scene_name, n_boot=n_boot)
+    if open_campaign_path is not None:
+        summary["checks_open_image"] = checks_of(open_dataset(open_campaign_path), n_boot)
+        summary["source_labelling"] = {"labelling": SOURCE_LABELLING,
+                                       "why": SOURCE_LABELLING_NOTE}
+        summary["campaign_sizing"] = campaign_sizing({
+            "periodic": summary["checks"], "open": summary["checks_open_image"]})
     summary["provenance"] = {
         "campaign": str(campaign_path),
         "campaign_git_commit": str(campaign.attrs.get("git_commit", "")),
