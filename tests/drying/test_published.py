@@ -3,12 +3,15 @@ fragment datasets and read back, they give the same campaign, in both labellings
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
+from craquelure.archive import verify
 from craquelure.drying.analysis import analyse_run
 from craquelure.drying.campaign import LABELLINGS, build_campaign
-from craquelure.drying.published import read_tables, write_tables
+from craquelure.drying.published import publish, read_tables, write_tables
 from craquelure.errors import CraquelureError
 
 from .synthetic_run import lattice_run
@@ -73,3 +76,32 @@ def test_tables_are_plain_text_rows(tmp_path, fragments):
     lines = (tmp_path / "tables" / "seed1_fragments.csv").read_text().splitlines()
     assert lines[0] == "time,labelling,area"
     assert {line.split(",")[1] for line in lines[1:]} == {"periodic", "open"}
+
+
+def _tables(tmp_path, name, datasets, snapshot_seed):
+    folder = tmp_path / name
+    write_tables(datasets, folder)
+    (folder / "snapshots.nc").write_bytes(f"seed {snapshot_seed}".encode())
+    seeds = [int(d.attrs["seed"]) for d in datasets]
+    (folder / "provenance.json").write_text(json.dumps({
+        "seeds": seeds, "run_git_commits": [f"c{seeds[0]}"], "snapshot_run": {"seed": seeds[0]},
+        "cpu_seconds": {"drying_run": {f"seed{s}": 100.0 * s for s in seeds}}}))
+    return folder
+
+
+def test_a_campaign_grows_its_archive_across_sessions(tmp_path, fragments):
+    """Seeds published in one session stay when the next publishes the rest: the tables read
+    back as the whole ensemble, costs and commits add up, Fig. 2 keeps its first sample."""
+    dest = tmp_path / "published" / "ensemble"
+    publish(_tables(tmp_path, "first", fragments[:1], 1), None, dest)
+    publish(_tables(tmp_path, "second", fragments[1:], 2), None, dest)
+    assert [int(d.attrs["seed"]) for d in read_tables(dest)] == [1, 2]
+    provenance = json.loads((dest / "provenance.json").read_text())
+    assert provenance["seeds"] == [1, 2] and provenance["run_git_commits"] == ["c1", "c2"]
+    assert provenance["cpu_hours_total"] == pytest.approx(300.0 / 3600)
+    assert (dest / "snapshots.nc").read_bytes() == b"seed 1"
+    assert verify(dest) == ([], len([p for p in dest.rglob("*") if p.is_file()]) - 1)
+    other = fragments[1].copy()
+    other.attrs = {**other.attrs, "phi0": 0.7, "seed": 3}
+    with pytest.raises(CraquelureError, match="another scene or binarisation"):
+        publish(_tables(tmp_path, "third", [other], 3), None, dest)

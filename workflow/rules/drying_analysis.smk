@@ -6,7 +6,7 @@ DRYING_FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled
 DRYING_CAMPAIGN = f"results/drying/{config['drying']['scene']}/campaign.nc"
 # Run dataset of the first seed, drawn in the crack-pattern figure.
 DRYING_SNAPSHOT_RUN = (
-    f"results/drying/{config['drying']['scene']}/run/seed{DRYING_JOBS.seeds()[0]}.nc"
+    f"results/drying/{config['drying']['scene']}/run/seed{config['drying']['first_seed']}.nc"
 )
 DRYING_PNG = {name: f"results/drying/figures/drying_{name}.png" for name in DRYING_FIGURES}
 DRYING_PDF = [f"results/drying/figures/drying_{name}.pdf" for name in DRYING_FIGURES]

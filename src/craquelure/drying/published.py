@@ -144,21 +144,57 @@ def read_tables(folder: str | Path) -> list[xr.Dataset]:
 REBUILT = ("summary.json", "validation.json", "validation.html", "figures")
 
 
+def _merged_seeds(old: Path, new: Path) -> str:
+    """seeds.csv rows of both files, one per seed (the new row wins), in seed order."""
+    rows = {}
+    for path in (old, new):
+        if path.is_file():
+            with open(path, newline="") as fh:
+                rows.update({int(float(r["seed"])): r for r in csv.DictReader(fh)})
+    return _csv(SEED_COLUMNS, ([r[c] for c in SEED_COLUMNS] for _, r in sorted(rows.items())))
+
+
+def _merged_provenance(old: dict, new: dict) -> dict:
+    """Provenance of an ensemble grown by ``new``: seeds and commits joined, costs per job."""
+    out = {**old, **new}
+    for key in ("seeds", "run_git_commits"):
+        out[key] = sorted(set(old.get(key, [])) | set(new.get(key, [])))
+    out["cpu_seconds"] = {kind: {**old.get("cpu_seconds", {}).get(kind, {}), **jobs}
+                          for kind, jobs in new.get("cpu_seconds", {}).items()}
+    out["cpu_hours_total"] = sum(sum(c.values()) for c in out["cpu_seconds"].values()) / 3600
+    if "snapshot_run" in old:  # Fig. 2 keeps the sample it was first drawn from
+        out["snapshot_run"] = old["snapshot_run"]
+    return out
+
+
 def publish(tables_dir: str | Path, rebuilt_dir: str | Path | None, dest: str | Path) -> Path:
-    """Install an ensemble's archived result in ``dest``: the tables, snapshots and provenance
-    of ``tables_dir`` (rule drying_publish_tables), the summary, validation rows and figures
-    rebuilt from them (rule drying_published; None: not yet, the tables alone), and the SHA-256
-    manifest that ``craquelure verify dest`` checks. Every file is written to a temporary name
-    first."""
+    """Install an ensemble's archived result in ``dest``, or grow the one there: the tables,
+    snapshots and provenance of ``tables_dir`` (rule drying_publish_tables; seeds already in
+    ``dest`` stay, a seed in both is replaced, Fig. 2's snapshots stay those first installed),
+    the summary, validation rows and figures rebuilt from the whole (rule drying_published;
+    None: not yet, the tables alone), and the SHA-256 manifest that ``craquelure verify dest``
+    checks. Every file is written to a temporary name first."""
     import shutil
 
     from craquelure.archive import MANIFEST, manifest_text, sha256_file
 
     tables_dir, dest = Path(tables_dir), Path(dest)
-    sources = [*sorted(p for p in tables_dir.rglob("*") if p.is_file())]
+    common = tables_dir / "tables" / "common.json"
+    if (dest / "tables" / "common.json").is_file() and common.is_file() and json.loads(
+            common.read_text()) != json.loads((dest / "tables" / "common.json").read_text()):
+        raise CraquelureError(f"publish: {tables_dir} is another scene or binarisation than "
+                              f"the ensemble in {dest}; publish it under another name")
+    texts = {"tables/seeds.csv": _merged_seeds(dest / "tables" / "seeds.csv",
+                                               tables_dir / "tables" / "seeds.csv")}
+    if (dest / "provenance.json").is_file():
+        texts["provenance.json"] = json.dumps(_merged_provenance(
+            json.loads((dest / "provenance.json").read_text()),
+            json.loads((tables_dir / "provenance.json").read_text())), indent=1) + "\n"
+    keep = {"snapshots.nc"} if (dest / "snapshots.nc").is_file() else set()
+    sources = [p for p in sorted(tables_dir.rglob("*")) if p.is_file()
+               and p.relative_to(tables_dir).as_posix() not in keep | set(texts)]
     for name in REBUILT if rebuilt_dir is not None else ():
-        rebuilt_dir = Path(rebuilt_dir)
-        path = rebuilt_dir / name
+        path = Path(rebuilt_dir) / name
         if not path.exists():
             raise CraquelureError(f"publish: {path} is missing (run the rebuild first)")
         # PNG figures only: the PDFs of the same figures would multiply the folder's size
@@ -170,6 +206,8 @@ def publish(tables_dir: str | Path, rebuilt_dir: str | Path | None, dest: str | 
         tmp = target.with_name(target.name + ".tmp")
         shutil.copyfile(src, tmp)
         tmp.replace(target)
+    for name, text in texts.items():
+        write_text_atomic(dest / name, text)
     # every file of the folder (a README written by hand too), as `craquelure verify` expects
     digests = {p.relative_to(dest).as_posix(): sha256_file(p) for p in sorted(dest.rglob("*"))
                if p.is_file() and p.name != MANIFEST}
