@@ -199,3 +199,21 @@ def test_claim_recomputed_from_a_three_seed_collapse_check_stays_inconclusive():
     c15 = check15(campaign(offset_inverse_law, 3), 3)
     assert not all(c15["equivalence"].values())  # the bounds fail on 3 seeds ...
     assert _verdict(c15)[0] == c15["verdict"] == "inconclusive"  # ... and that decides nothing
+
+
+def test_check16_rates_at_the_source_sample_size():
+    """Break times spread over 0.3-0.8 t*: at 100 samples both conditions hold nearly always,
+    and 25 % later breaks (0.375-1.0 t*) pass 0.9 t* for the last sample: the power is high.
+    Breaks over 0.1-0.5 t* stay within both bounds 25 % later: no power."""
+    t_star = 100.0
+    times = np.arange(5.0, 121.0, 5.0)
+
+    def counts(break_over_t_star):
+        return np.array([np.where(times >= b * t_star, 3, 1) for b in break_over_t_star])
+
+    spread = np.linspace(0.3, 0.8, 20)
+    c16 = statistics.check_onset(times, counts(spread), spread * t_star - 5, t_star, 0.02, 400)
+    assert c16["confirmation_rate"] > 0.95 and c16["power"] > 0.95
+    early = np.linspace(0.1, 0.5, 20)
+    c16 = statistics.check_onset(times, counts(early), early * t_star - 5, t_star, 0.02, 400)
+    assert c16["confirmation_rate"] > 0.95 and c16["power"] < 0.05

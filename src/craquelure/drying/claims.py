@@ -187,6 +187,15 @@ def _share(c16: dict) -> str:
     return "" if ci is None else f" (exact 95 % interval {ci[0]:.2f}-{ci[1]:.2f})"
 
 
+def _onset_rates(c16: dict) -> str:
+    """Check 16's rates at the source's sample size (summaries made before them: none)."""
+    if "power" not in c16:
+        return ""
+    return (f"; at {c16['rates_at_samples']} samples drawn from these, both conditions hold in "
+            f"{c16['confirmation_rate']:.0%}; power against {c16['alternative']}: "
+            f"{c16['power']:.2f}")
+
+
 def onset_claim(summary: dict, key: str = "checks") -> Claim:
     c16 = summary[key]["check16_onset"]
     c16 = {**c16, "partial": True}
@@ -202,7 +211,7 @@ def onset_claim(summary: dict, key: str = "checks") -> Claim:
                 f"{item('first_removal_median')}; samples broken (>= 2 fragments): first "
                 f"{item('first_sample_broken')}, half {item('half_samples_broken')}, all "
                 f"{item('all_samples_broken')}; {c16['unbroken_at_end']} of "
-                f"{c16['n_samples']} unbroken at the end{_share(c16)}")
+                f"{c16['n_samples']} unbroken at the end{_share(c16)}{_onset_rates(c16)}")
     return Claim(MODEL, "fragments appear early: the first sample breaks by 0.40 t*, all are "
                  "broken before 0.8 t* (100 samples)",
                  _labelled(summary, key, "paper Figs. 4-6 (t = 90, 150, 180); drying spec "

@@ -68,7 +68,10 @@ median first removal, first, half and all samples broken. Conditions: first samp
 0.45 t*, all broken by 0.9 t*. These are extreme values of the source's 100 samples: with fewer
 samples a pass of "all broken" and a miss of "first broken" could reverse with more samples
 (the maximum grows, the minimum falls with the count), so those outcomes are undecided below
-100 samples; the opposite outcomes are decided at any count.
+100 samples; the opposite outcomes are decided at any count. Reported beside the verdict, at
+the source's 100 samples drawn from the measured break times: the rate at which both
+conditions hold, and the power, the rate at which they fail when every sample breaks 25 %
+later (the named alternative).
 """
 
 from __future__ import annotations
@@ -89,6 +92,7 @@ UPPER_PERCENTILE = 95.0
 WIDTH_DRIFT = 0.25  # check 15's alternative
 FIRST_BROKEN_MAX, ALL_BROKEN_MAX = 0.45, 0.9  # check 16, in t*
 SOURCE_SAMPLES = 100  # the source's sample count (check 16's extremes)
+ONSET_DELAY = 0.25  # check 16's named alternative: every sample breaks 25 % later
 N_POWER = 1000  # power draws, check 14
 N_POWER_COLLAPSE = 100  # power draws, check 15 (each has its own bootstrap)
 N_BOOT_COLLAPSE = 200  # bootstrap replicates inside each collapse power draw
@@ -558,6 +562,18 @@ def check_onset(times: np.ndarray, n_fragments: np.ndarray, first_removal: np.nd
     else:
         undecided[f"{name_all}: yes with {n_s} samples (more samples break later)"] = need
     verdict, note = verdict_of(conditions, undecided)
+    # At the source's sample size, from the measured break times (samples drawn with
+    # replacement): how often both conditions hold, and how often they fail when every break
+    # comes ONSET_DELAY later (the named alternative).
+    draws = rng.integers(0, n_s, size=(n_boot, SOURCE_SAMPLES))
+
+    def holds(scale: float) -> np.ndarray:
+        b = breaks[draws] * scale / t_star
+        return (b.min(axis=1) <= FIRST_BROKEN_MAX) & (b.max(axis=1) <= ALL_BROKEN_MAX)
+
     out.update({"conditions": conditions, "undecided": undecided, "verdict": verdict,
-                "note": note})
+                "note": note, "alternative": f"every break {ONSET_DELAY:.0%} later",
+                "confirmation_rate": float(holds(1.0).mean()),
+                "power": float(1.0 - holds(1.0 + ONSET_DELAY).mean()),
+                "rates_at_samples": SOURCE_SAMPLES})
     return out
