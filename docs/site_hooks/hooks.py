@@ -192,7 +192,8 @@ def mathjax_file() -> Path:
     return Path(next(f for f in files if str(f).endswith("mathjax/tex-svg.js")).locate())
 
 
-_MARKER = re.compile(r"^\{\{\s*(include|verdicts):\s*(\S+)((?:\s+\w+=\S+)*)\s*\}\}\s*$", re.M)
+_MARKER = re.compile(r"^\{\{[ \t]*(include|verdicts):[ \t]*(\S+)((?:[ \t]+\w+=\S+)*)[ \t]*\}\}[ \t]*$",
+                     re.M)
 # site folder of the figures that validation reports name
 FIGURES = "figures"
 
@@ -210,6 +211,12 @@ def _cell(value) -> str:
     elif isinstance(value, (list, tuple)):
         value = ", ".join(_cell(v) for v in value)
     return str(value).replace("|", "\\|").replace("\n", " ")
+
+
+def plain(text: str) -> str:
+    """Text of a report shown as is in Markdown (``t*`` is not emphasis, ``<S>`` no tag)."""
+    return (str(text).replace("\\", "\\\\").replace("*", "\\*").replace("_", "\\_")
+            .replace("<", "&lt;").replace(">", "&gt;"))
 
 
 def markdown_table(rows: list[dict]) -> str:
@@ -257,9 +264,9 @@ def verdicts_table(report: Path, model: str, site_path: str) -> str:
             shown = f"[![{row['figure']}]({link})]({link})"
         else:
             shown = f"`{row['figure']}`" if row.get("figure") else ""
-        table.append({"claim (source)": f"{row['claim']} ({row.get('source', '')})",
-                      "verdict": f"**{row['verdict']}**", "measured": row.get("measured", ""),
-                      "figure": shown})
+        table.append({"claim (source)": plain(f"{row['claim']} ({row.get('source', '')})"),
+                      "verdict": f"**{row['verdict']}**",
+                      "measured": plain(row.get("measured", "")), "figure": shown})
     return head + ".\n\n" + markdown_table(table)
 
 
