@@ -136,6 +136,13 @@ def api_pages() -> dict[str, str]:
     return pages
 
 
+def generated_pages() -> set[str]:
+    """Site paths of the pages the hooks generate (API pages, tutorials): link targets that are
+    no file of the repository."""
+    api = {f"api/{m}.md" for m in model_names()} | {"api/core.md"}
+    return api | {f"tutorials/{p.stem}.md" for p in (ROOT / "docs" / "tutorials").glob("*.ipynb")}
+
+
 def _site_path(repo_path: str) -> str | None:
     if repo_path in ROOT_PAGES:
         return ROOT_PAGES[repo_path]
@@ -162,7 +169,7 @@ def rewrite_links(markdown: str, repo_path: str, site_path: str) -> str:
             path, sep, anchor = target.partition("#")
             repo_target = posixpath.normpath(posixpath.join(posixpath.dirname(repo_path), path))
             full = ROOT / repo_target
-            if not full.exists():
+            if not full.exists() and _site_path(repo_target) not in generated_pages():
                 log.warning("%s links to %s, which does not exist", repo_path, target)
                 return m.group(0)
             site_target = _site_path(repo_target)
