@@ -199,8 +199,8 @@ def mathjax_file() -> Path:
     return Path(next(f for f in files if str(f).endswith("mathjax/tex-svg.js")).locate())
 
 
-_MARKER = re.compile(r"^\{\{[ \t]*(include|verdicts):[ \t]*(\S+)((?:[ \t]+\w+=\S+)*)[ \t]*\}\}[ \t]*$",
-                     re.M)
+_MARKER = re.compile(
+    r"^\{\{[ \t]*(include|verdicts):[ \t]*(\S+)((?:[ \t]+\w+=\S+)*)[ \t]*\}\}[ \t]*$", re.M)
 # site folder of the figures that validation reports name
 FIGURES = "figures"
 
