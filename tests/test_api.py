@@ -141,3 +141,22 @@ def test_acceptance_snippet_in_a_fresh_process(tmp_path):
                      "--out", str(tmp_path / "cli.nc")]) == 0
     with open_dataset(tmp_path / "cli.nc") as cli_ds, xr.open_dataset(tmp_path / "api.nc") as api:
         same(api.load(), cli_ds.load())
+
+
+def test_docstring_examples_run(tmp_path, monkeypatch):
+    """Every function's example, in the order a user would meet them (run_to_file writes the
+    run.nc that fragments and export read), in an empty folder."""
+    import doctest
+
+    from craquelure import api
+
+    monkeypatch.chdir(tmp_path)
+    names = ["scenes", "override_strings", "load_scene", "check", "initial_state",
+             "run_to_file", "run", "fragments", "export"]
+    globs = {"craquelure": cq, "override_strings": override_strings}
+    runner = doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
+    for name in names:
+        (test,) = doctest.DocTestFinder().find(getattr(api, name), name, globs=globs)
+        assert test.examples, name
+        runner.run(test)
+    assert runner.summarize(verbose=False).failed == 0

@@ -146,6 +146,8 @@ def generated_pages() -> set[str]:
 def _site_path(repo_path: str) -> str | None:
     if repo_path in ROOT_PAGES:
         return ROOT_PAGES[repo_path]
+    if repo_path.startswith("docs/tutorials/") and repo_path.endswith(".ipynb"):
+        return repo_path[len("docs/"):].removesuffix(".ipynb") + ".md"  # its page
     if repo_path.startswith("docs/"):
         return repo_path[len("docs/"):]
     return None

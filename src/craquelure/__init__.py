@@ -3,11 +3,12 @@
 Data flows one way: scene file -> validated scene (:mod:`craquelure.scene`) -> initial
 state (model ``init``) -> effects + integrator (model ``run``) -> run dataset ->
 analysis dataset -> figure / report. The functions below (:mod:`craquelure.api`) are the
-command line's verbs::
+command line's verbs:
 
     import craquelure as cq
 
-    ds = cq.run(cq.load_scene("drying/ci", overrides={"outputs.t_end": 0.5}), seed=1)
+    short = {"outputs.t_end": 0.4, "outputs.times": [0.2, 0.4]}
+    ds = cq.run(cq.load_scene("drying/ci", overrides=short), seed=1)
     frag = cq.fragments(ds)
 """
 
