@@ -27,6 +27,7 @@ import yaml
 
 from craquelure import scene as _scenes
 from craquelure.errors import CraquelureError
+from craquelure.io import open_dataset, write_dataset
 from craquelure.models import model_api, model_module, stage
 from craquelure.provenance import WallClock, provenance_attrs
 from craquelure.scene import Scene
@@ -165,10 +166,7 @@ def run_to_file(scene: Scene | str, out: str | Path, seed: int = 0,
     warn_if_long(scene, numba.get_num_threads())
     with ExitStack() as stack:
         if isinstance(init, xr.Dataset):
-            path = Path(stack.enter_context(tempfile.TemporaryDirectory())) / "init.nc"
-            from craquelure.io import write_dataset
-
-            init = write_dataset(init, path)
+            init = write_dataset(init, _temporary(stack, "init.nc"))
         return stage(scene.model, "run")(scene, Path(out), seed=seed,
                                          init=Path(init) if init is not None else None,
                                          **checkpoints)
@@ -189,36 +187,29 @@ def run(scene: Scene | str, seed: int = 0, init: RunInput | None = None,
         ['alive', 'elastic_energy', 'kappa_criterion_max']
     """
     with ExitStack() as stack:
-        if out is None:
-            out = Path(stack.enter_context(tempfile.TemporaryDirectory())) / "run.nc"
+        out = _temporary(stack, "run.nc") if out is None else out
         return _load(run_to_file(scene, out, seed, init, **checkpoints))
 
 
-def _load(path: Path) -> xr.Dataset:
-    from craquelure.io import open_dataset
+def _temporary(stack: ExitStack, name: str) -> Path:
+    return Path(stack.enter_context(tempfile.TemporaryDirectory())) / name
 
+
+def _load(path: Path) -> xr.Dataset:
     with open_dataset(path) as ds:
         return ds.load()
 
 
 def _run_path(run: RunInput, stack: ExitStack) -> Path:
     """A run dataset's file: the path given, or the dataset written to a temporary folder."""
-    if not isinstance(run, xr.Dataset):
-        if not Path(run).is_file():
-            raise CraquelureError(f"run dataset {str(run)!r} not found")
-        return Path(run)
-    from craquelure.io import write_dataset
-
-    return write_dataset(run, Path(stack.enter_context(tempfile.TemporaryDirectory()))
-                         / "run.nc")
+    return write_dataset(run, _temporary(stack, "run.nc")) if isinstance(run, xr.Dataset) \
+        else Path(run)
 
 
 def _model(run: RunInput) -> str:
     """The model a run dataset names (provenance ``model``; drying's datasets before it)."""
     if isinstance(run, xr.Dataset):
         return str(run.attrs.get("model", "drying"))
-    from craquelure.io import open_dataset
-
     with open_dataset(run) as ds:
         return str(ds.attrs.get("model", "drying"))
 
@@ -247,8 +238,6 @@ def fragments(run: RunInput, out: str | Path | None = None, phi0: float | None =
             "units": "1"})}, attrs={"model": "lattice", "source_run": ds.attrs.get("scene_name",
                                                                                   "")})
         if out is not None:
-            from craquelure.io import write_dataset
-
             write_dataset(frag, out)
         return frag
     if model != "drying":
@@ -257,8 +246,7 @@ def fragments(run: RunInput, out: str | Path | None = None, phi0: float | None =
                               "no fragments; allowed models: drying, lattice")
     with ExitStack() as stack:
         path = _run_path(run, stack)
-        target = Path(out) if out is not None else \
-            Path(stack.enter_context(tempfile.TemporaryDirectory())) / "fragments.nc"
+        target = Path(out) if out is not None else _temporary(stack, "fragments.nc")
         analysis = model_module("drying", "analysis")
         return _load(analysis.fragments_from_run_file(path, target, phi0, spacing))
 
