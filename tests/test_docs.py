@@ -291,3 +291,23 @@ def test_model_pages_read_as_a_manual():
             assert heading in text, (model, heading)
         assert re.search(rf"^\{{\{{ verdicts: \S+ model={model} \}}\}}$", text, re.M), model
         assert not re.search(r"20\d\d-\d\d-\d\d|measured on|under load", text), model
+
+
+def test_verdicts_show_the_figures_beside_the_report(hooks, tmp_path, monkeypatch):
+    """A report's figures, in its folder or its figures/ folder, are shown in the rows (and
+    copied into the site); a figure that is not there is named, not linked."""
+    import json
+
+    monkeypatch.setattr(hooks, "ROOT", tmp_path)
+    report = tmp_path / "results" / "published" / "x" / "validation.json"
+    (report.parent / "figures").mkdir(parents=True)
+    (report.parent / "figures" / "a.png").write_bytes(b"\x89PNG")
+    rows = [{"model": "drying", "claim": "c1", "verdict": "reproduced", "figure": "a.png"},
+            {"model": "drying", "claim": "c2", "verdict": "partly", "figure": "b.png"}]
+    report.write_text(json.dumps({"profile": "p", "claims": rows}))
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs" / "drying.md").write_text(
+        "{{ verdicts: results/published/x/validation.json model=drying }}\n")
+    out = hooks.verdicts_table(report, "drying", "drying.md")
+    assert "(figures/results/published/x/figures/a.png)" in out and "`b.png`" in out
+    assert hooks.marked_figures() == [report.parent / "figures" / "a.png"]

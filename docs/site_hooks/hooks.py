@@ -301,7 +301,7 @@ def marked_figures() -> list[Path]:
     """Every figure that a ``{{ verdicts: ... }}`` marker of a page shows."""
     pages = [ROOT / p for p in ROOT_PAGES] + sorted((ROOT / "docs").rglob("*.md"))
     found = []
-    for page in pages:
+    for page in filter(Path.is_file, pages):
         for m in _MARKER.finditer(page.read_text()):
             report = ROOT / m.group(2)
             if m.group(1) == "verdicts" and report.is_file():
