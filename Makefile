@@ -10,8 +10,10 @@ BIN := $(VENV)/bin
 CORES ?=
 SNAKEMAKE := $(BIN)/snakemake $(if $(CORES),--cores $(CORES))
 # The documentation site (mkdocs.yml) into site/; --strict: any warning, a broken internal link
-# or anchor included, fails the build (pytest's tests/test_docs.py runs the same build in
-# `make test`). NO_MKDOCS_2_WARNING silences the theme's banner.
+# or anchor included, fails the build; the build executes the tutorials (docs/tutorials/*.ipynb,
+# about a minute; CRAQUELURE_DOCS_EXECUTE=0 skips that while editing pages). pytest's
+# tests/test_docs.py runs the same build in `make test`. NO_MKDOCS_2_WARNING silences the
+# theme's banner.
 MKDOCS := NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
 
 .PHONY: install run test test-fast test-slurm lint bench docs reference clean-results publish

@@ -48,7 +48,7 @@ Stabilised explicit scheme for the real viscous spectrum, not bound by the visco
   growth of undamped oscillations (the substrate mode, :math:`y = \omega_0\Delta t`, and the
   grid-scale velocity modes the kernel gradient cannot see, which oscillate undamped on the
   substrate spring) that the step cap ``dt_max`` keeps small. Measured on the paste with
-  per-particle white-noise velocities (N = 400, 2026-12-01): fixed dt = 0.2 (8 stages) decays
+  per-particle white-noise velocities (N = 400): fixed dt = 0.2 (8 stages) decays
   steadily over 1000 time units; dt = 0.5 (13 stages) decays to t ~ 300, then the kinetic
   energy grows 2.4x per 100 time units. Hence the default ``dt_max = 0.2``.
 
@@ -70,8 +70,8 @@ step (fracture test, ABM history, RKC error estimate) and starts the next.
 The per-step vector work (the RKC stage combinations, ABM4's predictor and corrector, the RKC
 error norm) runs in fused numba loops on the run's threads, each element computed by the same
 operations in the same order as the numpy expression it replaces, so the results are
-bit-identical; as numpy temporaries it was serial work between the parallel pair passes, 6 % of
-a step (issue 28: it bounds what two threads can gain).
+bit-identical; as numpy temporaries it would be serial work between the parallel pair passes,
+which bounds what two threads can gain.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Check 12 as revised (impact spec section 10, 2026-12): the source's findings, per seed and per
+"""Check 12 (impact spec section 10): the source's findings, per seed and per
 dimension.
 
 The source shows single images, so a criterion on a heterogeneous case applies to the median
@@ -24,7 +24,7 @@ against κ = 1) pair the specimens by seed (the seed alone draws the masses, so 
 same specimen at both κ) and count the seeds where κ = 0.7's value is the larger. The medians
 with their bootstrap interval and agreement are given beside each fraction.
 
-Defining conditions (2026-12-02): the heterogeneous rows' defining condition is the spec's own
+Defining conditions: the heterogeneous rows' defining condition is the spec's own
 median rule (:func:`median_rule`, decided by the bootstrap of the median), with the binomial
 test above reported beside it; the other conditions stay fractional tests. Verdicts follow
 :func:`verdict`: the defining condition decides "not reproduced" / "inconclusive", the others
@@ -157,7 +157,7 @@ def undecided_note(test: dict) -> str:
 def verdict(conditions: dict[str, bool | None], enough: bool,
             defining: tuple[str, ...] = ()) -> str:
     """reproduced / partly / not reproduced / inconclusive, by the finding's defining
-    condition (``defining``: the names of its parts; spec check 12 as revised 2026-12-02):
+    condition (``defining``: the names of its parts; spec check 12):
     a defining part that fails makes the row "not reproduced" whatever else holds; a defining
     part that cannot be decided (or too few seeds, ``enough`` False, for a heterogeneous
     case) makes it "inconclusive"; with the defining condition met, any other condition that
@@ -247,7 +247,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
     ``<masses>/<pre-crack>/kappa<k>``). Cracks are counted by opening
     (:func:`craquelure.impact.measure.opening_cracks`: ``n_main_cracks_opening`` etc.); the
     softening-based counts stay in the per-seed values as secondary numbers. Each finding names
-    its defining condition (◆, spec check 12 revised 2026-12-02):
+    its defining condition (◆, spec check 12):
 
     - homogeneous: ◆ one main crack (N_main = 1), carrying most (> 1/2) of the centre row's
       opening, along the vertical diameter (|x| <= 2 Delta at mid-height, |theta| <= 10 deg),

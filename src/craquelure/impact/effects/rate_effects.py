@@ -17,7 +17,7 @@ f'_c = 43.1 MPa (:func:`rate_constants`): η_0t = 5.07e-5 s^(1-n), n_t = 0.48, �
 n_c = 0.78, OVERT = OVERC = 28.85 MPa: DIF_t = 1.47 / 2.55 / 6.14 at 1 / 10 / 100 1/s,
 DIF_c = 1.22 / 1.36 / 1.60.
 
-Units of the fits [checked 2026-12-02, not verified against the manual's text]: OVERT/OVERC's
+Units of the fits [not verified against the manual's text]: OVERT/OVERC's
 polynomial only makes sense with f'_c in MPa (28.85 MPa; in psi it would give 5.1e5). The η_0
 polynomials read differently: with f'_c in MPa their quadratic and linear terms are 0.003 % and
 2 % of the constant (η_0t) and 0.01 % and 1.4 % (η_0c), implausible for fitted terms; with f'_c
