@@ -97,7 +97,7 @@ def test_changing_shape_fails_check15():
     # The bounds fail by far, but with the margins of the revised check (half of what a 25 %
     # width drift does: KS 0.095, CV 0.030 here) an exact collapse of these 30 samples passes
     # them too rarely for a miss to decide: inconclusive, naming the sample that would decide
-    # (the 100-sample case that decides "not reproduced" is in test_statistics.py).
+    # (the 100-sample case that decides "not reproduced" is in test_ensemble.py).
     assert c15["ks_scaled_first_last_upper95"] > 3 * c15["ks_margin"]
     assert c15["confirmation_rate"] < 0.8 and not c15["pass"]
     assert c15["verdict"] == "inconclusive" and c15["seeds_needed"] > 30

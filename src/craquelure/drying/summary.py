@@ -29,7 +29,7 @@ Quantities (all from data):
 
 Checks 14-16 as revised (statistic, bootstrap interval, power against a named alternative by
 simulation at the run's noise and counts, and a verdict that is "inconclusive" when the sample
-cannot decide) are in :mod:`craquelure.drying.statistics`; the fits above are descriptive. The
+cannot decide) are in :mod:`craquelure.drying.ensemble`; the fits above are descriptive. The
 spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at N = 1e4) is
 reported as well, since a pass or miss on a smaller campaign is indicative only.
 """
@@ -47,7 +47,7 @@ import xarray as xr
 from scipy import stats
 
 import craquelure
-from craquelure.drying import statistics
+from craquelure.drying import ensemble
 from craquelure.drying.campaign import per_sample_totals
 from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
 from craquelure.drying.time_scales import (
@@ -102,7 +102,7 @@ def _fits(times: np.ndarray, total: np.ndarray, count: np.ndarray, window: np.nd
     departure = np.max(np.abs(np.polyval(quad, t) - (a + b * t)))
     rise = b * (t[-1] - t[0])
     # Bootstrap over seeds: weights = how often each seed is drawn.
-    weights = statistics.bootstrap_weights(total.shape[0], n_boot,
+    weights = ensemble.bootstrap_weights(total.shape[0], n_boot,
                                        np.random.default_rng(BOOTSTRAP_SEED))
     with np.errstate(invalid="ignore", divide="ignore"):
         boot_mean = (weights @ total[:, window]) / (weights @ count[:, window])
@@ -240,8 +240,8 @@ def _onset(campaign: xr.Dataset, tstar: float, x_intercept: float | None,
 
 
 def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
-              n_boot: int = N_BOOTSTRAP, n_power: int = statistics.N_POWER,
-              n_power_collapse: int = statistics.N_POWER_COLLAPSE) -> dict[str, Any]:
+              n_boot: int = N_BOOTSTRAP, n_power: int = ensemble.N_POWER,
+              n_power_collapse: int = ensemble.N_POWER_COLLAPSE) -> dict[str, Any]:
     """Every number of the machine-readable summary (see module docstring); ``n_power`` and
     ``n_power_collapse`` are the simulated draws of the power of checks 14 and 15."""
     attrs = campaign.attrs
@@ -263,19 +263,19 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
     onset = _onset(campaign, tstar, fits.get("x_intercept"), collapse["collapse_onset_time"])
     n_particles, n_seeds = int(attrs["n_particles"]), int(campaign.sizes["seed"])
 
-    # Checks 14-16 as revised (craquelure.drying.statistics).
-    c14 = statistics.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
+    # Checks 14-16 as revised (craquelure.drying.ensemble).
+    c14 = ensemble.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
                                     b_star, n_boot, n_power)
     k_window = np.flatnonzero(window)
     f_index = campaign["fragment_time_index"].values
     in_window = np.isin(f_index, k_window)
-    c15 = statistics.check_collapse(
+    c15 = ensemble.check_collapse(
         campaign["fragment_area"].values[in_window],
         np.searchsorted(campaign["seed"].values, campaign["fragment_seed"].values[in_window]),
         np.searchsorted(k_window, f_index[in_window]), n_seeds, k_window.size, n_boot,
         n_power_collapse)
     pi = drying_number(attrs)
-    c16 = statistics.check_onset(times, campaign["n_fragments"].values,
+    c16 = ensemble.check_onset(times, campaign["n_fragments"].values,
                              campaign["first_removal_time"].values, tstar, pi["pi"], n_boot)
     for check in (c14, c15):
         if "error" in check:
@@ -337,7 +337,7 @@ def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: 
     seeds = campaign["seed"].values
     owner = np.searchsorted(seeds, campaign["fragment_seed"].values[sel])
     rng = np.random.default_rng(seed)
-    weights = statistics.bootstrap_weights(seeds.size, n_boot, rng)
+    weights = ensemble.bootstrap_weights(seeds.size, n_boot, rng)
     out = {"ccdf": np.full(grid.size, np.nan), "lo": np.full(grid.size, np.nan),
            "hi": np.full(grid.size, np.nan), "n": int(area.size)}
     if area.size == 0:
