@@ -32,6 +32,7 @@ from craquelure.drying.campaign import build_campaign, per_sample_totals
 from craquelure.drying.time_scales import drying_number
 from craquelure.errors import CraquelureError
 from craquelure.scene import Scene
+from craquelure.validation import bootstrap_interval
 
 ONSET_ITEMS = ("first_removal_earliest", "first_removal_median", "first_sample_broken",
                "half_samples_broken", "all_samples_broken")
@@ -108,7 +109,7 @@ def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
             continue  # no snapshot near this t/t*
         per_seed = count[:, k] / area_box
         boot = per_seed[picks].mean(axis=1)
-        density[:, j] = per_seed.mean(), *np.percentile(boot, [2.5, 97.5])
+        density[:, j] = per_seed.mean(), *bootstrap_interval(boot)
     out["fragments_per_area"], out["fragments_per_area_lo"], out["fragments_per_area_hi"] = (
         density[0], density[1], density[2])
     return out

@@ -60,6 +60,7 @@ from craquelure.drying.time_scales import (
 )
 from craquelure.io import open_dataset, write_text_atomic
 from craquelure.provenance import git_commit
+from craquelure.validation import bootstrap_interval
 
 KS_ALPHA = 0.01
 N_BOOTSTRAP = 2000
@@ -69,15 +70,6 @@ BOOTSTRAP_SEED = 20120926
 def ks_critical(n: int, m: int, alpha: float = KS_ALPHA) -> float:
     """Asymptotic two-sample KS critical value at level ``alpha``."""
     return math.sqrt(-0.5 * math.log(alpha / 2.0)) * math.sqrt((n + m) / (n * m))
-
-
-def _linear_fit(t: np.ndarray, y: np.ndarray) -> tuple[float, float, float]:
-    """Least squares y = a + b t; returns (a, b, R^2)."""
-    b, a = np.polyfit(t, y, 1)
-    resid = y - (a + b * t)
-    ss_tot = np.sum((y - y.mean()) ** 2)
-    r2 = 1.0 - np.sum(resid**2) / ss_tot if ss_tot > 0 else float("nan")
-    return float(a), float(b), float(r2)
 
 
 def _slopes(t: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -96,11 +88,6 @@ def _fits(times: np.ndarray, total: np.ndarray, count: np.ndarray, window: np.nd
         out["error"] = "fewer than 3 usable snapshots in the window"
         return out
     alpha = -_slopes(np.log(t), np.log(m))
-    inv = 1.0 / m
-    a, b, r2 = _linear_fit(t, inv)
-    quad = np.polyfit(t, inv, 2)
-    departure = np.max(np.abs(np.polyval(quad, t) - (a + b * t)))
-    rise = b * (t[-1] - t[0])
     # Bootstrap over seeds: weights = how often each seed is drawn.
     weights = ensemble.bootstrap_weights(total.shape[0], n_boot,
                                        np.random.default_rng(BOOTSTRAP_SEED))
@@ -108,19 +95,9 @@ def _fits(times: np.ndarray, total: np.ndarray, count: np.ndarray, window: np.nd
         boot_mean = (weights @ total[:, window]) / (weights @ count[:, window])
     ok = np.all(np.isfinite(boot_mean) & (boot_mean > 0), axis=1)
     boot_alpha = -_slopes(np.log(t), np.log(boot_mean[ok]))
-    boot_b = _slopes(t, 1.0 / boot_mean[ok])
     out.update({
         "alpha": float(alpha),
-        "alpha_ci95": [float(np.percentile(boot_alpha, 2.5)),
-                       float(np.percentile(boot_alpha, 97.5))] if ok.any() else None,
-        "slope_b": b,
-        "slope_b_ci95": [float(np.percentile(boot_b, 2.5)),
-                         float(np.percentile(boot_b, 97.5))] if ok.any() else None,
-        "intercept_a": a,
-        "r2": r2,
-        "x_intercept": float(-a / b) if b != 0 else float("nan"),
-        "quadratic_departure_fraction": float(departure / abs(rise)) if rise != 0
-        else float("inf"),
+        "alpha_ci95": bootstrap_interval(boot_alpha) if ok.any() else None,
         "n_bootstrap": int(ok.sum()),
     })
     return out
@@ -259,13 +236,13 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
     lam, mu = float(attrs["lame_lambda"]), float(attrs["lame_mu"])
     b_star = (mu * float(attrs["drying_rate"])
               / ((lam + 2 * mu) * float(attrs["thickness"]) ** 2 * float(attrs["yield_stress"])))
-    collapse = _collapse(campaign, win)
-    onset = _onset(campaign, tstar, fits.get("x_intercept"), collapse["collapse_onset_time"])
-    n_particles, n_seeds = int(attrs["n_particles"]), int(campaign.sizes["seed"])
-
-    # Checks 14-16 as revised (craquelure.drying.ensemble).
+    # Checks 14-16 as revised (craquelure.drying.ensemble); check 14's weighted fit is the
+    # 1/<S>_t line of the summary and the figure.
     c14 = ensemble.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
-                                    b_star, n_boot, n_power)
+                                      b_star, n_boot, n_power)
+    collapse = _collapse(campaign, win)
+    onset = _onset(campaign, tstar, c14.get("x_intercept_t0"), collapse["collapse_onset_time"])
+    n_particles, n_seeds = int(attrs["n_particles"]), int(campaign.sizes["seed"])
     k_window = np.flatnonzero(window)
     f_index = campaign["fragment_time_index"].values
     in_window = np.isin(f_index, k_window)
@@ -313,8 +290,7 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
         "initial_stage_end": win["initial_stage_end"],
         "fit": fits,
         "b_star": b_star,
-        "slope_over_b_star": (float(fits["slope_b"] / b_star)
-                              if np.isfinite(fits.get("slope_b", np.nan)) else None),
+        "slope_over_b_star": c14.get("slope_over_b_star"),
         "sensitivity_s_min": {"s_min": s_min, "fit": fits_smin},
         "onset": onset,
         "collapse": collapse,
@@ -355,7 +331,7 @@ def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: 
 
     out["ccdf"] = curve(np.ones(seeds.size))
     boot = np.array([curve(w) for w in weights])
-    out["lo"], out["hi"] = np.nanpercentile(boot, [2.5, 97.5], axis=0)
+    out["lo"], out["hi"] = bootstrap_interval(boot, axis=0)
     return out
 
 def json_ready(value: Any) -> Any:
