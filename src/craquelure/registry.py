@@ -126,10 +126,9 @@ def get_effect(model: str, name: str) -> Effect:
 
 def kernel_parameters(model: str) -> dict[str, tuple[Param, frozenset[str]]]:
     """``{name: (param, effects declaring it)}`` of every declared parameter, in the kernel's
-    order: the model-wide
-    ``PARAMS`` of the effects package (no owner: always read), then each effect's, by effect
-    name. An effect may declare a parameter another one declares (both read it); the two
-    declarations must be the same."""
+    order: the model-wide ``PARAMS`` of the effects package (no owner: always read), then each
+    effect's, by effect name. Two effects may declare the same parameter (both read it) with
+    the same declaration."""
     package = importlib.import_module(EFFECT_PACKAGES[model])
     out: dict[str, tuple[Param, frozenset[str]]] = {
         p.name: (p, frozenset()) for p in getattr(package, "PARAMS", ())}

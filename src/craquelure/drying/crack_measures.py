@@ -1,4 +1,4 @@
-r"""Crack measures that do not depend on how fragments are counted (issue 32, item 5), per
+r"""Crack measures that do not depend on how fragments are counted, per
 snapshot of a drying run, from its particles and its paste image (:mod:`.binarise`):
 
 - damage :math:`d = n_{removed}/N`, the removed-area fraction: every particle stands for the

@@ -255,9 +255,7 @@ class StepController:
 
     SAFETY, FAC_MIN, FAC_MAX = 0.8, 0.1, 10.0
 
-    def __init__(self, dt: float, dt_max: float, adapt: bool = True, tolerance: float = 1.0,
-                 removal_tolerance: float = math.inf, spectral_every: int = 1,
-                 dt_min: float = 0.0) -> None:
+    def __init__(self, dt: float, dt_max: float) -> None:
         self.dt_next = float(min(dt, dt_max))
         self.dt_max = float(dt_max)
         self.err_prev = 0.0  # 0: no accepted step yet (elementary control)
@@ -265,18 +263,21 @@ class StepController:
         self.rejected_last = False
         self.accepted = 0
         self.rejected = 0
-        self.adapt, self.tolerance, self.dt_floor = adapt, tolerance, dt_min
-        self.removal_tolerance, self.spectral_every = removal_tolerance, spectral_every
         self.spectral_radius = 0.0
         self.dt_event = math.inf
         self.error_scale = np.ones(1)
 
     @classmethod
     def from_scene(cls, scene, dt: float) -> StepController:
+        """The controller of a scene's rkc2 run, starting at ``dt``."""
         control = scene.get("numerics.step_control")
-        return cls(dt, float(control["dt_max"]), bool(scene.get("numerics.adapt_dt")),
-                   float(control["tolerance"]), float(control["removal_tolerance"]),
-                   int(control["spectral_radius_every"]), float(control["dt_min"]))
+        ctrl = cls(dt, float(control["dt_max"]))
+        ctrl.adapt = bool(scene.get("numerics.adapt_dt"))
+        ctrl.tolerance = float(control["tolerance"])
+        ctrl.removal_tolerance = float(control["removal_tolerance"])
+        ctrl.spectral_every = int(control["spectral_radius_every"])
+        ctrl.dt_floor = float(control["dt_min"])
+        return ctrl
 
     def propose(self, err: float, dt: float) -> bool:
         if not math.isfinite(err) or err > 1.0:

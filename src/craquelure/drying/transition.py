@@ -1,4 +1,4 @@
-r"""The damage-to-fragmentation transition (beyond the source; issue 32, item 6), after
+r"""The damage-to-fragmentation transition (beyond the source), after
 Szatmari, Nakahara, Kitsunezaki & Kun, arXiv:2503.06177 (2025): in a discrete-element model of
 shrinking layers on a substrate a dominant piece persists up to a critical damage
 :math:`d_c` (damage phase), beyond which the layer breaks into many pieces (fragmentation
