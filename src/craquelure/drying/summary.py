@@ -8,10 +8,11 @@ Quantities (all from data):
   :math:`\log t` over the window (after the initial stage); 95 % bootstrap interval over seeds
   (resample whole samples with replacement, recompute the pooled mean, refit; percentile
   interval, fixed generator seed so the summary is reproducible).
-- Linear fit :math:`1/\langle S\rangle_t = a + b t` over the window: :math:`R^2`, slope b (with
-  its bootstrap interval), x-intercept :math:`t_0 = -a/b`; a quadratic fit's largest departure
-  from the linear one over the window, relative to the linear rise :math:`b (t_{end} -
-  t_{start})`; the order-of-magnitude slope :math:`b^* = \mu v_r / ((\lambda+2\mu) H^2 \sigma_Y)`.
+- The line :math:`1/\langle S\rangle_t = a + b t` is fitted once, by check 14
+  (:func:`craquelure.drying.ensemble.check_inverse_area`, weighted by the bootstrap errors):
+  its slope b over the order-of-magnitude slope
+  :math:`b^* = \mu v_r / ((\lambda+2\mu) H^2 \sigma_Y)` and its x-intercept :math:`t_0 = -a/b`
+  are quoted here and drawn in Fig. 3.
 - Onset of the scaling regime, each also divided by :math:`t^*`: median time of the first
   removal, first snapshot with every sample broken (>= 2 fragments), x-intercept :math:`t_0`,
   and the collapse onset (earliest snapshot from which on every scaled distribution is within
@@ -24,12 +25,12 @@ Quantities (all from data):
   between the scaled distributions of different snapshots before and after the window start.
   The KS part only counts as a pass if the test could have failed (critical value < 1 at
   every :math:`t_k`, i.e. enough fragments) [D].
-- Sensitivity to a minimum fragment size :math:`S_{min} = \pi h^2` (fits redone without the
-  smaller fragments).
+- Sensitivity to a minimum fragment size :math:`S_{min} = \pi h^2` (:math:`\alpha` refitted
+  without the smaller fragments).
 
 Checks 14-16 as revised (statistic, bootstrap interval, power against a named alternative by
 simulation at the run's noise and counts, and a verdict that is "inconclusive" when the sample
-cannot decide) are in :mod:`craquelure.drying.ensemble`; the fits above are descriptive. The
+cannot decide) are in :mod:`craquelure.drying.ensemble`; :math:`\alpha` is descriptive. The
 spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at N = 1e4) is
 reported as well, since a pass or miss on a smaller campaign is indicative only.
 """
