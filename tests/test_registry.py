@@ -40,6 +40,9 @@ def test_effect_declarations(model):
             assert node is not None, f"{model}/{name} needs {dotted}: not in the schema"
         for other in effect.conflicts:
             assert other in effects, f"{model}/{name} conflicts with unknown {other!r}"
+    # every declared parameter's scene path (model-wide ones too) is in the schema
+    for name, (param, _) in registry.kernel_parameters(model).items():
+        assert param.path is None or schema_node(schema, param.path) is not None, (model, name)
 
 
 def test_get_effect_lists_known_effects():
