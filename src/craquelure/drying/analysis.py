@@ -7,7 +7,7 @@ file of its own (the claims read only the summary):
 2. :func:`~craquelure.drying.campaign.campaign_from_files`: the campaign aggregate of the
    per-seed fragment datasets.
 3. :func:`~craquelure.drying.summary.write_summary`: the statistics that test the paper's
-   claims, checks 14-16 (:mod:`craquelure.drying.statistics`).
+   claims, checks 14-16 (:mod:`craquelure.drying.ensemble`).
 
 Times are in units of :math:`t^* = \sigma_Y/v_r`, with the paper's windows rescaled
 (:mod:`craquelure.drying.time_scales`).

@@ -2,7 +2,7 @@
 
 Sources (registered by the drying rules): ``results/drying/summary.json`` and the criterion
 sensitivity's ``results/drying/<scene>_C<measure>/summary.json`` (checks 14-16, see
-:mod:`craquelure.drying.statistics`; each verdict is recomputed here from the recorded conditions
+:mod:`craquelure.drying.ensemble`; each verdict is recomputed here from the recorded conditions
 and what the sample cannot decide; a criterion other than the source's is named in every row),
 when the thickness sweep ran, ``results/drying/<scene>/thickness.nc``
 (:mod:`craquelure.drying.thickness`), and when the transition study ran,

@@ -46,6 +46,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from craquelure.validation import bootstrap_interval
+
 N_BINS = 12
 N_BOOT = 200
 BOOT_SEED = 20250308
@@ -192,9 +194,8 @@ def transition(fragments: Mapping[str, Sequence[xr.Dataset]], variant: str = "",
         values = np.array([b[key] for b in boot])
         values = values[np.isfinite(values)]
         ds.attrs[key] = value
-        ds.attrs[f"{key}_ci95"] = ([float(np.percentile(values, 2.5)),
-                                    float(np.percentile(values, 97.5))]
-                                   if values.size >= 10 else [math.nan, math.nan])
+        ds.attrs[f"{key}_ci95"] = (bootstrap_interval(values) if values.size >= 10
+                                   else [math.nan, math.nan])
         ds.attrs[f"{key}_n_bootstrap"] = int(values.size)
     first = groups[0][3][0]
     ds.attrs.update({

@@ -48,6 +48,7 @@ import numpy as np
 from craquelure.impact.workflow import SOURCE_KAPPAS, case_key
 from craquelure.validation import (
     POWER_NEEDED,
+    bootstrap_interval,
     fraction_decision,
     fraction_interval,
     fraction_power,
@@ -83,8 +84,7 @@ def median_with_interval(values, decide, seed: int = 12) -> dict:
     rng = np.random.default_rng(seed)
     boot = np.median(v[rng.integers(0, v.size, (N_BOOT, v.size))], axis=1)
     agree = float(np.mean([decide(b) == decide(med) for b in boot]))
-    lo, hi = np.percentile(boot, [2.5, 97.5])
-    return {"median": med, "ci95": [float(lo), float(hi)], "agreement": agree, "n": int(v.size)}
+    return {"median": med, "ci95": bootstrap_interval(boot), "agreement": agree, "n": int(v.size)}
 
 
 def fraction_test(flags, deterministic: bool = False, seed: int = 12) -> dict:
@@ -100,10 +100,10 @@ def fraction_test(flags, deterministic: bool = False, seed: int = 12) -> dict:
         return out
     decided, needs = fraction_decision(k, n, MEDIAN_SPECIMEN)
     boot = np.asarray(flags, float)[np.random.default_rng(seed).integers(0, n, (N_BOOT, n))]
-    lo, hi = np.percentile(boot.mean(axis=1), [2.5, 97.5])
     out.update({
         "decided": decided, "needs": needs,
-        "ci95_bootstrap": [float(lo), float(hi)], "ci95_exact": list(fraction_interval(k, n)),
+        "ci95_bootstrap": bootstrap_interval(boot.mean(axis=1)),
+        "ci95_exact": list(fraction_interval(k, n)),
         "power": {name: fraction_power(n, p, MEDIAN_SPECIMEN)
                   for name, p in ALTERNATIVES.items()},
         "seeds_for_power": {name: samples_for_power(n, p, MEDIAN_SPECIMEN)

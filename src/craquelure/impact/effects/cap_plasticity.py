@@ -90,11 +90,14 @@ from dataclasses import dataclass
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.impact.effects import F_C
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "cap_plasticity", "CAP_PLASTICITY", "CSCM-like curved compression "
                 "meridian (Murray 2007 fits), Willam-Warnke Lode dependence, CSCM's elliptical "
-                "compaction cap from X0", requires=("material.f_c",), conflicts=("plasticity",))
+                "compaction cap from X0", conflicts=("plasticity",),
+                # Concrete.cap_vector(): the surface, cap and rate constants
+                params=(F_C, Param("cap", None, size=20)))
 
 MPA = 1e6
 R_CAP = 5.0  # CSCM's cap ellipticity R (revision 1 default, Murray 2007)

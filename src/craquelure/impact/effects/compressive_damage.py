@@ -29,11 +29,12 @@ import math
 import numpy as np
 from numba import njit
 
+from craquelure.impact.effects import F_C, G_F
 from craquelure.registry import Effect
 
 EFFECT = Effect("impact", "compressive_damage", "COMPRESSIVE_DAMAGE", "ductile damage: shear "
                 "surface x (1 - D_c), D_c linear in plastic strain, G_fc = 100 G_F (needs "
-                "cap_plasticity)", requires=("material.f_c", "material.G_F"))
+                "cap_plasticity)", params=(F_C, G_F))
 
 DC_MAX = 0.99
 

@@ -52,12 +52,13 @@ overrides ``auto``.
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.impact.effects import BULK, SHEAR
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "contact_bulk", "CONTACT_BULK",
                 "rigid-base penalty contact, k = a K A / l_max, kinematic fallback for m -> 0",
-                requires=("numerics.contact_a", "material.bulk_modulus",
-                          "material.shear_modulus"), conflicts=("contact_mass",))
+                requires=("numerics.contact_a",), conflicts=("contact_mass",),
+                params=(BULK, SHEAR, Param("k_bulk", None, "N/m"), Param("kinematic_ratio")))
 
 
 def bulk_stiffness(a: float, bulk: float, spacing: float, dim: int = 2) -> float:

@@ -43,11 +43,12 @@ import math
 import numpy as np
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.impact.effects import F_T, G_F
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "damage", "DAMAGE",
                 "Rankine tensile damage, crack band, linear softening (f_t, G_F)",
-                requires=("material.f_t", "material.G_F"))
+                params=(F_T, G_F, Param("eps_0"), Param("eps_f")))
 
 
 def crack_band_width(spacing: float, h0: float) -> float:

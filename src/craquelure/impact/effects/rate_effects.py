@@ -44,12 +44,13 @@ import math
 
 from numba import njit
 
+from craquelure.impact.effects import F_C, F_T
 from craquelure.impact.effects.damage import principal
 from craquelure.registry import Effect
 
 EFFECT = Effect("impact", "rate_effects", "RATE_EFFECTS", "CSCM-form dynamic increase of "
                 "tensile and compressive strength (opt-in; needs cap_plasticity and damage)",
-                requires=("material.f_c", "material.f_t"))
+                params=(F_C, F_T))
 
 
 def rate_constants(f_c: float) -> dict[str, float]:

@@ -82,7 +82,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from craquelure.validation import POWER_NEEDED, fraction_interval, verdict_of
+from craquelure.validation import POWER_NEEDED, bootstrap_interval, fraction_interval, verdict_of
 
 LEVEL = 0.01  # tests (a) and (b) of check 14
 SEVERAL_FRAGMENTS = 4  # (c): t0 bound where every sample has >= 4 fragments (mean <= L^2/4)
@@ -262,6 +262,7 @@ def check_inverse_area(t: np.ndarray, total: np.ndarray, count: np.ndarray, t_st
         "inverse_mean_area": y.tolist(), "inverse_mean_area_se": se.tolist(),
         "inverse_mean_area_se_bootstrap": se_raw.tolist(), "error_scale_dof": nu,
         "slope_b": b, "slope_b_ci95": _ci(boot["b"]), "slope_over_b_star": b / b_star,
+        "intercept_a": a,
         "x_intercept_t0": t0, "t0_ci95": _ci(t0_boot), "t0_over_t_star": t0 / t_star,
         "t0_bound_applied": bool(math.isfinite(t0_several)),
         "t0_several_fragments": t0_several, "t0_bound_note": t0_note,
@@ -284,7 +285,7 @@ def _ci(values: np.ndarray) -> list[float] | None:
     values = values[np.isfinite(values)]
     if values.size < 2:
         return None
-    return [float(np.percentile(values, 2.5)), float(np.percentile(values, 97.5))]
+    return bootstrap_interval(values)
 
 
 # --- check 15 -----------------------------------------------------------------------------
