@@ -63,10 +63,12 @@ class Jobs:
         return f"{SCENE_DIR}/{wildcards.scene}.yaml"
 
     def seeds(self) -> list[int]:
-        """The campaign's seeds, less those its archived ensemble (``published``) holds."""
+        """The campaign's seeds (``seeds``, else ``first_seed`` on), less those its archived
+        ensemble (``published``) holds."""
         first = self.section["first_seed"]
+        seeds = self.section.get("seeds") or range(first, first + self.section["n_seeds"])
         done = published_seeds(self.section.get("published"))
-        return [s for s in range(first, first + self.section["n_seeds"]) if s not in done]
+        return [s for s in seeds if s not in done]
 
     def campaign_fragments(self, wildcards) -> list[str]:
         """Fragment datasets of the campaign of ``wildcards.scene``: every seed, or the first
