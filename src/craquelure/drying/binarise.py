@@ -105,18 +105,15 @@ def _union_edge_labels(labels: np.ndarray, n: int) -> np.ndarray:
     return root[group]
 
 
-def label_periodic(image: np.ndarray) -> tuple[np.ndarray, int]:
-    """4-connected labels of the 1-pixels of a periodic 2D image.
-
-    Returns ``(labels, n)``: ``labels`` is 0 on background and 1..n on fragments, numbered in
-    raster order of their first pixel.
-    """
+def _periodic_numbers(image: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    """``(labels, number, n)``: scikit-image's labels of the image as a plain rectangle and the
+    map label -> fragment number (0 on background, 1..n)."""
     image = np.asarray(image, dtype=bool)
     if image.ndim != 2:
         raise ValueError(f"expected a 2D image, got shape {image.shape}")
     labels, n = sk_label(image, connectivity=1, background=0, return_num=True)
     if n == 0:
-        return labels, 0
+        return labels, np.zeros(1, labels.dtype), 0
     root = _union_edge_labels(labels, n)
     # scikit-image numbers components in raster order of their first pixel, and each root is
     # the smallest label of its group, so numbering the roots in increasing order keeps the
@@ -124,13 +121,22 @@ def label_periodic(image: np.ndarray) -> tuple[np.ndarray, int]:
     ordered = np.unique(root[1:])
     number = np.zeros(n + 1, dtype=labels.dtype)
     number[ordered] = np.arange(1, ordered.size + 1)
-    relabel = number[root]
-    return relabel[labels], int(ordered.size)
+    return labels, number[root], int(ordered.size)
+
+
+def label_periodic(image: np.ndarray) -> tuple[np.ndarray, int]:
+    """4-connected labels of the 1-pixels of a periodic 2D image.
+
+    Returns ``(labels, n)``: ``labels`` is 0 on background and 1..n on fragments, numbered in
+    raster order of their first pixel.
+    """
+    labels, number, n = _periodic_numbers(image)
+    return number[labels], n
 
 
 def fragment_areas(image: np.ndarray, spacing: float) -> np.ndarray:
     """Areas of the fragments of a periodic paste image (pixel count x spacing^2), in the
-    numbering of :func:`label_periodic`."""
-    labels, n = label_periodic(image)
-    counts = np.bincount(labels.ravel(), minlength=n + 1)[1:]
-    return counts * float(spacing) ** 2
+    numbering of :func:`label_periodic` (pixels counted per plain label, then per fragment)."""
+    labels, number, n = _periodic_numbers(image)
+    counts = np.bincount(labels.ravel(), minlength=number.size)
+    return np.bincount(number, weights=counts, minlength=n + 1)[1:] * float(spacing) ** 2

@@ -17,10 +17,10 @@ no wasted distance tests, and each row is written by one thread only.
 A binary image :math:`\phi \ge \phi_0` (:func:`mesh_image`) needs the sum only where
 :math:`\phi` can cross :math:`\phi_0`. The mesh is cut into square blocks (side
 ``BLOCK_SIDE`` x s); since W does not increase with r, the sum of :math:`V_J W` at each
-particle's farthest point of a block bounds :math:`\phi` on the block from below, and a block
-no particle's support reaches has :math:`\phi = 0`. Blocks whose lower bound clears
-:math:`\phi_0` (by ``ROUNDING``, far above the round-off of either sum) are paste, blocks out of
-reach are crack, and only the rest, near cracks and removed particles, are summed, point by
+particle's farthest point of a block bounds :math:`\phi` on the block from below, and at its
+nearest point from above. Blocks whose lower bound clears :math:`\phi_0` (by ``ROUNDING``, far
+above the round-off of either sum) are paste, blocks whose upper bound stays under it are
+crack, and only the rest, along the edges of cracks and removed particles, are summed, point by
 point exactly as for the whole field: the same terms in the same order, so the same bits.
 """
 
@@ -39,6 +39,7 @@ BLOCK_SIDE = 0.04
 # Bounds and field are sums of O(100) terms of O(1) rounded to 1e-16 each: a block is certainly
 # above (below) the level only with this margin.
 ROUNDING = 1e-9
+TABLE = 16384  # points of the table of W in r^2 the block bounds read
 
 
 @njit(inline="always", cache=True)
@@ -81,10 +82,11 @@ def _add_row_range(acc, next_need, next_free, block, x, y, value, order, lo, hi,
 
 
 @njit(parallel=True, cache=True)
-def _mesh_sum_rows(x, y, value, order, y_sorted, length, s, kind, n_mesh, spacing, need, block):
+def _mesh_sum_rows(x, y, value, order, y_sorted, length, s, kind, n_mesh, spacing, need, block,
+                   above, level, field, image):
     """The field on the mesh points of the blocks (``block`` x ``block`` points) where ``need``
-    is set, 0 elsewhere."""
-    out = np.zeros((n_mesh, n_mesh))
+    is set, into ``field`` (0 elsewhere) unless it is empty, and the image into ``image`` unless
+    it is empty: 1 in the blocks ``above``, field >= level in those summed, 0 elsewhere."""
     n = order.size
     n_block = need.shape[1]
     for j in prange(n_mesh):
@@ -95,43 +97,53 @@ def _mesh_sum_rows(x, y, value, order, y_sorted, length, s, kind, n_mesh, spacin
             needed = need[j // block, b]
             next_need[b] = b if needed else next_need[b + 1]
             next_free[b] = next_free[b + 1] if needed else b
-        if next_need[0] == n_block:
-            continue
-        py = j * spacing
-        acc = out[j]
-        lo_y, hi_y = py - s, py + s
-        # The strip [py - s, py + s) wrapped into [0, L): one or two index ranges.
-        if lo_y < 0.0:
-            a = np.searchsorted(y_sorted, lo_y + length)
-            _add_row_range(acc, next_need, next_free, block, x, y, value, order, a, n, py,
+        acc = np.zeros(n_mesh)
+        if next_need[0] < n_block:
+            py = j * spacing
+            lo_y, hi_y = py - s, py + s
+            # The strip [py - s, py + s) wrapped into [0, L): one or two index ranges.
+            if lo_y < 0.0:
+                a = np.searchsorted(y_sorted, lo_y + length)
+                _add_row_range(acc, next_need, next_free, block, x, y, value, order, a, n, py,
+                               length, s, kind, n_mesh, spacing)
+                lo_y = 0.0
+            if hi_y > length:
+                b = np.searchsorted(y_sorted, hi_y - length, side="right")
+                _add_row_range(acc, next_need, next_free, block, x, y, value, order, 0, b, py,
+                               length, s, kind, n_mesh, spacing)
+                hi_y = length
+            a = np.searchsorted(y_sorted, lo_y)
+            b = np.searchsorted(y_sorted, hi_y, side="right")
+            _add_row_range(acc, next_need, next_free, block, x, y, value, order, a, b, py,
                            length, s, kind, n_mesh, spacing)
-            lo_y = 0.0
-        if hi_y > length:
-            b = np.searchsorted(y_sorted, hi_y - length, side="right")
-            _add_row_range(acc, next_need, next_free, block, x, y, value, order, 0, b, py,
-                           length, s, kind, n_mesh, spacing)
-            hi_y = length
-        a = np.searchsorted(y_sorted, lo_y)
-        b = np.searchsorted(y_sorted, hi_y, side="right")
-        _add_row_range(acc, next_need, next_free, block, x, y, value, order, a, b, py, length,
-                       s, kind, n_mesh, spacing)
-    return out
+        if field.size:
+            field[j] = acc
+        if image.size:
+            bj = j // block
+            for bi in range(n_block):
+                for i in range(bi * block, min(bi * block + block, n_mesh)):
+                    image[j, i] = above[bj, bi] or (need[bj, bi] and acc[i] >= level)
 
 
 @njit(parallel=True, cache=True)
 def _block_bounds(x, y, value, order, y_sorted, length, s, kind, n_mesh, spacing, block):
-    """For each block of ``block`` x ``block`` mesh points: a lower bound of the field on it
-    (the sum of value W at each particle's farthest point of the block, W not increasing with
-    r) and whether any particle lies within the support of it. Each block row visits the
-    particles of its strip (sorted by y) and, for each, the blocks within the support. Every
-    block is given the size of a whole one (the last one may be smaller): the bounds stay
-    bounds."""
+    """Lower and upper bounds of the field over each block of ``block`` x ``block`` mesh
+    points: the sums of value W at each particle's farthest and nearest point of the block (W
+    does not increase with r), with W read from a table in r^2 at the grid point beyond (lower)
+    or before (upper). Each block row visits the particles of its strip (sorted by y) and, for
+    each, the blocks within the support. Every block is given the size of a whole one (the last
+    one may be smaller): the bounds stay bounds."""
     n = order.size
     n_block = (n_mesh + block - 1) // block
     width = block * spacing
     h = 0.5 * (block - 1) * spacing  # half-width of a block's points
+    table = np.empty(TABLE + 1)
+    for k in range(TABLE + 1):
+        table[k] = kernel_w(kind, s * np.sqrt(k / TABLE), s, 2)
+    table[TABLE] = 0.0
+    per_r2 = TABLE / (s * s)
     lower = np.zeros((n_block, n_block))
-    touched = np.zeros((n_block, n_block), np.bool_)
+    upper = np.zeros((n_block, n_block))
     for bj in prange(n_block):
         yc = bj * width + h
         if 2.0 * (h + s) >= length:
@@ -140,9 +152,10 @@ def _block_bounds(x, y, value, order, y_sorted, length, s, kind, n_mesh, spacing
             a = np.searchsorted(y_sorted, (yc - h - s) % length)
             count = (np.searchsorted(y_sorted, (yc + h + s) % length, side="right") - a) % n
         lo = lower[bj]
-        near = touched[bj]
+        up = upper[bj]
         for t in range(count):
             q = order[(a + t) % n]
+            vq = value[q]
             dy = abs(minimum_image(y[q] - yc, length))
             near_y = max(dy - h, 0.0)
             if near_y >= s:
@@ -156,24 +169,13 @@ def _block_bounds(x, y, value, order, y_sorted, length, s, kind, n_mesh, spacing
                 bi = b + n_block if b < 0 else (b - n_block if b >= n_block else b)
                 dx = abs(minimum_image(x[q] - bi * width - h, length))
                 near_x = max(dx - h, 0.0)
-                if near_x * near_x + near_y * near_y < s * s:
-                    near[bi] = True
-                    far2 = (dx + h) * (dx + h) + far_y2
-                    if far2 < s * s:
-                        lo[bi] += value[q] * kernel_w(kind, np.sqrt(far2), s, 2)
-    return lower, touched
-
-
-@njit(parallel=True, cache=True)
-def _threshold(field, above, need, block, level):
-    """The image: 1 in the blocks above the level, field >= level in the blocks summed."""
-    n_mesh = field.shape[0]
-    image = np.zeros((n_mesh, n_mesh), np.bool_)
-    for j in prange(n_mesh):
-        for i in range(n_mesh):
-            b = (j // block, i // block)
-            image[j, i] = above[b] or (need[b] and field[j, i] >= level)
-    return image
+                near = (near_x * near_x + near_y * near_y) * per_r2
+                if near < TABLE:
+                    up[bi] += vq * table[int(near)]
+                    far = ((dx + h) * (dx + h) + far_y2) * per_r2
+                    if far < TABLE:
+                        lo[bi] += vq * table[int(np.ceil(far))]
+    return lower, upper
 
 
 def _prepare(x, y, value, box_length, support, spacing, active):
@@ -202,9 +204,12 @@ def mesh_field(x: np.ndarray, y: np.ndarray, value: np.ndarray, box_length: floa
     """
     xw, yw, value, order, n_mesh, spacing = _prepare(x, y, value, box_length, support, spacing,
                                                      active)
-    return _mesh_sum_rows(xw, yw, value, order, yw[order], float(box_length), float(support),
-                          kernel_kind(kernel), n_mesh, spacing, np.ones((1, 1), np.bool_),
-                          n_mesh)
+    field = np.empty((n_mesh, n_mesh))
+    whole = np.ones((1, 1), np.bool_)
+    _mesh_sum_rows(xw, yw, value, order, yw[order], float(box_length), float(support),
+                   kernel_kind(kernel), n_mesh, spacing, whole, n_mesh, ~whole, 0.0, field,
+                   np.empty((0, 0), np.bool_))
+    return field
 
 
 def mesh_image(x: np.ndarray, y: np.ndarray, value: np.ndarray, box_length: float,
@@ -219,13 +224,14 @@ def mesh_image(x: np.ndarray, y: np.ndarray, value: np.ndarray, box_length: floa
     if block < 3:  # blocks of a point or two: bounding them costs as much as the sum
         above, need, block = np.zeros((1, 1), np.bool_), np.ones((1, 1), np.bool_), n_mesh
     else:
-        lower, touched = _block_bounds(xw, yw, value, order, yw[order], length, s, kind, n_mesh,
-                                       spacing, block)
+        lower, upper = _block_bounds(xw, yw, value, order, yw[order], length, s, kind, n_mesh,
+                                     spacing, block)
         above = lower >= level + ROUNDING
-        need = touched & ~above if level > 0.0 else ~above  # untouched: the field is 0 there
-    field = _mesh_sum_rows(xw, yw, value, order, yw[order], length, s, kind, n_mesh, spacing,
-                           need, block)
-    return _threshold(field, above, need, block, level)
+        need = ~above & (upper >= level - ROUNDING)
+    image = np.empty((n_mesh, n_mesh), np.bool_)
+    _mesh_sum_rows(xw, yw, value, order, yw[order], length, s, kind, n_mesh, spacing, need, block,
+                   above, level, np.empty((0, 0)), image)
+    return image
 
 
 def mesh_spacing(box_length: float, spacing: float) -> float:
