@@ -103,3 +103,29 @@ def test_mesh_field_equals_the_reference_bit_for_bit():
         np.testing.assert_array_equal(mesh_field(x, y, volume, L2, H2, spacing, active=alive),
                                       reference_field(x, y, volume, L2, H2, spacing,
                                                       active=alive))
+
+
+def test_mesh_image_of_a_cracked_run_equals_the_field_summed_everywhere(tmp_path, make_scene):
+    """The same on the snapshots of a real run: an RSA paste of L = 1 dried until it cracks
+    (removals from t = 2.5), every snapshot at the scene's threshold and spacings 0.01 h and
+    0.02 h."""
+    from craquelure.drying.api import run
+    from craquelure.drying.initial_state import build_initial_state
+    from craquelure.io import open_dataset, write_dataset
+
+    scene = make_scene(particles={"placement": "rsa"}, material={"drying_rate": 2e-3},
+                       outputs={"t_end": 3.2, "times": [2.0, 2.8, 3.2]})
+    write_dataset(build_initial_state(scene, 4), tmp_path / "state.nc")
+    ds = open_dataset(run(scene, tmp_path / "run.nc", init=tmp_path / "state.nc"))
+    length, h = float(ds.attrs["box_length"]), float(ds.attrs["h"])
+    assert int((ds["alive"].values[-1] == 0).sum()) > 0  # cracked
+    for k in range(ds.sizes["time"]):
+        snap = ds.isel(time=k)
+        alive = snap["alive"].values.astype(bool)
+        volume = np.where(alive, snap["mass"].values / snap["rho"].values, 0.0)
+        for spacing_h in (0.01, 0.02):
+            args = (snap["x"].values, snap["y"].values, volume, length, h, spacing_h * h)
+            expected = reference_field(*args, active=alive) >= 0.8
+            np.testing.assert_array_equal(mesh_image(*args, "quintic", 0.8, active=alive),
+                                          expected)
+    assert not expected.all()  # the cracks show in the last image
