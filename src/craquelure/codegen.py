@@ -19,6 +19,15 @@ a new module and a fresh numba cache. It is written atomically (temporary name, 
 Snakemake jobs that generate the same module at once never read half a file, and
 ``@njit(cache=True)`` caches the machine code beside it for later processes. Generated modules
 live under ``$CRAQUELURE_CACHE`` (default ``~/.cache/craquelure``), one folder per engine.
+
+Every process runs the cached machine code, the one that compiled it included: a kernel whose
+signature is not in the cache yet is compiled in a child process, and then loaded from the cache.
+Numba links each callee (a ``prange`` loop's gufunc, a called kernel) into its caller as a weak
+copy optimised again inside the caller, and the JIT resolves a weak symbol to its first
+definition: the compiling process runs the callees' own copies, loaded first, while a process
+that loads the caller from the cache runs the copies inside it. Where a kernel reassociates sums
+(``fastmath`` ``reassoc``) the two copies round differently, so a run that compiled and a run
+that loaded the cache would differ in their last bits.
 """
 
 from __future__ import annotations
@@ -27,12 +36,17 @@ import hashlib
 import importlib
 import importlib.util
 import os
+import pickle
 import re
+import subprocess
 import sys
 from collections.abc import Iterable, Mapping
 from functools import cache
 from pathlib import Path
 from types import ModuleType
+
+from numba.core.caching import FunctionCache
+from numba.core.dispatcher import Dispatcher
 
 from craquelure.threads import single_threaded_libraries
 
@@ -61,11 +75,48 @@ def import_generated(source: str, module_name: str, path: Path) -> ModuleType:
         tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
         tmp.write_text(source)
         os.replace(tmp, path)
+    module = _load_module(module_name, path)
+    for value in vars(module).values():
+        if (isinstance(value, Dispatcher) and value.__module__ == module_name
+                and isinstance(value._cache, FunctionCache)):
+            value.compile = _compile_via_cache(value, module_name, path)
+    return module
+
+
+def _load_module(module_name: str, path: Path) -> ModuleType:
     spec = importlib.util.spec_from_file_location(module_name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[module_name] = module
     spec.loader.exec_module(module)
     return module
+
+
+def _compile_via_cache(kernel: Dispatcher, module_name: str, path: Path):
+    """``kernel.compile`` that compiles a signature missing from the numba cache in a child
+    process (:func:`compile_child`) and then loads it from the cache (module docstring)."""
+    compile_here = kernel.compile
+
+    def compile(sig):
+        cache = kernel._cache
+        key = cache._index_key(sig, kernel.targetctx.codegen())
+        if key not in cache._cache_file._load_index():
+            job = pickle.dumps((sys.path, module_name, str(path), kernel.__name__, sig))
+            subprocess.run([sys.executable, "-c", _CHILD], input=job, check=False)
+        return compile_here(sig)  # loads from the cache (compiles here if the child failed)
+
+    return compile
+
+
+# the child takes the parent's sys.path before it imports craquelure
+_CHILD = ("import pickle, sys; job = pickle.load(sys.stdin.buffer); sys.path[:] = job[0]; "
+          "from craquelure import codegen; codegen.compile_child(*job[1:])")
+
+
+def compile_child(module_name: str, path: str, name: str, sig) -> None:
+    """In the child process: compile kernel ``name`` of a generated module for ``sig`` into the
+    numba cache."""
+    single_threaded_libraries()
+    getattr(_load_module(module_name, Path(path)), name).compile(sig)
 
 
 def effect_flags(model: str, effects: Iterable[str]) -> dict[str, bool]:

@@ -6,11 +6,9 @@ import pytest
 from skimage.measure import label as sk_label
 
 from craquelure.drying.binarise import (
-    binarise,
     edge_depth,
     fragment_areas,
     label_periodic,
-    phi_field,
     snapshot_image,
 )
 from craquelure.drying.field import mesh_field
@@ -55,7 +53,7 @@ def test_intact_lattice_is_all_paste():
     assert image.all()
     assert spacing == pytest.approx(0.01)
     volume = np.full(N_SIDE**2, DELTA**2)
-    phi = phi_field(run["x"].values[0], run["y"].values[0], volume, L, H, 0.01, "quintic")
+    phi = mesh_field(run["x"].values[0], run["y"].values[0], volume, L, H, 0.01, "quintic")
     assert np.abs(phi - 1.0).max() < 1e-4
 
 
@@ -131,11 +129,6 @@ def test_mesh_refinement_converges_areas():
     widths = np.array([0.6, 0.8]) - 2 * d_star
     predicted = np.sort(np.outer(widths, widths).ravel())
     np.testing.assert_allclose(ref, predicted, atol=4 * d_star**2 + perimeter * ref_spacing)
-
-
-def test_binarise_threshold():
-    phi = np.array([0.79, 0.8, 0.81])
-    assert binarise(phi, 0.8).tolist() == [False, True, True]
 
 
 # --- fragments: periodic labelling (check 13) ----------------------------------------------
