@@ -12,20 +12,27 @@ sigma_e xx, yy, xy. Two pair passes per evaluation:
 2. momentum :math:`\dot v^I_a = \sum_J m_J (\sigma^I_{ab}/\rho_I^2 + \sigma^J_{ab}/\rho_J^2)\,
    \partial_b W_{IJ} - \mu u^I_a/(H^2\rho^I)`.
 
-Pairs come from a CSR Verlet list (radius h + skin); pairs beyond h contribute exactly 0.
-Removed particles (``alive == 0``) have zero mass and zero rates.
+Pairs come from a cluster-pair structure (:func:`~craquelure.sph.neighbours.cluster_pairs`,
+Verlet radius h + skin): clusters of LANES spatially close particles, each with the list of
+every J near one of its members. An evaluation copies the state to slot order once
+(``to_clusters``); for each cluster the pair loops hold its members in contiguous lanes and
+broadcast each listed J to all of them, so every load is contiguous or a scalar broadcast (no
+gather of neighbour data), and write the rates back in particle order. A lane farther than h
+from J is a masked visit and adds exactly 0, as do removed particles (``alive == 0``: zero mass,
+zero rates) and empty slots. Each particle's sums run over its cluster's J in list order, one
+lane each, so the results do not depend on the thread count.
 
-The pair loops are written for LLVM's loop vectoriser (issue 28; measured by
-benchmarks/drying_roofline.py): no branch in the loop body (the branch-free quintic
-:func:`~craquelure.sph.kernels.kernel_w_g` from r^2, 0 beyond the support and g = 0 at r = 0), no
-per-pair store (pass 2 recomputes dW/dr / r: a store next to the gathers cannot be proven free
-of aliasing and blocks vectorisation), an unsigned loop index (a signed one makes numba's
-negative-index wraparound, which LLVM turns into a gather of the index array), the minimum image
-by multiplication with 1/L, numpy's error model (no ZeroDivisionError branch: a division by zero
-gives inf/NaN, which the engine's guards stop) and reassociated sums (``PAIR_FASTMATH``; the
-sums' order, hence their last bits, depends on the vector width). Particles are in cell order
-(the initial state sorts them, :mod:`craquelure.drying.initial_state`), so the gathers of a
-particle's neighbours hit few cache lines.
+The lane loops are written for LLVM's loop vectoriser (measured by
+benchmarks/drying_roofline.py): no branch in the body (the branch-free quintic
+:func:`~craquelure.sph.kernels.kernel_w_g`, 0 beyond the support and g = 0 at r = 0), the
+cluster's sums and its lanes' values in one local buffer (a loop of LANES iterations is only
+vectorised without run-time alias checks, and LLVM proves rows of one buffer apart), pass 2
+recomputing dW/dr / r (a per-pair store to another array would need such a check), an unsigned
+list index (a signed one gets numba's negative-index wraparound), the minimum image by
+multiplication with 1/L, numpy's error model (no ZeroDivisionError branch: a division by zero
+gives inf/NaN, which the engine's guards stop), one division for 1/r and XSPH's
+1/(rho_I + rho_J), and ``PAIR_FASTMATH`` (contraction to FMA; the sums' grouping, hence their
+last bits, is the compiler's).
 """
 
 import numpy as np
@@ -40,7 +47,7 @@ from craquelure.drying.effects.substrate import substrate_acceleration
 from craquelure.drying.effects.viscosity import viscous_stress
 from craquelure.drying.effects.xsph import xsph_pair
 from craquelure.periodic import minimum_image_inv
-from craquelure.sph.kernels import kernel_w_g
+from craquelure.sph.kernels import QUINTIC, kernel_w_g, quintic_w_g_r
 
 # BEGIN FLAGS
 CONTINUITY = True
@@ -70,9 +77,10 @@ P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = param_
 
 PAIR_OPTIONS = dict(parallel=True, cache=True, fastmath=PAIR_FASTMATH, error_model="numpy")
 
-LANES = 8 
+LANES = 8  # particles of a cluster, one per SIMD lane (8 doubles: AVX-512)
 # rows of the cluster-ordered copy of the state (pass 1's J data) and of pass 1's sums
 C_X, C_Y, C_VX, C_VY, C_RHO, C_M = range(6)
+# pass 1's pair sums, then (from row B) the lanes' own values
 A_LXX, A_LXY, A_LYX, A_LYY, A_HX, A_HY, A_MXX, A_MXY, A_MYX, A_MYY = range(10)
 B = 10
 
@@ -143,25 +151,30 @@ def gradient_pass(c, state, t, alive, perm, start, jlist, p, out, stress, scaled
             vyj = c[C_VY, j]
             rhoj = c[C_RHO, j]
             mj = c[C_M, j]
+            vj = mj / rhoj
             # one J against the cluster's lanes, branch-free (vectorised by LLVM over the
             # lanes, contiguous loads): pairs beyond the support and coincident particles
             # have w = g = 0 and add exactly 0
             for m in range(LANES):
                 dx = minimum_image_inv(buf[(B + C_X) * LANES + m] - xj, box, inv_box)
                 dy = minimum_image_inv(buf[(B + C_Y) * LANES + m] - yj, box, inv_box)
-                w, g = kernel_w_g(KERNEL, dx * dx + dy * dy, s, inv_s)
+                r2 = dx * dx + dy * dy
+                rsum = buf[(B + C_RHO) * LANES + m] + rhoj
+                if XSPH and KERNEL == QUINTIC:
+                    # one division gives 1/r and XSPH's 1/(rho_I + rho_J)
+                    r = np.sqrt(r2 if r2 > 1e-300 else 1e-300)
+                    q = 1.0 / (r * rsum)
+                    w, g = quintic_w_g_r(r, rsum * q, inv_s)
+                    inv_sum = r * q
+                else:
+                    w, g = kernel_w_g(KERNEL, r2, s, inv_s)
+                    inv_sum = 1.0 / rsum
                 dvx = vxj - buf[(B + C_VX) * LANES + m]
                 dvy = vyj - buf[(B + C_VY) * LANES + m]
                 if XSPH:
-                    # one division gives V_J = m_J/rho_J and 1/(rho_I + rho_J) for XSPH
-                    rsum = buf[(B + C_RHO) * LANES + m] + rhoj
-                    dinv = 1.0 / (rhoj * rsum)
-                    vj = mj * (rsum * dinv)
-                    cx, cy = xsph_pair(mj, rhoj * dinv, dvx, dvy, w)
+                    cx, cy = xsph_pair(mj, inv_sum, dvx, dvy, w)
                     buf[A_HX * LANES + m] += cx
                     buf[A_HY * LANES + m] += cy
-                else:
-                    vj = mj / rhoj
                 f = vj * g
                 gx = f * dx
                 gy = f * dy
