@@ -79,7 +79,7 @@ PAIR_OPTIONS = dict(parallel=True, cache=True, fastmath=PAIR_FASTMATH, error_mod
 
 LANES = 8  # particles of a cluster, one per SIMD lane (8 doubles: AVX-512)
 # rows of the cluster-ordered copy of the state (pass 1's J data) and of pass 1's sums
-C_X, C_Y, C_VX, C_VY, C_RHO, C_M = range(6)
+C_X, C_Y, C_VX, C_VY, C_RHO, C_M, C_V = range(7)
 # pass 1's pair sums, then (from row B) the lanes' own values
 A_LXX, A_LXY, A_LYX, A_LYY, A_HX, A_HY, A_MXX, A_MXY, A_MYX, A_MYY = range(10)
 B = 10
@@ -90,7 +90,7 @@ def rate(state, t, mass, alive, x0, y0, pairs, p, out, stress):
     """Fill ``out`` (NVAR, N) with dY/dt and ``stress`` (3, N) with the total stress.
     ``pairs`` is the :class:`~craquelure.sph.neighbours.ClusterPairs` of width LANES."""
     perm, start, jlist, outside = pairs
-    c = np.empty((6, perm.size))
+    c = np.empty((7, perm.size))
     scaled = np.empty((3, perm.size))
     to_clusters(state, mass, perm, c)
     for i in outside:
@@ -115,6 +115,7 @@ def to_clusters(state, mass, perm, c):
             c[C_VY, s] = state[VY, i]
             c[C_RHO, s] = state[RHO, i]
             c[C_M, s] = mass[i]
+            c[C_V, s] = mass[i] / state[RHO, i]
         else:
             c[C_X, s] = 0.0
             c[C_Y, s] = 0.0
@@ -122,6 +123,7 @@ def to_clusters(state, mass, perm, c):
             c[C_VY, s] = 0.0
             c[C_RHO, s] = 1.0
             c[C_M, s] = 0.0
+            c[C_V, s] = 0.0
 
 
 @njit(**PAIR_OPTIONS)
@@ -151,7 +153,7 @@ def gradient_pass(c, state, t, alive, perm, start, jlist, p, out, stress, scaled
             vyj = c[C_VY, j]
             rhoj = c[C_RHO, j]
             mj = c[C_M, j]
-            vj = mj / rhoj
+            vj = c[C_V, j]
             # one J against the cluster's lanes, branch-free (vectorised by LLVM over the
             # lanes, contiguous loads): pairs beyond the support and coincident particles
             # have w = g = 0 and add exactly 0
