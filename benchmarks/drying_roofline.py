@@ -338,7 +338,7 @@ def main() -> None:
                 times[name, threads] = min(times.get((name, threads), np.inf), t)
     numba.set_num_threads(1)
     perm, start, jlist, _ = engine.pairs
-    c = np.empty((6, perm.size))
+    c = np.empty((mod.NC, perm.size))
     scaled = np.empty((3, perm.size))
     mod.to_clusters(st, engine.mass, perm, c)
     t_p1 = cpu_time(lambda: mod.gradient_pass(c, st, 50.0, engine.alive, perm, start, jlist,

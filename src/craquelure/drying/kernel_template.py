@@ -78,8 +78,9 @@ P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = param_
 PAIR_OPTIONS = dict(parallel=True, cache=True, fastmath=PAIR_FASTMATH, error_model="numpy")
 
 LANES = 8  # particles of a cluster, one per SIMD lane (8 doubles: AVX-512)
-# rows of the cluster-ordered copy of the state (pass 1's J data) and of pass 1's sums
+# rows of the slot-order copy of the state the pair loops read (V = m/rho)
 C_X, C_Y, C_VX, C_VY, C_RHO, C_M, C_V = range(7)
+NC = 7
 # pass 1's pair sums, then (from row B) the lanes' own values
 A_LXX, A_LXY, A_LYX, A_LYY, A_HX, A_HY, A_MXX, A_MXY, A_MYX, A_MYY = range(10)
 B = 10
@@ -90,7 +91,7 @@ def rate(state, t, mass, alive, x0, y0, pairs, p, out, stress):
     """Fill ``out`` (NVAR, N) with dY/dt and ``stress`` (3, N) with the total stress.
     ``pairs`` is the :class:`~craquelure.sph.neighbours.ClusterPairs` of width LANES."""
     perm, start, jlist, outside = pairs
-    c = np.empty((7, perm.size))
+    c = np.empty((NC, perm.size))
     scaled = np.empty((3, perm.size))
     to_clusters(state, mass, perm, c)
     for i in outside:
@@ -105,7 +106,7 @@ def rate(state, t, mass, alive, x0, y0, pairs, p, out, stress):
 
 @njit(**PAIR_OPTIONS)
 def to_clusters(state, mass, perm, c):
-    """The rows pass 1 reads of J, in slot order (empty slots: at rest, rho 1, no mass)."""
+    """The rows the pair loops read, in slot order (empty slots: at rest, rho 1, no mass)."""
     for s in prange(perm.size):
         i = perm[s]
         if i >= 0:
