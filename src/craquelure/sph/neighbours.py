@@ -200,34 +200,6 @@ class ClusterPairs(NamedTuple):
     outside: np.ndarray
 
 
-@njit(cache=True)
-def _column_slots(x, y, active, lo_x, lo_y, lx, ly, ncol, periodic, width):
-    """Slots of the active particles: sorted by column, then by y; each column padded with
-    -1 to a multiple of ``width``."""
-    idx = np.flatnonzero(active)
-    col = np.empty(idx.size, np.int64)
-    key = np.empty(idx.size)
-    for a in range(idx.size):
-        i = idx[a]
-        col[a] = _cell_coord(x[i], lo_x, lx, ncol, periodic)
-        v = y[i] - lo_y
-        key[a] = v - ly * np.floor(v / ly) if periodic else v
-        key[a] += col[a] * 2.0 * ly + ly  # columns apart, whatever y (open box: y >= lo - ly)
-    order = idx[np.argsort(key, kind="mergesort")]
-    count = np.zeros(ncol, np.int64)
-    for a in range(idx.size):
-        count[col[a]] += 1
-    padded = (count + width - 1) // width * width
-    perm = np.full(padded.sum(), -1, np.int64)
-    s = 0
-    a = 0
-    for c in range(ncol):
-        perm[s:s + count[c]] = order[a:a + count[c]]
-        a += count[c]
-        s += padded[c]
-    return perm
-
-
 @njit(parallel=True, cache=True)
 def _cluster_scan(perm, slot, offsets, index, width, start, jlist, fill):
     """Union of the members' neighbour rows per cluster, as slots: counted into start[c + 1]
@@ -267,8 +239,19 @@ def cluster_pairs(x: np.ndarray, y: np.ndarray, radius: float, box: Box, width: 
     n_active = max(int(active.sum()), 1)
     # square clusters: a column as wide as a cluster of `width` particles at the mean density
     ncol = max(1, round(box.length_x / np.sqrt(width * box.length_x * box.length_y / n_active)))
-    perm = _column_slots(x, y, active, box.lo_x, box.lo_y, box.length_x, box.length_y, ncol,
-                         box.periodic, width)
+    # slots: by column, then by y; each column padded with -1 to a multiple of width
+    col, _, _ = bin_particles(x, y, active, box.lo_x, box.lo_y, box.length_x, box.length_y,
+                              ncol, 1, box.periodic)
+    yw = y - box.lo_y
+    if box.periodic:
+        yw -= box.length_y * np.floor(yw / box.length_y)
+    order = np.flatnonzero(active)
+    order = order[np.lexsort((yw[order], col[order]))]
+    count = np.bincount(col[order], minlength=ncol)
+    padded = -(-count // width) * width
+    first = np.cumsum(padded) - padded
+    perm = np.full(padded.sum(), -1, np.int64)
+    perm[np.repeat(first - (np.cumsum(count) - count), count) + np.arange(order.size)] = order
     slot = np.full(x.size, -1, np.int64)
     real = perm >= 0
     slot[perm[real]] = np.flatnonzero(real)
