@@ -197,10 +197,6 @@ def gradient_pass(c, state, t, alive, perm, start, jlist, p, out, stress, scaled
             if i >= 0:
                 particle_rates(state, t, alive, p, buf[m::LANES], i, base + m, out, stress,
                                scaled)
-            else:  # an empty slot's lane adds m = 0 times its S to pass 2's J sums
-                scaled[0, base + m] = 0.0
-                scaled[1, base + m] = 0.0
-                scaled[2, base + m] = 0.0
 
 
 @njit(inline="always", cache=True)
