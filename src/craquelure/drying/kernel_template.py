@@ -272,9 +272,7 @@ def momentum_pass(c, state, alive, x0, y0, perm, start, jlist, p, scaled, out):
     acc = np.empty((CHUNKS + 1, 2, perm.size))  # lanes' sums, then each run's J parts
     for ch in prange(CHUNKS):
         jacc = acc[1 + ch]
-        for q in range(perm.size):
-            jacc[0, q] = 0.0
-            jacc[1, q] = 0.0
+        jacc[:, :] = 0.0
         buf = np.empty(8 * LANES)  # sums (rows 0, 1) and lane values (rows 2-7), as pass 1
         for cl in range(ch * nclus // CHUNKS, (ch + 1) * nclus // CHUNKS):
             base = cl * LANES
