@@ -19,8 +19,8 @@ every J near one of its members. An evaluation copies the state to slot order on
 broadcast each listed J to all of them, so every load is contiguous or a scalar broadcast (no
 gather of neighbour data), and write the rates back in particle order. A lane farther than h
 from J is a masked visit and adds exactly 0, as do removed particles (``alive == 0``: zero mass,
-zero rates) and empty slots. Pass 2 takes each pair once (``momentum_pass``). Every sum runs
-in a fixed order, so the results do not depend on the thread count.
+zero rates) and empty slots. Each particle's sums run over its cluster's J in list order, one
+lane each, so the results do not depend on the thread count.
 
 The lane loops are written for LLVM's loop vectoriser (measured by
 benchmarks/drying_roofline.py): no branch in the body (the branch-free quintic
