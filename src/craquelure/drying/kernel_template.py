@@ -78,7 +78,6 @@ P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = param_
 PAIR_OPTIONS = dict(parallel=True, cache=True, fastmath=PAIR_FASTMATH, error_model="numpy")
 
 LANES = 8  # particles of a cluster, one per SIMD lane (8 doubles: AVX-512)
-CHUNKS = 2  # fixed runs of clusters of pass 2 (momentum_pass)
 # rows of the slot-order copy of the state the pair loops read (V = m/rho)
 C_X, C_Y, C_VX, C_VY, C_RHO, C_M, C_V = range(7)
 NC = 7
@@ -258,82 +257,55 @@ def particle_rates(state, t, alive, p, a, i, slot, out, stress, scaled):
 
 @njit(**PAIR_OPTIONS)
 def momentum_pass(c, state, alive, x0, y0, perm, start, jlist, p, scaled, out):
-    """Pass 2: the velocity rate (pairwise antisymmetric momentum sum + substrate). Each pair
-    once: a cluster visits its list from its own first slot on (the list is ascending) and
-    adds to J, m_I (S_I + S_J) grad_J W = -m_I/m_J times its own term (S = sigma/rho^2), as a
-    sum over the lanes. The runs of clusters (CHUNKS, fixed) add their J parts into rows of
-    their own, summed in run order per particle: the result does not depend on the thread
-    count."""
+    """Pass 2: the velocity rate (pairwise antisymmetric momentum sum + substrate)."""
     s = p[P_SUPPORT]
     inv_s = 1.0 / s
     box = p[P_BOX]
     inv_box = 1.0 / box
-    nclus = perm.size // LANES
-    acc = np.empty((CHUNKS + 1, 2, perm.size))  # lanes' sums, then each run's J parts
-    for ch in prange(CHUNKS):
-        jacc = acc[1 + ch]
-        jacc[:, :] = 0.0
-        buf = np.empty(8 * LANES)  # sums (rows 0, 1) and lane values (rows 2-7), as pass 1
-        for cl in range(ch * nclus // CHUNKS, (ch + 1) * nclus // CHUNKS):
-            base = cl * LANES
+    for cl in prange(perm.size // LANES):
+        base = cl * LANES
+        buf = np.empty(7 * LANES)  # sums (rows 0, 1) and lane values (rows 2-6), as pass 1
+        for m in range(LANES):
+            buf[m] = 0.0
+            buf[LANES + m] = 0.0
+            buf[2 * LANES + m] = c[C_X, base + m]
+            buf[3 * LANES + m] = c[C_Y, base + m]
+            buf[4 * LANES + m] = scaled[0, base + m]
+            buf[5 * LANES + m] = scaled[1, base + m]
+            buf[6 * LANES + m] = scaled[2, base + m]
+        for k in range(np.uint64(start[cl]), np.uint64(start[cl + 1])):
+            j = jlist[k]
+            xj = c[C_X, j]
+            yj = c[C_Y, j]
+            mj = c[C_M, j]
+            sxxj = scaled[0, j]
+            syyj = scaled[1, j]
+            sxyj = scaled[2, j]
             for m in range(LANES):
-                buf[m] = 0.0
-                buf[LANES + m] = 0.0
-                buf[2 * LANES + m] = c[C_X, base + m]
-                buf[3 * LANES + m] = c[C_Y, base + m]
-                buf[4 * LANES + m] = scaled[0, base + m]
-                buf[5 * LANES + m] = scaled[1, base + m]
-                buf[6 * LANES + m] = scaled[2, base + m]
-                buf[7 * LANES + m] = c[C_M, base + m]
-            first = start[cl]
-            while first < start[cl + 1] and jlist[first] < base:
-                first += 1
-            for k in range(np.uint64(first), np.uint64(start[cl + 1])):
-                j = jlist[k]
-                xj = c[C_X, j]
-                yj = c[C_Y, j]
-                mj = c[C_M, j]
-                sxxj = scaled[0, j]
-                syyj = scaled[1, j]
-                sxyj = scaled[2, j]
-                ax = 0.0
-                ay = 0.0
-                for m in range(LANES):
-                    dx = minimum_image_inv(buf[2 * LANES + m] - xj, box, inv_box)
-                    dy = minimum_image_inv(buf[3 * LANES + m] - yj, box, inv_box)
-                    # g recomputed, not stored by pass 1 (a per-pair store costs more memory
-                    # traffic than the arithmetic)
-                    _, g = kernel_w_g(KERNEL, dx * dx + dy * dy, s, inv_s)
-                    gx = g * dx
-                    gy = g * dy
-                    txx = buf[4 * LANES + m] + sxxj
-                    tyy = buf[5 * LANES + m] + syyj
-                    txy = buf[6 * LANES + m] + sxyj
-                    fx = txx * gx + txy * gy
-                    fy = txy * gx + tyy * gy
-                    buf[m] += mj * fx
-                    buf[LANES + m] += mj * fy
-                    ax -= buf[7 * LANES + m] * fx
-                    ay -= buf[7 * LANES + m] * fy
-                if j >= base + LANES:  # J in the cluster itself: its own lane has the pair
-                    jacc[0, j] += ax
-                    jacc[1, j] += ay
-            for m in range(LANES):
-                acc[0, 0, base + m] = buf[m]
-                acc[0, 1, base + m] = buf[LANES + m]
-    for slot in prange(perm.size):
-        i = perm[slot]
-        if i < 0 or not alive[i]:
-            continue
-        ax = acc[0, 0, slot]
-        ay = acc[0, 1, slot]
-        for ch in range(CHUNKS):
-            ax += acc[1 + ch, 0, slot]
-            ay += acc[1 + ch, 1, slot]
-        if SUBSTRATE:
-            bx, by = substrate_acceleration(state[X, i] - x0[i], state[Y, i] - y0[i],
-                                            state[RHO, i], p[P_MU], p[P_THICK])
-            ax += bx
-            ay += by
-        out[VX, i] = ax
-        out[VY, i] = ay
+                dx = minimum_image_inv(buf[2 * LANES + m] - xj, box, inv_box)
+                dy = minimum_image_inv(buf[3 * LANES + m] - yj, box, inv_box)
+                # g recomputed, not stored by pass 1 (a per-pair store costs more memory
+                # traffic than the arithmetic)
+                _, g = kernel_w_g(KERNEL, dx * dx + dy * dy, s, inv_s)
+                f = mj * g
+                gx = f * dx
+                gy = f * dy
+                txx = buf[4 * LANES + m] + sxxj
+                tyy = buf[5 * LANES + m] + syyj
+                txy = buf[6 * LANES + m] + sxyj
+                buf[m] += txx * gx + txy * gy
+                buf[LANES + m] += txy * gx + tyy * gy
+        for m in range(LANES):
+            i = perm[base + m]
+            if i < 0 or not alive[i]:
+                continue
+            ax = buf[m]
+            ay = buf[LANES + m]
+            if SUBSTRATE:
+                xi, yi = state[X, i], state[Y, i]
+                bx, by = substrate_acceleration(xi - x0[i], yi - y0[i], state[RHO, i],
+                                                p[P_MU], p[P_THICK])
+                ax += bx
+                ay += by
+            out[VX, i] = ax
+            out[VY, i] = ay
