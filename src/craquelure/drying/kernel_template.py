@@ -109,22 +109,10 @@ def to_clusters(state, mass, perm, c):
     """The rows the pair loops read, in slot order (empty slots: at rest, rho 1, no mass)."""
     for s in prange(perm.size):
         i = perm[s]
-        if i >= 0:
-            c[C_X, s] = state[X, i]
-            c[C_Y, s] = state[Y, i]
-            c[C_VX, s] = state[VX, i]
-            c[C_VY, s] = state[VY, i]
-            c[C_RHO, s] = state[RHO, i]
-            c[C_M, s] = mass[i]
-            c[C_V, s] = mass[i] / state[RHO, i]
-        else:
-            c[C_X, s] = 0.0
-            c[C_Y, s] = 0.0
-            c[C_VX, s] = 0.0
-            c[C_VY, s] = 0.0
-            c[C_RHO, s] = 1.0
-            c[C_M, s] = 0.0
-            c[C_V, s] = 0.0
+        for r in range(C_M):  # x, y, vx, vy, rho: the state's first rows
+            c[r, s] = state[r, i] if i >= 0 else (1.0 if r == C_RHO else 0.0)
+        c[C_M, s] = mass[i] if i >= 0 else 0.0
+        c[C_V, s] = mass[i] / state[RHO, i] if i >= 0 else 0.0
 
 
 @njit(**PAIR_OPTIONS)
