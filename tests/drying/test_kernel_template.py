@@ -44,11 +44,11 @@ def test_removed_particles_left_in_the_neighbour_list_add_nothing(make_scene, ef
     eng.alive[doomed] = False
     eng.mass[doomed] = 0.0
     eng.state[VX:VY + 1, doomed] = 0.0
-    listed = eng.index.size
+    listed = eng.pairs.jlist.size
     stale = eng.evaluate(eng.state, eng.t)
     stale_stress = eng.stress.copy()
     eng._build_neighbours()
-    assert eng.index.size < listed
+    assert eng.pairs.jlist.size < listed
     fresh = eng.evaluate(eng.state, eng.t)
     alive = eng.alive
     for row in range(stale.shape[0]):

@@ -11,6 +11,7 @@ from craquelure.sph.neighbours import (
     bin_particles,
     cell_order,
     cells_per_side,
+    cluster_pairs,
     neighbour_list,
 )
 
@@ -185,6 +186,46 @@ def test_cell_order_is_a_permutation_sorting_by_cell(periodic):
     off_b, idx_b = neighbour_list(x[order], y[order], radius, box)
     relabel = {(int(order[i]), int(order[j])) for i, j in csr_pairs(off_b, idx_b)}
     assert relabel == csr_pairs(off_a, idx_a)
+
+
+@pytest.mark.parametrize("periodic", [True, False])
+@pytest.mark.parametrize("width", [1, 8])
+def test_cluster_pairs_cover_every_pair_within_the_radius(periodic, width):
+    """cluster_pairs: every active particle in exactly one slot, clusters of ``width`` slots
+    that are compact patches, and each cluster's J list (ascending, each slot once) holds every
+    active neighbour of each of its members; the lists hold nothing else."""
+    rng = np.random.default_rng(3 + width)
+    length, radius = 2.0, 0.2
+    x, y = random_layout(rng, 1500, length, radius)
+    x[:5] += length  # unwrapped positions
+    active = rng.random(x.size) < 0.9
+    box = Box.square(length, periodic)
+    perm, start, jlist, outside = cluster_pairs(x, y, radius, box, width, active)
+    real = perm[perm >= 0]
+    assert np.array_equal(np.sort(real), np.flatnonzero(active))
+    assert np.array_equal(outside, np.flatnonzero(~active))
+    assert perm.size % width == 0 and start.size == perm.size // width + 1
+    slot = np.full(x.size, -1)
+    slot[real] = np.flatnonzero(perm >= 0)
+    want = {}
+    for i, j in brute_force_pairs(x, y, radius, box):
+        if active[i] and active[j]:
+            want.setdefault(slot[i] // width, set()).add(int(slot[j]))
+    extent = []
+    for c in range(start.size - 1):
+        listed = jlist[start[c]:start[c + 1]]
+        assert np.all(np.diff(listed) > 0)
+        assert set(listed.tolist()) == want.get(c, set())
+        members = perm[c * width:(c + 1) * width]
+        members = members[members >= 0]
+        if members.size > 1:
+            dx = x[members] - x[members[0]]
+            dy = y[members] - y[members[0]]
+            if periodic:
+                dx, dy = dx - length * np.rint(dx / length), dy - length * np.rint(dy / length)
+            extent.append(np.hypot(dx, dy).max())
+    if width > 1:  # patches about sqrt(width / density) across, not strips of the box
+        assert np.median(extent) < 3 * np.sqrt(width * length**2 / active.sum())
 
 
 @pytest.mark.parametrize("periodic", [False, True])

@@ -61,7 +61,7 @@ from craquelure.registry import energy_bound, parameter_vector
 from craquelure.runner import Divergence, diverged, non_finite, runaway
 from craquelure.scene import Scene
 from craquelure.sph.kernels import kernel_kind
-from craquelure.sph.neighbours import Box, neighbour_list
+from craquelure.sph.neighbours import Box, cluster_pairs
 
 NVAR = template.NVAR
 KAPPA_AMPLITUDE_FACTOR = 20.0  # kappa from F >= 20 a sigma_Y (module docstring)
@@ -140,8 +140,8 @@ class DryingEngine:
 
     # -- neighbours and rates ------------------------------------------------------------
     def _build_neighbours(self) -> None:
-        self.offsets, self.index = neighbour_list(
-            self.state[X], self.state[Y], self.h + self.skin, self.box, self.alive)
+        self.pairs = cluster_pairs(self.state[X], self.state[Y], self.h + self.skin, self.box,
+                                   template.LANES, self.alive)
         self._built_x = self.state[X].copy()
         self._built_y = self.state[Y].copy()
         self.neighbour_builds = getattr(self, "neighbour_builds", 0) + 1
@@ -166,8 +166,8 @@ class DryingEngine:
         """dY/dt at (state, t); the total stress goes to ``stress`` (default: self.stress)."""
         self._maybe_rebuild(state)
         out = np.empty_like(state)
-        self.rate_module.rate(state, t, self.mass, self.alive, self.x0, self.y0, self.offsets,
-                              self.index, self.params, out,
+        self.rate_module.rate(state, t, self.mass, self.alive, self.x0, self.y0, self.pairs,
+                              self.params, out,
                               self.stress if stress is None else stress)
         self.evaluations += 1
         return out
@@ -271,7 +271,7 @@ class DryingEngine:
             v /= np.linalg.norm(v)
             probe[VX], probe[VY] = v
             self.viscous_module.rate(probe, 0.0, self.mass, self.alive, self.x0, self.y0,
-                                     self.offsets, self.index, self.params, out, stress)
+                                     self.pairs, self.params, out, stress)
             self.viscous_evaluations += 1
             v = out[VX:VY + 1].copy()
             radius = float(np.linalg.norm(v))

@@ -12,20 +12,27 @@ sigma_e xx, yy, xy. Two pair passes per evaluation:
 2. momentum :math:`\dot v^I_a = \sum_J m_J (\sigma^I_{ab}/\rho_I^2 + \sigma^J_{ab}/\rho_J^2)\,
    \partial_b W_{IJ} - \mu u^I_a/(H^2\rho^I) + g_a`.
 
-Pairs come from a CSR Verlet list (radius h + skin); pairs beyond h contribute exactly 0.
-Removed particles (``alive == 0``) have zero mass and zero rates.
+Pairs come from a cluster-pair structure (:func:`~craquelure.sph.neighbours.cluster_pairs`,
+Verlet radius h + skin): clusters of LANES spatially close particles, each with the list of
+every J near one of its members. An evaluation copies the state to slot order once
+(``to_clusters``); for each cluster the pair loops hold its members in contiguous lanes and
+broadcast each listed J to all of them, so every load is contiguous or a scalar broadcast (no
+gather of neighbour data), and write the rates back in particle order. A lane farther than h
+from J is a masked visit and adds exactly 0, as do removed particles (``alive == 0``: zero mass,
+zero rates) and empty slots. Each particle's sums run over its cluster's J in list order, one
+lane each, so the results do not depend on the thread count.
 
-The pair loops are written for LLVM's loop vectoriser (issue 28; measured by
-benchmarks/drying_roofline.py): no branch in the loop body (the branch-free quintic
-:func:`~craquelure.sph.kernels.kernel_w_g` from r^2, 0 beyond the support and g = 0 at r = 0), no
-per-pair store (pass 2 recomputes dW/dr / r: a store next to the gathers cannot be proven free
-of aliasing and blocks vectorisation), an unsigned loop index (a signed one makes numba's
-negative-index wraparound, which LLVM turns into a gather of the index array), the minimum image
-by multiplication with 1/L, numpy's error model (no ZeroDivisionError branch: a division by zero
-gives inf/NaN, which the engine's guards stop) and reassociated sums (``PAIR_FASTMATH``; the
-sums' order, hence their last bits, depends on the vector width). Particles are in cell order
-(the initial state sorts them, :mod:`craquelure.drying.initial_state`), so the gathers of a
-particle's neighbours hit few cache lines.
+The lane loops are written for LLVM's loop vectoriser (measured by
+benchmarks/drying_roofline.py): no branch in the body (the branch-free quintic
+:func:`~craquelure.sph.kernels.kernel_w_g`, 0 beyond the support and g = 0 at r = 0), the
+cluster's sums and its lanes' values in one local buffer (a loop of LANES iterations is only
+vectorised without run-time alias checks, and LLVM proves rows of one buffer apart), pass 2
+recomputing dW/dr / r (a per-pair store to another array would need such a check), an unsigned
+list index (a signed one gets numba's negative-index wraparound), the minimum image by
+multiplication with 1/L, numpy's error model (no ZeroDivisionError branch: a division by zero
+gives inf/NaN, which the engine's guards stop), one division for 1/r and XSPH's
+1/(rho_I + rho_J), and ``PAIR_FASTMATH`` (contraction to FMA; the sums' grouping, hence their
+last bits, is the compiler's).
 """
 
 import numpy as np
@@ -41,7 +48,7 @@ from craquelure.drying.effects.viscosity import viscous_stress
 from craquelure.drying.effects.xsph import xsph_pair
 from craquelure.periodic import minimum_image_inv
 from craquelure.registry import parameter_names
-from craquelure.sph.kernels import kernel_w_g
+from craquelure.sph.kernels import QUINTIC, kernel_w_g, quintic_w_g_r
 
 # BEGIN FLAGS
 BODY_FORCE = False
@@ -71,172 +78,227 @@ P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP, P_BODY 
 
 PAIR_OPTIONS = dict(parallel=True, cache=True, fastmath=PAIR_FASTMATH, error_model="numpy")
 
+LANES = 8  # particles of a cluster, one per SIMD lane (8 doubles: AVX-512)
+# rows of the slot-order copy of the state the pair loops read (V = m/rho)
+C_X, C_Y, C_VX, C_VY, C_RHO, C_M, C_V = range(7)
+NC = 7
+# pass 1's pair sums, then (from row B) the lanes' own values
+A_LXX, A_LXY, A_LYX, A_LYY, A_HX, A_HY, A_MXX, A_MXY, A_MYX, A_MYY = range(10)
+B = 10
+
 
 @njit(cache=True)
-def rate(state, t, mass, alive, x0, y0, offsets, index, p, out, stress):
-    """Fill ``out`` (NVAR, N) with dY/dt and ``stress`` (3, N) with the total stress. Two
-    parallel loops (pass 1 and pass 2; V_J = m_J/rho_J is formed in the pair loop, not in a
-    loop of its own: one parallel region and one gather fewer)."""
-    scaled = np.empty((3, state.shape[1]))
-    gradient_pass(state, t, mass, alive, offsets, index, p, out, stress, scaled)
-    momentum_pass(state, mass, alive, x0, y0, offsets, index, p, scaled, out)
+def rate(state, t, mass, alive, x0, y0, pairs, p, out, stress):
+    """Fill ``out`` (NVAR, N) with dY/dt and ``stress`` (3, N) with the total stress.
+    ``pairs`` is the :class:`~craquelure.sph.neighbours.ClusterPairs` of width LANES."""
+    perm, start, jlist, outside = pairs
+    c = np.empty((NC, perm.size))
+    scaled = np.empty((3, perm.size))
+    to_clusters(state, mass, perm, c)
+    for i in outside:
+        for v in range(NVAR):
+            out[v, i] = 0.0
+        stress[0, i] = 0.0
+        stress[1, i] = 0.0
+        stress[2, i] = 0.0
+    gradient_pass(c, state, t, alive, perm, start, jlist, p, out, stress, scaled)
+    momentum_pass(c, state, alive, x0, y0, perm, start, jlist, p, scaled, out)
 
 
 @njit(**PAIR_OPTIONS)
-def gradient_pass(state, t, mass, alive, offsets, index, p, out, stress, scaled):
-    """Pass 1: L, XSPH, the total stress (and sigma/rho^2 for pass 2) and every rate but the
-    velocity's."""
-    n = state.shape[1]
+def to_clusters(state, mass, perm, c):
+    """The rows the pair loops read, in slot order (empty slots: at rest, rho 1, no mass)."""
+    for s in prange(perm.size):
+        i = perm[s]
+        for r in range(C_M):  # x, y, vx, vy, rho: the state's first rows
+            c[r, s] = state[r, i] if i >= 0 else (1.0 if r == C_RHO else 0.0)
+        c[C_M, s] = mass[i] if i >= 0 else 0.0
+        c[C_V, s] = mass[i] / state[RHO, i] if i >= 0 else 0.0
+
+
+@njit(**PAIR_OPTIONS)
+def gradient_pass(c, state, t, alive, perm, start, jlist, p, out, stress, scaled):
+    """Pass 1: L, XSPH, the total stress (and sigma/rho^2 for pass 2, in slot order) and every
+    rate but the velocity's."""
     s = p[P_SUPPORT]
     inv_s = 1.0 / s
     box = p[P_BOX]
     inv_box = 1.0 / box
-    xs, ys, vxs, vys, rhos = state[X], state[Y], state[VX], state[VY], state[RHO]
-    for i in prange(n):
-        if not alive[i]:
-            for v in range(NVAR):
-                out[v, i] = 0.0
-            stress[0, i] = 0.0
-            stress[1, i] = 0.0
-            stress[2, i] = 0.0
-            scaled[0, i] = 0.0
-            scaled[1, i] = 0.0
-            scaled[2, i] = 0.0
-            continue
-        xi, yi = xs[i], ys[i]
-        vxi, vyi = vxs[i], vys[i]
-        rhoi = rhos[i]
-        lxx = 0.0
-        lxy = 0.0
-        lyx = 0.0
-        lyy = 0.0
-        hx = 0.0
-        hy = 0.0
-        mxx = 0.0
-        mxy = 0.0
-        myx = 0.0
-        myy = 0.0
-        # branch-free pair loop (vectorised by LLVM): pairs beyond the support and coincident
-        # particles have w = g = 0 and add exactly 0. An unsigned k makes index[k] a plain
-        # load (a signed one gets numba's negative-index wraparound, which LLVM turns into a
-        # gather of the index array: 8x slower)
-        for k in range(np.uint64(offsets[i]), np.uint64(offsets[i + 1])):
-            j = index[k]
-            dx = minimum_image_inv(xi - xs[j], box, inv_box)
-            dy = minimum_image_inv(yi - ys[j], box, inv_box)
-            w, g = kernel_w_g(KERNEL, dx * dx + dy * dy, s, inv_s)
-            dvx = vxs[j] - vxi
-            dvy = vys[j] - vyi
-            mj = mass[j]
-            rhoj = rhos[j]
-            if XSPH:
-                # one division gives V_J = m_J/rho_J and 1/(rho_I + rho_J) for XSPH
-                rsum = rhoi + rhoj
-                dinv = 1.0 / (rhoj * rsum)
-                vj = mj * (rsum * dinv)
-                cx, cy = xsph_pair(mj, rhoj * dinv, dvx, dvy, w)
-                hx += cx
-                hy += cy
-            else:
-                vj = mj / rhoj
-            f = vj * g
-            gx = f * dx
-            gy = f * dy
-            lxx += dvx * gx
-            lxy += dvx * gy
-            lyx += dvy * gx
-            lyy += dvy * gy
-            if GRADIENT_CORRECTION:
-                # r_J - r_I = -(dx, dy)
-                mxx -= dx * gx
-                mxy -= dx * gy
-                myx -= dy * gx
-                myy -= dy * gy
-        if GRADIENT_CORRECTION:
-            lxx, lxy, lyx, lyy = corrected_gradient(lxx, lxy, lyx, lyy, mxx, mxy, myx, myy)
-        sxx = state[SXX, i]
-        syy = state[SYY, i]
-        sxy = state[SXY, i]
-        if VISCOSITY:
-            vxx, vyy, vxy = viscous_stress(lxx, lxy, lyx, lyy, p[P_ETA])
-            sxx += vxx
-            syy += vyy
-            sxy += vxy
-        if DRYING:
-            dry = drying_stress(t, p[P_VR], p[P_DRYCAP])
-            sxx += dry
-            syy += dry
-        stress[0, i] = sxx
-        stress[1, i] = syy
-        stress[2, i] = sxy
-        inv2 = 1.0 / (rhoi * rhoi)
-        scaled[0, i] = sxx * inv2
-        scaled[1, i] = syy * inv2
-        scaled[2, i] = sxy * inv2
-        if ELASTICITY:
-            a, b, c = jaumann_rate(lxx, lxy, lyx, lyy, state[SXX, i], state[SYY, i],
-                                   state[SXY, i], p[P_LAMBDA], p[P_MU])
-            out[SXX, i] = a
-            out[SYY, i] = b
-            out[SXY, i] = c
-        else:
-            out[SXX, i] = 0.0
-            out[SYY, i] = 0.0
-            out[SXY, i] = 0.0
-        if CONTINUITY:
-            out[RHO, i] = density_rate(rhoi, lxx, lyy)
-        else:
-            out[RHO, i] = 0.0
-        if XSPH:
-            out[X, i] = vxi + p[P_EPS] * hx
-            out[Y, i] = vyi + p[P_EPS] * hy
-        else:
-            out[X, i] = vxi
-            out[Y, i] = vyi
+    for cl in prange(perm.size // LANES):
+        base = cl * LANES
+        # the cluster's sums (rows A_*) and its J-independent values (rows B + C_*) in one
+        # buffer: LLVM then proves the lanes' loads and stores apart (no run-time alias
+        # check, which stops the vectoriser on a loop of a few iterations)
+        buf = np.empty((B + 5) * LANES)
+        for m in range(LANES):
+            for r in range(5):
+                buf[(B + r) * LANES + m] = c[r, base + m]
+            for r in range(B):
+                buf[r * LANES + m] = 0.0
+        for k in range(np.uint64(start[cl]), np.uint64(start[cl + 1])):
+            j = jlist[k]
+            xj = c[C_X, j]
+            yj = c[C_Y, j]
+            vxj = c[C_VX, j]
+            vyj = c[C_VY, j]
+            rhoj = c[C_RHO, j]
+            mj = c[C_M, j]
+            vj = c[C_V, j]
+            # one J against the cluster's lanes, branch-free (vectorised by LLVM over the
+            # lanes, contiguous loads): pairs beyond the support and coincident particles
+            # have w = g = 0 and add exactly 0
+            for m in range(LANES):
+                dx = minimum_image_inv(buf[(B + C_X) * LANES + m] - xj, box, inv_box)
+                dy = minimum_image_inv(buf[(B + C_Y) * LANES + m] - yj, box, inv_box)
+                r2 = dx * dx + dy * dy
+                rsum = buf[(B + C_RHO) * LANES + m] + rhoj
+                if XSPH and KERNEL == QUINTIC:
+                    # one division gives 1/r and XSPH's 1/(rho_I + rho_J)
+                    r = np.sqrt(r2 if r2 > 1e-300 else 1e-300)
+                    q = 1.0 / (r * rsum)
+                    w, g = quintic_w_g_r(r, rsum * q, inv_s)
+                    inv_sum = r * q
+                else:
+                    w, g = kernel_w_g(KERNEL, r2, s, inv_s)
+                    inv_sum = 1.0 / rsum
+                dvx = vxj - buf[(B + C_VX) * LANES + m]
+                dvy = vyj - buf[(B + C_VY) * LANES + m]
+                if XSPH:
+                    cx, cy = xsph_pair(mj, inv_sum, dvx, dvy, w)
+                    buf[A_HX * LANES + m] += cx
+                    buf[A_HY * LANES + m] += cy
+                f = vj * g
+                gx = f * dx
+                gy = f * dy
+                buf[A_LXX * LANES + m] += dvx * gx
+                buf[A_LXY * LANES + m] += dvx * gy
+                buf[A_LYX * LANES + m] += dvy * gx
+                buf[A_LYY * LANES + m] += dvy * gy
+                if GRADIENT_CORRECTION:
+                    # r_J - r_I = -(dx, dy)
+                    buf[A_MXX * LANES + m] -= dx * gx
+                    buf[A_MXY * LANES + m] -= dx * gy
+                    buf[A_MYX * LANES + m] -= dy * gx
+                    buf[A_MYY * LANES + m] -= dy * gy
+        for m in range(LANES):
+            i = perm[base + m]
+            if i >= 0:
+                particle_rates(state, t, alive, p, buf[m::LANES], i, base + m, out, stress,
+                               scaled)
+
+
+@njit(inline="always", cache=True)
+def particle_rates(state, t, alive, p, a, i, slot, out, stress, scaled):
+    """Pass 1 of particle I from its pair sums ``a``: the total stress, sigma/rho^2 (slot
+    order) and every rate but the velocity's (all 0 for a removed particle)."""
+    if not alive[i]:
+        for v in range(NVAR):
+            out[v, i] = 0.0
+        for r in range(3):
+            stress[r, i] = 0.0
+            scaled[r, slot] = 0.0
+        return
+    lxx, lxy, lyx, lyy = a[A_LXX], a[A_LXY], a[A_LYX], a[A_LYY]
+    if GRADIENT_CORRECTION:
+        lxx, lxy, lyx, lyy = corrected_gradient(lxx, lxy, lyx, lyy, a[A_MXX], a[A_MXY],
+                                                a[A_MYX], a[A_MYY])
+    vxi, vyi, rhoi = state[VX, i], state[VY, i], state[RHO, i]
+    sxx = state[SXX, i]
+    syy = state[SYY, i]
+    sxy = state[SXY, i]
+    if VISCOSITY:
+        vxx, vyy, vxy = viscous_stress(lxx, lxy, lyx, lyy, p[P_ETA])
+        sxx += vxx
+        syy += vyy
+        sxy += vxy
+    if DRYING:
+        dry = drying_stress(t, p[P_VR], p[P_DRYCAP])
+        sxx += dry
+        syy += dry
+    stress[0, i] = sxx
+    stress[1, i] = syy
+    stress[2, i] = sxy
+    inv2 = 1.0 / (rhoi * rhoi)
+    scaled[0, slot] = sxx * inv2
+    scaled[1, slot] = syy * inv2
+    scaled[2, slot] = sxy * inv2
+    if ELASTICITY:
+        ra, rb, rc = jaumann_rate(lxx, lxy, lyx, lyy, state[SXX, i], state[SYY, i],
+                                  state[SXY, i], p[P_LAMBDA], p[P_MU])
+        out[SXX, i] = ra
+        out[SYY, i] = rb
+        out[SXY, i] = rc
+    else:
+        out[SXX, i] = 0.0
+        out[SYY, i] = 0.0
+        out[SXY, i] = 0.0
+    if CONTINUITY:
+        out[RHO, i] = density_rate(rhoi, lxx, lyy)
+    else:
+        out[RHO, i] = 0.0
+    if XSPH:
+        out[X, i] = vxi + p[P_EPS] * a[A_HX]
+        out[Y, i] = vyi + p[P_EPS] * a[A_HY]
+    else:
+        out[X, i] = vxi
+        out[Y, i] = vyi
 
 
 @njit(**PAIR_OPTIONS)
-def momentum_pass(state, mass, alive, x0, y0, offsets, index, p, scaled, out):
+def momentum_pass(c, state, alive, x0, y0, perm, start, jlist, p, scaled, out):
     """Pass 2: the velocity rate (pairwise antisymmetric momentum sum, substrate, body
     force)."""
-    n = state.shape[1]
     s = p[P_SUPPORT]
     inv_s = 1.0 / s
     box = p[P_BOX]
     inv_box = 1.0 / box
-    xs, ys, rhos = state[X], state[Y], state[RHO]
-    sxxs, syys, sxys = scaled[0], scaled[1], scaled[2]
-    for i in prange(n):
-        if not alive[i]:
-            continue
-        xi, yi = xs[i], ys[i]
-        rhoi = rhos[i]
-        axx = scaled[0, i]
-        ayy = scaled[1, i]
-        axy = scaled[2, i]
-        ax = 0.0
-        ay = 0.0
-        for k in range(np.uint64(offsets[i]), np.uint64(offsets[i + 1])):
-            j = index[k]
-            dx = minimum_image_inv(xi - xs[j], box, inv_box)
-            dy = minimum_image_inv(yi - ys[j], box, inv_box)
-            # g recomputed, not stored by pass 1: a per-pair store stops the vectoriser (it
-            # cannot rule out aliasing) and costs more memory traffic than the arithmetic
-            _, g = kernel_w_g(KERNEL, dx * dx + dy * dy, s, inv_s)
-            f = mass[j] * g
-            gx = f * dx
-            gy = f * dy
-            txx = axx + sxxs[j]
-            tyy = ayy + syys[j]
-            txy = axy + sxys[j]
-            ax += txx * gx + txy * gy
-            ay += txy * gx + tyy * gy
-        if SUBSTRATE:
-            bx, by = substrate_acceleration(xi - x0[i], yi - y0[i], rhoi, p[P_MU], p[P_THICK])
-            ax += bx
-            ay += by
-        if BODY_FORCE:
-            ax += p[P_BODY]
-            ay += p[P_BODY + 1]
-        out[VX, i] = ax
-        out[VY, i] = ay
+    for cl in prange(perm.size // LANES):
+        base = cl * LANES
+        buf = np.empty(7 * LANES)  # sums (rows 0, 1) and lane values (rows 2-6), as pass 1
+        for m in range(LANES):
+            buf[m] = 0.0
+            buf[LANES + m] = 0.0
+            buf[2 * LANES + m] = c[C_X, base + m]
+            buf[3 * LANES + m] = c[C_Y, base + m]
+            buf[4 * LANES + m] = scaled[0, base + m]
+            buf[5 * LANES + m] = scaled[1, base + m]
+            buf[6 * LANES + m] = scaled[2, base + m]
+        for k in range(np.uint64(start[cl]), np.uint64(start[cl + 1])):
+            j = jlist[k]
+            xj = c[C_X, j]
+            yj = c[C_Y, j]
+            mj = c[C_M, j]
+            sxxj = scaled[0, j]
+            syyj = scaled[1, j]
+            sxyj = scaled[2, j]
+            for m in range(LANES):
+                dx = minimum_image_inv(buf[2 * LANES + m] - xj, box, inv_box)
+                dy = minimum_image_inv(buf[3 * LANES + m] - yj, box, inv_box)
+                # g recomputed, not stored by pass 1 (a per-pair store costs more memory
+                # traffic than the arithmetic)
+                _, g = kernel_w_g(KERNEL, dx * dx + dy * dy, s, inv_s)
+                f = mj * g
+                gx = f * dx
+                gy = f * dy
+                txx = buf[4 * LANES + m] + sxxj
+                tyy = buf[5 * LANES + m] + syyj
+                txy = buf[6 * LANES + m] + sxyj
+                buf[m] += txx * gx + txy * gy
+                buf[LANES + m] += txy * gx + tyy * gy
+        for m in range(LANES):
+            i = perm[base + m]
+            if i < 0 or not alive[i]:
+                continue
+            ax = buf[m]
+            ay = buf[LANES + m]
+            if SUBSTRATE:
+                xi, yi = state[X, i], state[Y, i]
+                bx, by = substrate_acceleration(xi - x0[i], yi - y0[i], state[RHO, i],
+                                                p[P_MU], p[P_THICK])
+                ax += bx
+                ay += by
+            if BODY_FORCE:
+                ax += p[P_BODY]
+                ay += p[P_BODY + 1]
+            out[VX, i] = ax
+            out[VY, i] = ay

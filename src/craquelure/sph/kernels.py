@@ -147,8 +147,14 @@ def quintic_w_g(r2, inv_s):
     # conditional expressions (selects), not max(): numba's max() keeps a branch that stops
     # the loop vectoriser
     inv_r = 1.0 / np.sqrt(r2 if r2 > 1e-300 else 1e-300)
-    x = (r2 * inv_r) * inv_s
-    x3 = 3.0 * x
+    return quintic_w_g_r(r2 * inv_r, inv_r, inv_s)
+
+
+@njit(inline="always", cache=True)
+def quintic_w_g_r(r, inv_r, inv_s):
+    """:func:`quintic_w_g` from r and 1/r (a caller that shares the division with another
+    quotient, as the drying kernel's XSPH 1/(rho_I + rho_J))."""
+    x3 = 3.0 * (r * inv_s)
     a = 3.0 - x3
     b = 2.0 - x3
     c = 1.0 - x3

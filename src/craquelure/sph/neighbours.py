@@ -8,11 +8,21 @@ the neighbours of I are ``index[offsets[I]:offsets[I+1]]``, every pair appears i
 (``active == 0``) neither have nor are neighbours.
 
 ``cell_order`` gives the permutation that sorts particles by cell, for memory locality.
+
+``cluster_pairs`` groups the particles into clusters of a fixed width (SIMD lanes) for pair
+loops that do not gather: the particles are binned into columns of about a cluster's width,
+sorted along each column and cut into clusters of ``width`` consecutive slots (a column's last
+cluster padded with empty slots), so a cluster is a compact patch. Each cluster lists, as
+slots in ascending order, the union of its members' neighbours (:func:`neighbour_list` rows):
+a pair loop holds a cluster's members in contiguous lanes and broadcasts each listed J to all
+of them. A pair within the radius is always listed; a lane whose particle is farther from J is
+a masked visit (the kernel's value there is 0).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit, prange
@@ -176,6 +186,81 @@ def cell_order(x: np.ndarray, y: np.ndarray, radius: float, box: Box) -> np.ndar
                                box.lo_x, box.lo_y, box.length_x, box.length_y, nx, ny,
                                box.periodic)
     return np.argsort(cell, kind="stable")
+
+
+class ClusterPairs(NamedTuple):
+    """Cluster-pair structure of :func:`cluster_pairs`: ``perm[s]`` is the particle in slot s
+    (-1 for an empty slot; cluster c holds slots ``c * width`` to ``c * width + width - 1``),
+    the J slots of cluster c are ``jlist[start[c]:start[c + 1]]``, and ``outside`` lists the
+    particles in no cluster (inactive at the build)."""
+
+    perm: np.ndarray
+    start: np.ndarray
+    jlist: np.ndarray
+    outside: np.ndarray
+
+
+@njit(parallel=True, cache=True)
+def _cluster_scan(perm, slot, offsets, index, width, start, jlist, fill):
+    """Union of the members' neighbour rows per cluster, as slots: counted into start[c + 1]
+    (``fill`` false) or written from start[c] on and sorted (``fill`` true)."""
+    nclus = perm.size // width
+    nchunk = min(nclus, 64)
+    for ch in prange(nchunk):
+        mark = np.full(perm.size, -1, np.int64)
+        for c in range(ch * nclus // nchunk, (ch + 1) * nclus // nchunk):
+            k = start[c] if fill else 0
+            for s in range(c * width, (c + 1) * width):
+                i = perm[s]
+                if i < 0:
+                    continue
+                for q in range(offsets[i], offsets[i + 1]):
+                    js = slot[index[q]]
+                    if mark[js] != c:
+                        mark[js] = c
+                        if fill:
+                            jlist[k] = js
+                        k += 1
+            if fill:
+                jlist[start[c]:k].sort()
+            else:
+                start[c + 1] = k
+
+
+def cluster_pairs(x: np.ndarray, y: np.ndarray, radius: float, box: Box, width: int,
+                  active: np.ndarray | None = None) -> ClusterPairs:
+    """Clusters of ``width`` slots and the J slots each must visit: every active J closer than
+    ``radius`` to one of a cluster's members (module docstring)."""
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    y = np.ascontiguousarray(y, dtype=np.float64)
+    if active is None:
+        active = np.ones(x.size, np.bool_)
+    offsets, index = neighbour_list(x, y, radius, box, active)
+    n_active = max(int(active.sum()), 1)
+    # square clusters: a column as wide as a cluster of `width` particles at the mean density
+    ncol = max(1, round(box.length_x / np.sqrt(width * box.length_x * box.length_y / n_active)))
+    # slots: by column, then by y; each column padded with -1 to a multiple of width
+    col, _, _ = bin_particles(x, y, active, box.lo_x, box.lo_y, box.length_x, box.length_y,
+                              ncol, 1, box.periodic)
+    yw = y - box.lo_y
+    if box.periodic:
+        yw -= box.length_y * np.floor(yw / box.length_y)
+    order = np.flatnonzero(active)
+    order = order[np.lexsort((yw[order], col[order]))]
+    count = np.bincount(col[order], minlength=ncol)
+    padded = -(-count // width) * width
+    first = np.cumsum(padded) - padded
+    perm = np.full(padded.sum(), -1, np.int64)
+    perm[np.repeat(first - (np.cumsum(count) - count), count) + np.arange(order.size)] = order
+    slot = np.full(x.size, -1, np.int64)
+    real = perm >= 0
+    slot[perm[real]] = np.flatnonzero(real)
+    start = np.zeros(perm.size // width + 1, np.int64)
+    _cluster_scan(perm, slot, offsets, index, width, start, np.empty(0, np.int64), False)
+    np.cumsum(start, out=start)
+    jlist = np.empty(start[-1], np.int64)
+    _cluster_scan(perm, slot, offsets, index, width, start, jlist, True)
+    return ClusterPairs(perm, start, jlist, np.flatnonzero(~active))
 
 
 def neighbour_list_points(points: np.ndarray, radius: float,
