@@ -30,7 +30,7 @@ One call of :func:`advance` performs up to ``n_steps`` central-difference steps 
    ``energy_tolerance`` times max(E_mech, |W_ext|, dissipated, floor) plus the round-off
    allowance 4 eps sum_i |x_i| (m_i |x+ - x|/dt^2 + sum over the steps of |F_i|): positions
    are absolute, so at tiny steps a displacement, hence v and the booked work, is only known
-   to ~eps |x| (without it the guard fired at dt_factor 2e-6 on a block at rest).
+   to ~eps |x|.
 
 Determinism: the chunk count is a constant (not the thread count) and the per-chunk partial
 sums (energies, node forces) are added in chunk order, so the serial and the parallel kernel

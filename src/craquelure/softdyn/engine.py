@@ -275,9 +275,8 @@ class Engine:
                         sgn.append(sign)
         # Gauge: with lubrication_tangential the last particle is pinned (v_last = 0, one
         # diagonal entry per component) and the mean velocity is removed after the solve; a
-        # dense row sum_i v_i = 0 would fill the LU factors (measured with the row: solve 60 ms
-        # at N = 1024 and 650 ms at 4096; pinned: 7 ms and 45 ms). Without it (possible
-        # rotation null modes, LSQR) the sum rows are kept.
+        # dense row sum_i v_i = 0 would fill the LU factors. Without it (possible rotation
+        # null modes, LSQR) the sum rows are kept.
         self._pinned = self.flags.tangential
         if self._pinned:
             extra_rows = extra_cols = [last * d + e for e in range(d)]
