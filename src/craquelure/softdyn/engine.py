@@ -8,8 +8,7 @@ Velocity solve: ``linear_solver: dense`` runs the whole right-hand side in one n
 (N d <= 128 with ``auto``); ``sparse`` computes the per-pair blocks in numba and solves the
 (N d)^2 system with SuperLU (``scipy.sparse.linalg.splu``, last particle pinned and the mean
 velocity removed afterwards; LSQR with the sum rows when ``lubrication_tangential`` is absent and
-the system may be singular). The sparsity pattern is fixed by the pair list and
-built once.
+the system may be singular). The sparsity pattern is fixed by the pair list and built once.
 """
 
 from __future__ import annotations
