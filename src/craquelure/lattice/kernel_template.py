@@ -1,10 +1,8 @@
 """Source template of the lattice time-step kernel (lattice spec sections 5-8).
 
-:func:`craquelure.codegen.specialise` copies this file with the effect flags / ``PERIODIC_X`` /
-``NODE_AVERAGED`` / ``BENDING`` / ``PARALLEL`` constants set for one scene's effect set into
-a cache folder and imports it: numba freezes module globals as compile-time constants, so
-the branches of absent effects are removed by the compiler and cost nothing, and
-``cache=True`` keeps one compiled kernel per effect set. This file itself is never compiled.
+:func:`craquelure.codegen.specialise` compiles a copy with the effect flags / ``PERIODIC_X`` /
+``NODE_AVERAGED`` / ``BENDING`` / ``PARALLEL`` constants of one scene; this file itself is
+never compiled.
 
 One call of :func:`advance` performs up to ``n_steps`` central-difference steps (section 5):
 
