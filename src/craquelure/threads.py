@@ -1,14 +1,13 @@
 """Threads of a run: numba's workers and nothing else.
 
-A time step's work runs in numba ``prange`` loops on ``numba.get_num_threads()`` workers. A
-library call that starts its own thread pool inside a step (an OpenBLAS ``dot`` or ``solve``, an
-OpenMP section) would put a second set of busy threads on the same cores: on two cores that made
-two numba threads slower than one (the impact engine's energy sums, 0.5-0.6x). So every engine,
-when it imports its generated kernels (:func:`craquelure.codegen.import_generated`, the one
-place all of them pass through), calls :func:`single_threaded_libraries`, which holds the BLAS
-pools of numpy and scipy (the one numba's ``np.linalg`` uses) to one thread with threadpoolctl
-for the rest of the process, and numba's OpenMP workers sleep while they wait
-(``OMP_WAIT_POLICY=PASSIVE``) rather than spin against the thread they wait for.
+A time step's work runs in numba ``prange`` loops on ``numba.get_num_threads()`` workers. A library
+call that starts its own thread pool inside a step (an OpenBLAS ``dot`` or ``solve``, an OpenMP
+section) would put a second set of busy threads on the same cores. So every engine, when it imports
+its generated kernels (:func:`craquelure.codegen.import_generated`, the one place all of them pass
+through), calls :func:`single_threaded_libraries`, which holds the BLAS pools of numpy and scipy
+(the one numba's ``np.linalg`` uses) to one thread with threadpoolctl for the rest of the process,
+and numba's OpenMP workers sleep while they wait (``OMP_WAIT_POLICY=PASSIVE``) rather than spin
+against the thread they wait for.
 """
 
 from __future__ import annotations

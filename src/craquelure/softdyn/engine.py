@@ -25,8 +25,7 @@ from craquelure.registry import parameter_vector
 from craquelure.softdyn import kernel_template as template
 from craquelure.softdyn.integrate import Result, integrate
 
-# benchmarks/softdyn_cost.py: at N = 64 (128 unknowns) a RHS takes 0.17 ms dense, 0.59 ms sparse;
-# at N = 256, 11 ms dense, 2.3 ms sparse
+# the dense solve is the faster one up to this size (benchmarks/softdyn_cost.py)
 DENSE_MAX_UNKNOWNS = 128
 
 
@@ -304,9 +303,8 @@ class Engine:
         rhs[(self.n - 1) * d:] = 0.0
         if self._pinned:
             # rows sum to zero (translation null mode) and the last particle's equations
-            # follow from the others, so the pinned solution plus a uniform shift solves all
-            # the pattern is structurally symmetric: minimum degree on A^T + A (N = 4096
-            # patch: 40 ms against 72 ms with the default COLAMD)
+            # follow from the others, so the pinned solution plus a uniform shift solves all;
+            # the pattern is structurally symmetric: minimum degree on A^T + A
             v = spla.splu(M, permc_spec="MMD_AT_PLUS_A").solve(rhs).reshape(self.n, d)
             return (v - v.mean(axis=0)).reshape(-1)
         return spla.lsqr(M, rhs, atol=1e-15, btol=1e-15, iter_lim=50 * m)[0]
