@@ -126,11 +126,7 @@ def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any]
         image = ax.scatter(snap["x"].values[alive], snap["y"].values[alive],
                            c=snap["mean_stress"].values[alive] / sigma_y, s=size,
                            cmap="coolwarm", vmin=-1.0, vmax=1.0, linewidths=0)
-        ax.set_xlim(0, length)
-        ax.set_ylim(0, length)
-        ax.set_aspect("equal")
-        ax.set_xticks([])
-        ax.set_yticks([])
+        ax.set(xlim=(0, length), ylim=(0, length), aspect="equal", xticks=[], yticks=[])
         ax.set_title(f"t = {times[k]:.3g} ({times[k] / tstar:.2f} t*), "
                      f"{int((~alive).sum())} removed", fontsize=8)
     fig.suptitle(f"Crack pattern of seed {run.attrs.get('seed', '?')} (cf. paper Fig. 2)")

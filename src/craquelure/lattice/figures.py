@@ -42,8 +42,7 @@ def calving(ds, labels, summary, out, title):
     wl = ds.attrs.get("water_level")
     if wl is not None and np.isfinite(wl):
         big.axhline(wl, color="tab:blue", lw=0.8)
-    big.set_aspect("equal")
-    big.set_title(f"t = {float(ds.frame_time[-1]):.0f}: fragments (main body dark)")
+    big.set(aspect="equal", title=f"t = {float(ds.frame_time[-1]):.0f}: fragments (main body dark)")
     ax[2].plot(ds.time, ds.broken, color="k")
     label_axes(ax[2], "t", "broken beams")
     c, d, n = fragments.size_distribution(sz)
@@ -78,8 +77,7 @@ def fretting(ds, labels, per_cycle, out, title):
     ax[0].scatter(x0[body], y0[body], s=1, color="0.8")
     sc = ax[0].scatter(mx, my, c=tb, s=6, cmap="viridis")
     fig.colorbar(sc, ax=ax[0], label="break time")
-    ax[0].set_aspect("equal")
-    ax[0].set_title("broken beams in the reference configuration")
+    ax[0].set(aspect="equal", title="broken beams in the reference configuration")
     counts = np.bincount(labels[labels >= 0])
     main = np.argmax(counts)
     x, y = ds.x.values[-1], ds.y.values[-1]
