@@ -1,16 +1,11 @@
 """Dataset writing and reading.
 
 Writing: compressed netCDF4 with CF-1.11 metadata (:mod:`craquelure.cf`), written to a
-temporary name ``.<name>.tmp-<pid>`` and renamed, so a killed job never leaves a file that
-looks finished; the temporaries a killed job left
-next to the same output are removed by the next write of that output
-(:func:`remove_stale_temporaries`). A write that fails (full disk, read-only or forbidden
-folder) removes its temporary, leaves the file that was there before untouched and raises
-:class:`~craquelure.errors.WriteError` naming the file and the cause (:func:`atomic_write`).
+temporary name and renamed (:func:`atomic_write`), so a killed job never leaves a file that
+looks finished and a failed write leaves the previous file untouched.
 
-Reading: :func:`open_dataset` names the file and what is wrong with it (not found, not a
-netCDF file, truncated, damaged); :func:`read_dataset` also checks that it is a dataset of the
-expected model and kind and holds the variables the caller needs (:class:`DatasetError`).
+Reading: :func:`open_dataset` and :func:`read_dataset` name the file and what is wrong with it
+(:class:`DatasetError`).
 """
 
 from __future__ import annotations
@@ -85,10 +80,9 @@ def write_dataset(ds: xr.Dataset, path: str | Path) -> Path:
 
 
 def write_cause(exc: BaseException, folder: Path) -> str:
-    """Why a write into ``folder`` failed: a read-only file system if the folder's is, else the
-    OS's reason when the error carries one (no space left, permission denied), else (the netCDF
-    library reports a full disk as "HDF error") what the folder's file system says (no space
-    left, permission denied), else the error itself."""
+    """Why a write into ``folder`` failed, in the OS's words: the netCDF library reports a
+    full disk as "HDF error" and a read-only file system as "Permission denied", so the
+    folder's file system is asked when the error carries no reason."""
     try:
         fs = os.statvfs(folder)
     except OSError:

@@ -11,6 +11,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+def label_axes(ax, xlabel: str | None = None, ylabel: str | None = None,
+           legend: dict | None = None) -> None:
+    """Set the axis labels given and, with ``legend`` (its keywords), draw the legend."""
+    if xlabel is not None:
+        ax.set_xlabel(xlabel)
+    if ylabel is not None:
+        ax.set_ylabel(ylabel)
+    if legend is not None:
+        ax.legend(**legend)
+
+
 def save(fig, path: str | Path, *, dpi: int = 120, tight: bool = True,
          pdf: bool = False) -> Path:
     """Write ``fig`` to ``path`` (its folder created; ``tight``: tight layout first; ``pdf``:

@@ -1,16 +1,13 @@
 """Registry of physical effects.
 
 Every effect is one small module (``craquelure/<model>/effects/<name>.py``) that declares
-``EFFECT = Effect(...)``: its model, name, kernel flag, a one-line description, the kernel
-parameters it reads (:class:`Param`: name, scene path, unit, value when the effect is off), the
-energy it can supply to a run (the runaway guard's bound) and the diagnostics it adds. The
-parameters every effect set uses are the ``PARAMS`` of the model's effects package
-(``effects/__init__.py``). From these declarations alone come scene validation (an unknown
-effect or a missing parameter is rejected before anything runs), the kernel flags
-(:func:`craquelure.codegen.effect_flags`), the kernel's parameter tuple and index constants
-(:func:`parameter_names`) and the packed parameter vector (:func:`parameter_vector`), so a new
-effect is its module, its schema entries, the kernel lines where it enters the equations and
-its test.
+``EFFECT = Effect(...)`` (:class:`Effect`, :class:`Param`); the parameters every effect set uses
+are the ``PARAMS`` of the model's effects package (``effects/__init__.py``). From these
+declarations alone come scene validation (an unknown effect or a missing parameter is rejected
+before anything runs), the kernel flags (:func:`craquelure.codegen.effect_flags`), the kernel's
+parameter tuple and index constants (:func:`parameter_names`) and the packed parameter vector
+(:func:`parameter_vector`), so a new effect is its module, its schema entries, the kernel lines
+where it enters the equations and its test.
 """
 
 from __future__ import annotations

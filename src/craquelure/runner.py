@@ -17,9 +17,8 @@ or ``minutes`` of wall time, each with a fingerprint of the resolved scene, the 
 package's source code (a checkpoint that is damaged or of another scene, seed or code is
 refused with the reason, :func:`usable_checkpoint`); it raises
 :class:`~craquelure.errors.SimulationDiverged` with one message format (check, step, time,
-worst particle); it logs progress lines with throughput and ETA (the first after a few
-seconds) and ends with a summary (steps, simulated time, wall time, particle-steps per second)
-that goes into the run dataset.
+worst particle); it logs progress lines with throughput and ETA and ends with a summary (steps,
+simulated time, wall time, particle-steps per second) that goes into the run dataset.
 
 SIGTERM and SIGINT (a scheduler's time limit or preemption, Ctrl-C) do not kill a run: the
 runner notes the signal, lets the current advance reach its next safe point, writes a
@@ -43,7 +42,6 @@ import time
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
-from typing import Protocol
 
 import numpy as np
 
@@ -64,20 +62,6 @@ class Divergence:
     check: str
     what: str
     particle: int | None = None
-
-
-class Engine(Protocol):
-    time: float
-    steps: int
-    n_particles: int
-
-    def start(self) -> None: ...
-    def advance(self) -> None: ...
-    def divergence(self) -> Divergence | None: ...
-    def sample(self) -> None: ...
-    def state(self) -> dict[str, np.ndarray]: ...
-    def restore(self, state: dict[str, np.ndarray]) -> None: ...
-    def done(self) -> bool: ...
 
 
 def diverged(desc: str, bad: Divergence, step: int, time: float,
@@ -350,7 +334,7 @@ def stop_requested() -> bool:
     return bool(_ACTIVE) and _ACTIVE[-1].signal is not None
 
 
-def run(engine: Engine, scene, seed: int, *, t_end: float, desc: str, out: Path | None = None,
+def run(engine: EngineRun, scene, seed: int, *, t_end: float, desc: str, out: Path | None = None,
         resume: bool = False, every: int = 0, minutes: float = DEFAULT_CHECKPOINT_MINUTES,
         time_unit: str = "", time_scale: float = 1.0, extra_fingerprint: bytes = b"",
         progress: bool = True, stop_after_checkpoints: int | None = None,
@@ -457,13 +441,10 @@ def run_to_file(engine: EngineRun, scene, seed: int | None, out: Path, dataset,
                 clock: WallClock, *, checkpoint_every: int | None = None,
                 checkpoint_minutes: float | None = None, default_every: int = 0,
                 **options) -> Path:
-    """A model's run, with the options of ``craquelure run`` that every model's ``run`` passes
-    on (``resume``, ``checkpoint_every``, ``checkpoint_minutes``, ``stop_after_checkpoints``):
-    :func:`run` with checkpoints next to ``out`` every ``checkpoint_every`` advances (None: the
-    model's ``default_every``) and ``checkpoint_minutes`` of wall time (None:
-    :data:`DEFAULT_CHECKPOINT_MINUTES`; other ``options`` as for :func:`run`), then
-    ``engine.finish()`` and :func:`write_run` of ``dataset()``; the checkpoint's path instead
-    when ``stop_after_checkpoints`` ended the run early."""
+    """A model's run with the checkpoint options of ``craquelure run`` (None: the model's
+    ``default_every``, :data:`DEFAULT_CHECKPOINT_MINUTES`): :func:`run`, ``engine.finish()`` and
+    :func:`write_run` of ``dataset()``; the checkpoint's path instead when
+    ``stop_after_checkpoints`` ended the run early."""
     out = Path(out)
     minutes = DEFAULT_CHECKPOINT_MINUTES if checkpoint_minutes is None else checkpoint_minutes
     try:

@@ -1,14 +1,13 @@
 """Threads of a run: numba's workers and nothing else.
 
-A time step's work runs in numba ``prange`` loops on ``numba.get_num_threads()`` workers. A
-library call that starts its own thread pool inside a step (an OpenBLAS ``dot`` or ``solve``, an
-OpenMP section) would put a second set of busy threads on the same cores: on two cores that made
-two numba threads slower than one (the impact engine's energy sums, 0.5-0.6x). So every engine,
-when it imports its generated kernels (:func:`craquelure.codegen.import_generated`, the one
-place all of them pass through), calls :func:`single_threaded_libraries`, which holds the BLAS
-pools of numpy and scipy (the one numba's ``np.linalg`` uses) to one thread with threadpoolctl
-for the rest of the process, and numba's OpenMP workers sleep while they wait
-(``OMP_WAIT_POLICY=PASSIVE``) rather than spin against the thread they wait for.
+A time step's work runs in numba ``prange`` loops on ``numba.get_num_threads()`` workers. A library
+call that starts its own thread pool inside a step (an OpenBLAS ``dot`` or ``solve``, an OpenMP
+section) would put a second set of busy threads on the same cores. So every engine, when it imports
+its generated kernels (:func:`craquelure.codegen.import_generated`, the one place all of them pass
+through), calls :func:`single_threaded_libraries`, which holds the BLAS pools of numpy and scipy
+(the one numba's ``np.linalg`` uses) to one thread with threadpoolctl for the rest of the process,
+and numba's OpenMP workers sleep while they wait (``OMP_WAIT_POLICY=PASSIVE``) rather than spin
+against the thread they wait for.
 """
 
 from __future__ import annotations
@@ -18,13 +17,10 @@ import os
 import threading
 import time
 
-# Waiting OpenMP threads sleep instead of spinning: on a shared 2-core machine a spinning
-# thread steals the core its partner needs (the lattice's parallel kernel ran 8x slower, 27 ms
-# vs 3.2 ms per step at 6e4 bonds, load average 7). numba's OpenMP pool reads this when it
-# starts (the first parallel call, after this module is imported by every engine's code
-# generator); an explicit OMP_WAIT_POLICY in the environment wins. On dedicated cores a
-# bounded spin (GOMP_SPINCOUNT=300000) scales better (1.88-1.93x vs 1.66-1.78x on 2 threads),
-# but with the cores shared it made 2 threads 10x slower than 1: see docs/performance.md.
+# Waiting OpenMP threads sleep instead of spinning: on shared cores a spinning thread steals
+# the core its partner needs (see docs/performance.md). numba's OpenMP pool reads this at its
+# first parallel call, after every engine's code generator imported this module; an explicit
+# OMP_WAIT_POLICY in the environment wins.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 _LIMITER = None

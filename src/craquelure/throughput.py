@@ -10,9 +10,9 @@ impact and lattice: steps, softdyn: T1 integrations weighted by their relative c
 T_0 is the run's fixed cost (process start, imports, cached kernels, initial state, writing the
 dataset), c_unit the per-step cost (Python and array work independent of N), c_particle and
 c_pair the per-particle and per-neighbour costs, c_e the extra per-particle cost of effect e
-where the calibration probe lacks it (lattice: the probe is a beams-only block, and melting's
-random draw per beam adds ~25 %), and S(threads) the measured speed-up of the
-compute part (S(1) = 1; S(2) from 1- and 2-thread timings, Amdahl's law beyond). The numbers
+where the calibration probe lacks it (lattice: the probe is a beams-only block), and S(threads)
+the measured speed-up of the compute part (S(1) = 1; S(2) from 1- and 2-thread timings,
+Amdahl's law beyond). The numbers
 are in ``throughput.yaml`` beside this file, written by ``benchmarks/predictions.py
 --calibrate`` (engine timings at two sizes and one end-to-end run per model); the same script
 prints predicted against measured wall times of every built-in scene.

@@ -22,11 +22,6 @@ for byte whatever the machine's load: no claim is judged on a timing. A claim wh
 measurement is a timing (a speed target) is judged by a script in ``benchmarks/`` instead; its
 model lists it in ``BENCHMARKED`` and the report names it with that script
 (:func:`benchmarked`).
-
-Helpers for sample-size decisions shared by the models: :func:`fraction_decision` (a fraction of
-samples against a threshold, exact binomial interval), :func:`fraction_power` (its power against
-a named alternative fraction, by simulation at a given sample size) and
-:func:`samples_for_power` (the sample size that power needs).
 """
 
 from __future__ import annotations
@@ -82,11 +77,11 @@ def verdict_of(conditions: Mapping[str, bool], undecided: Mapping[str, str] | No
                partial: bool = True) -> tuple[str, str]:
     """(verdict, note) for named boolean conditions.
 
-    ``undecided`` maps what the sample cannot decide to the sample it would need (e.g.
-    ``{"power 0.31 against t^-2 < 0.8": "about 40 seeds"}``): when no condition fails, such a
-    claim is ``inconclusive``, not ``reproduced``. A failing condition still decides (a test
-    that rejects at its level is evidence whatever its power); ``partial=False`` makes any
-    failure ``not reproduced`` (claims the source states as one test)."""
+    ``undecided`` maps what the sample cannot decide to the sample it would need: when no
+    condition fails, such a claim is ``inconclusive``, not ``reproduced``. A failing condition
+    still decides (a test that rejects at its level is evidence whatever its power);
+    ``partial=False`` makes any failure ``not reproduced`` (claims the source states as one
+    test)."""
     undecided = dict(undecided or {})
     if not conditions and not undecided:
         raise ValueError("a verdict needs at least one condition")

@@ -13,8 +13,7 @@ the velocities being the most sensitive part of the state (positions and stresse
 them by one more integration). Wall time is measured around the stepping loop only, after the
 rate function is compiled, on the threads the caller has set, so it is the cost of the
 integration alone. The observed order between successive dt (slope of log e against log dt)
-is stored too: about 4 for ``rk4`` and ``abm4`` and 2 for ``rk2`` while the error is above
-round-off.
+is stored too.
 
 The error-controlled Runge-Kutta-Chebyshev scheme ``rkc2`` (not bound by the viscous limit,
 :mod:`craquelure.drying.integrators`) is run at each of ``rkc_tolerances`` (its own dim

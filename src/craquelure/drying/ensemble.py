@@ -1,77 +1,61 @@
-r"""Checks 14-16 of the drying spec (section 13, revised 2026-12), each with its statistic, a
-bootstrap interval over samples (seeds) and the power of its test against a named alternative,
-computed by simulation at the run's own noise and counts.
+r"""Checks 14-16 of the drying spec (section 13), each with its statistic, a bootstrap interval
+over samples (seeds) and the power of its test against a named alternative, simulated at the
+run's own noise and counts.
 
 Resampling: a bootstrap replicate draws the campaign's N_s samples with replacement (whole
-samples: every snapshot of a drawn sample comes along); ``weights[b, s]`` counts how often
-sample s is in replicate b. Fixed generator seeds keep the summary reproducible.
+samples, every snapshot along); ``weights[b, s]`` counts sample s in replicate b. Fixed
+generator seeds keep the summary reproducible.
 
-**Check 14, the 1/t law** (source Fig. 3). Over the statistics window, with
-:math:`y_t = 1/\langle S\rangle_t` and per-time standard errors :math:`s_t` from the bootstrap
-over samples. A bootstrap variance from a handful of samples is itself very noisy (3 seeds: 2
-degrees of freedom per snapshot), and dividing by it inflates :math:`\chi^2` (measured: a
-noise-free-law synthetic campaign of 3 seeds gave reduced :math:`\chi^2 = 2.8`). So [D] the
-bootstrap variances :math:`v_t` (the replicates' variance times :math:`N_s/(N_s-1)`) are pooled
-over the window under the ratio estimator's relative-error model
+**Check 14, the 1/t law** (source Fig. 3). Over the statistics window,
+:math:`y_t = 1/\langle S\rangle_t` with per-time standard errors :math:`s_t`. A bootstrap
+variance from a handful of samples is itself very noisy and dividing by it inflates
+:math:`\chi^2`, so [D] the bootstrap variances :math:`v_t` (times :math:`N_s/(N_s-1)`) are
+pooled over the window under the ratio estimator's relative-error model
 :math:`s_t^2 = k^2 y_t^2/n_t` (:math:`n_t` fragments at t):
-:math:`k^2 = \mathrm{mean}_t(v_t n_t/y_t^2)`, with
-:math:`\nu = (N_s - 1) n_{times}` degrees of freedom (snapshots taken as independent), and the
-tests use the F and Student-t laws that this estimated scale calls for:
+:math:`k^2 = \mathrm{mean}_t(v_t n_t/y_t^2)`, with :math:`\nu = (N_s - 1) n_{times}` degrees
+of freedom, and the tests use the F and Student-t laws of this estimated scale:
 
-- (a) weighted least squares :math:`y_t = b (t - t_0)` (weights :math:`1/s_t^2`), reduced
+- (a) weighted least squares :math:`y_t = b (t - t_0)`, reduced
   :math:`\chi^2 = \sum_t (y_t - \hat y_t)^2/s_t^2/(n_{times} - 2)` below its 99 % critical
   value :math:`F_{0.99}(n_{times}-2, \nu)`;
 - (b) nested quadratic :math:`y_t = b (t - t_0) + c (t - \bar t)^2`: c not significant at 1 %
   (two-sided t test, :math:`\nu` degrees of freedom, covariance :math:`(X^T W X)^{-1}`);
 - (c) :math:`0 < t_0 \le t^*`, :math:`b > 0`, :math:`0.2 b^* \le b \le 5 b^*`; the
-  :math:`t_0` bound (2026-12-02) only from the fit over the window's snapshots where every
-  sample has >= 4 fragments (mean fragment <= L^2/4: the dimensional analysis assumes
-  fragments smaller than the box), when there are >= 3 such snapshots; otherwise it is not
-  applied and the result says so;
-- (d) power: draws :math:`y_t = m_t + s_t \epsilon_t` (:math:`\epsilon_t` i.i.d. normal) whose
-  mean follows the alternative :math:`t^{-2}` law through the measured end points of the
-  window, :math:`m_t = A + B t^2` [D: the 1/t law with the same kind of offset,
-  :math:`1/\langle S\rangle = A + B t^\alpha` with :math:`\alpha = 2` instead of 1; a pure
-  :math:`B t^2` cannot pass through two given points]; the power is the
-  fraction of draws that (a) or (b) rejects (the tests of the law's shape; (c) tests its
-  parameters). The sample that would decide is the smallest seed count N' (on a geometric grid)
-  whose noise :math:`s_t\sqrt{N_s/N'}` gives power >= 0.8.
+  :math:`t_0` bound only from the fit over the snapshots where every sample has >= 4
+  fragments (the dimensional analysis assumes fragments smaller than the box), when there are
+  >= 3 of them; otherwise it is not applied and the result says so;
+- (d) power: draws :math:`y_t = m_t + s_t \epsilon_t` around the alternative :math:`t^{-2}`
+  law through the measured end points, :math:`m_t = A + B t^2` [D: a pure :math:`B t^2`
+  cannot pass through two given points]; the power is the fraction of draws that (a) or (b)
+  rejects. The sample that would decide is the smallest seed count N' (geometric grid) whose
+  noise :math:`s_t\sqrt{N_s/N'}` gives power >= 0.8.
 
-Verdict (spec): not reproduced if (a), (b) or (c) fails; reproduced if they hold and the power
-is >= 0.8; otherwise inconclusive.
+Verdict: not reproduced if (a), (b) or (c) fails; reproduced if they hold and the power is
+>= 0.8; otherwise inconclusive.
 
-**Check 15, collapse** (source Figs. 5-6; revised 2026-12-02). :math:`X = S/\langle S\rangle_t`
-at the window's first and last snapshot. Equivalence: the 95 % bootstrap upper bounds of the KS
-distance :math:`D(X_{first}, X_{last})` and of the coefficient of variation of :math:`\langle
-X^2\rangle_t` over the window's snapshots (ddof = 1; in each replicate :math:`\langle
-S\rangle_t` is the replicate's pooled mean) lie within margins that follow the named
-alternative, a 25 % drift of the scaled width (:func:`drift_margins`): :math:`\delta_{KS}` and
-:math:`\delta_{CV}` are half the KS distance and half the CV that the drift
-:math:`X' = 1 + (X - 1) w_t`, :math:`w_t` falling linearly from 1 to 0.75 across the window,
-produces on the measured first-snapshot distribution (the fixed margins 0.15 / 0.10 used before
-could not fail a narrow distribution: such a drift moved KS by 0.13). Non-trivial:
-:math:`D(S_{first}, S_{last}) \ge 0.3`. Both rates are simulated on synthetic campaigns with the
-measured counts per sample and snapshot, sizes :math:`S = \langle S\rangle_t X'` with X drawn
-from the measured window-pooled X: the confirmation rate (an exact collapse, :math:`w_t = 1`,
-passes the bounds) and the power (the drift fails them), both reported. A miss of the bounds
-decides only when the confirmation rate is >= 0.8 (the sample could have shown a collapse), a
-pass only when the power is >= 0.8; otherwise the verdict is inconclusive, naming the sample
-(smallest seed count N', samples resampled from the campaign's) where both reach 0.8. The
-large-sample limit of both statistics under the drift is reported, and for the record the
-limit under a drift that keeps the small sizes (:math:`X' \propto X^p`, same 25 % fall of the
-coefficient of variation).
+**Check 15, collapse** (source Figs. 5-6). :math:`X = S/\langle S\rangle_t` at the window's
+first and last snapshot. Equivalence: the 95 % bootstrap upper bounds of the KS distance
+:math:`D(X_{first}, X_{last})` and of the coefficient of variation of :math:`\langle
+X^2\rangle_t` over the window (ddof = 1; per replicate pooled means) lie within margins set by
+the named alternative, a 25 % drift of the scaled width (:func:`drift_margins`): half the KS
+distance and half the CV that :math:`X' = 1 + (X - 1) w_t`, :math:`w_t` falling linearly from
+1 to 0.75, produces on the measured first-snapshot distribution (fixed margins could not fail
+a narrow distribution). Non-trivial: :math:`D(S_{first}, S_{last}) \ge 0.3`. On synthetic
+campaigns with the measured counts and X drawn from the window-pooled X: the confirmation
+rate (an exact collapse passes) and the power (the drift fails). A miss decides only when the
+confirmation rate is >= 0.8, a pass only when the power is >= 0.8; otherwise inconclusive,
+naming the seed count where both reach 0.8. Reported too: the large-sample limit of both
+statistics under the drift, and under a drift that keeps the small sizes
+(:math:`X' \propto X^p`).
 
-**Check 16, onset** (source: fragments from t = 90 = 0.40 t*, some samples unbroken until
-0.66 t*, collapse from 0.79 t*). Per sample: first removal time and break time (first snapshot
-with >= 2 fragments). Reported with bootstrap percentile intervals, in units of t*: earliest and
-median first removal, first, half and all samples broken. Conditions: first sample broken by
-0.45 t*, all broken by 0.9 t*. These are extreme values of the source's 100 samples: with fewer
-samples a pass of "all broken" and a miss of "first broken" could reverse with more samples
-(the maximum grows, the minimum falls with the count), so those outcomes are undecided below
-100 samples; the opposite outcomes are decided at any count. Reported beside the verdict, at
-the source's 100 samples drawn from the measured break times: the rate at which both
-conditions hold, and the power, the rate at which they fail when every sample breaks 25 %
-later (the named alternative).
+**Check 16, onset** (source: fragments from 0.40 t*, some samples unbroken until 0.66 t*).
+Per sample: first removal time and break time (first snapshot with >= 2 fragments), with
+bootstrap percentile intervals in units of t*. Conditions: first sample broken by 0.45 t*, all
+broken by 0.9 t*. These are extremes of the source's 100 samples, so with fewer samples a pass
+of "all broken" or a miss of "first broken" is undecided (the maximum grows, the minimum falls
+with the count); the opposite outcomes are decided at any count. Reported at 100 samples drawn
+from the measured break times: the rate at which both hold, and the power against every sample
+breaking 25 % later.
 """
 
 from __future__ import annotations
@@ -193,10 +177,7 @@ def shape_power(t: np.ndarray, mean: np.ndarray, se: np.ndarray, n_draws: int,
 def check_inverse_area(t: np.ndarray, total: np.ndarray, count: np.ndarray, t_star: float,
                        b_star: float, n_boot: int, n_power: int = N_POWER,
                        seed: int = POWER_SEED) -> dict[str, Any]:
-    """Check 14 on the window's per-sample totals (seed, time); see the module docstring.
-    The t0 bound of (c) is applied to the fit over the window's snapshots where every sample
-    has at least SEVERAL_FRAGMENTS fragments, if there are >= 3 of them; otherwise it is not
-    applied and ``t0_bound_note`` says so."""
+    """Check 14 on the window's per-sample totals (seed, time); see the module docstring."""
     rng = np.random.default_rng(seed)
     n_s = total.shape[0]
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -350,7 +331,7 @@ class CollapseSample:
 
 def drift_margins(x_first: np.ndarray, n_times: int, drift: float = WIDTH_DRIFT
                   ) -> dict[str, float]:
-    """Margins of check 15 from its named alternative (spec, revised 2026-12-02): the KS
+    """Margins of check 15 from its named alternative: the KS
     distance between the measured first-snapshot scaled sizes X and the same sizes with the
     width of X - 1 scaled by 1 - drift (exact for that distribution: the large-sample limit),
     and the CV (ddof = 1) of <X^2>_t = 1 + w_t^2 Var X over ``n_times`` snapshots with w_t
@@ -387,10 +368,8 @@ def synthetic_collapse(counts: np.ndarray, mean: np.ndarray, pool: np.ndarray, d
 
 def _shape_drift_limit(counts: np.ndarray, mean: np.ndarray, pool: np.ndarray,
                       rng: np.random.Generator) -> tuple[float, float]:
-    """Large-sample KS and CV under a support-keeping drift of the same 25 %: X' = X^p / <X^p>
-    with p chosen per snapshot so that the coefficient of variation falls linearly to 0.75 of
-    the pool's (for the record: it shows what the tolerances let through when the small sizes
-    do not move)."""
+    """Large-sample KS and CV under a support-keeping drift of the same 25 %: X' = X^p / <X^p>,
+    p per snapshot so that the coefficient of variation falls linearly to 0.75 of the pool's."""
     from scipy import optimize
 
     n_s, n_t = counts.shape

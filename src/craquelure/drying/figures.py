@@ -30,7 +30,7 @@ import xarray as xr
 from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
 from craquelure.drying.summary import ccdf_bands
 from craquelure.drying.time_scales import drying_number, paper_t_star, window_of
-from craquelure.plotting import plt, save
+from craquelure.plotting import label_axes, plt, save
 
 FIGURES = ("snapshots", "inverse_mean_area", "size_distribution", "scaled_distribution")
 
@@ -126,11 +126,7 @@ def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any]
         image = ax.scatter(snap["x"].values[alive], snap["y"].values[alive],
                            c=snap["mean_stress"].values[alive] / sigma_y, s=size,
                            cmap="coolwarm", vmin=-1.0, vmax=1.0, linewidths=0)
-        ax.set_xlim(0, length)
-        ax.set_ylim(0, length)
-        ax.set_aspect("equal")
-        ax.set_xticks([])
-        ax.set_yticks([])
+        ax.set(xlim=(0, length), ylim=(0, length), aspect="equal", xticks=[], yticks=[])
         ax.set_title(f"t = {times[k]:.3g} ({times[k] / tstar:.2f} t*), "
                      f"{int((~alive).sum())} removed", fontsize=8)
     fig.suptitle(f"Crack pattern of seed {run.attrs.get('seed', '?')} (cf. paper Fig. 2)")
@@ -162,8 +158,7 @@ def fig_inverse_mean_area(campaign: xr.Dataset, summary: dict[str, Any], profile
         ax.axvspan(*summary["window"], color="0.9", zorder=0, label="fit window")
     ax.axvline(float(campaign.attrs["t_star"]), color="C3", ls="--", lw=1,
                label="t* = sigma_Y / v_r")
-    ax.set_xlabel("t [eta/lambda]")
-    ax.set_ylabel("1/<S>_t [1/length^2]")
+    label_axes(ax, "t [eta/lambda]", "1/<S>_t [1/length^2]")
     ax.set_ylim(bottom=0)
     ax.legend(fontsize=7, loc="upper left")
     ax.set_title("Inverse mean fragment area (cf. paper Fig. 3)")
@@ -195,8 +190,7 @@ def fig_size_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile
     """Fig. 4: CCDF of S at (up to 7) snapshot times of the window, 95 % bootstrap bands."""
     fig, ax = plt.subplots(figsize=(6.4, 5.2))
     _ccdf_panel(ax, campaign, campaign["time"].values[window_of(campaign)["mask"]], scaled=False)
-    ax.set_xlabel("S [length^2]")
-    ax.set_ylabel("P(fragment area > S; t)")
+    label_axes(ax, "S [length^2]", "P(fragment area > S; t)")
     ax.set_title("Fragment-size distribution, complementary cumulative (cf. paper Fig. 4)",
                  fontsize=9)
     fig.subplots_adjust(bottom=0.22)
@@ -264,9 +258,8 @@ def fig_accuracy(study: xr.Dataset, profile: str):
                              study["tolerance"].values, strict=True):
             ax.annotate(f"tol {tol:g}", (w, e), fontsize=6, xytext=(3, -8),
                         textcoords="offset points")
-    ax.set_xlabel("wall time of the stepping loop [s]")
-    ax.set_ylabel("relative L2 error of the final velocity field")
-    ax.legend(fontsize=7)
+    label_axes(ax, "wall time of the stepping loop [s]",
+               "relative L2 error of the final velocity field", legend={"fontsize": 7})
     a = study.attrs
     ax.set_title(f"Drying SPH: error vs wall time (profile {profile})", fontsize=9)
     _caption(fig, [
@@ -296,9 +289,7 @@ def fig_thickness(sweep: xr.Dataset, profile: str):
                  times[late][-1] if late.any() else np.nan, color="0.9", zorder=0,
                  label="late snapshots (exponent)")
     ax_t.set_yscale("log")
-    ax_t.set_xlabel("t [eta/lambda]")
-    ax_t.set_ylabel("<S>_t [length^2]")
-    ax_t.legend(fontsize=7)
+    label_axes(ax_t, "t [eta/lambda]", "<S>_t [length^2]", legend={"fontsize": 7})
     ax_t.set_title("Mean fragment area per layer thickness", fontsize=9)
     picks = np.flatnonzero(late)
     for colour, k in zip(_colours(picks.size), picks, strict=True):
@@ -313,8 +304,7 @@ def fig_thickness(sweep: xr.Dataset, profile: str):
     else:
         ax_h.text(0.5, 0.5, "no late snapshot with every sample of every H broken",
                   ha="center", va="center", fontsize=8, transform=ax_h.transAxes)
-    ax_h.set_xlabel("layer thickness H")
-    ax_h.set_ylabel("<S> [length^2]")
+    label_axes(ax_h, "layer thickness H", "<S> [length^2]")
     ax_h.set_title("<S> against H at the late snapshots", fontsize=9)
     a = sweep.attrs
     fig.suptitle(f"Drying paste: thickness sweep (profile {profile})")
@@ -384,8 +374,8 @@ def fig_speed(study: xr.Dataset, profile: str):
         ax.set_xticks(pi, [f"{v:.3g}" for v in pi])
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.axvline(a["paper_pi"], color="k", ls="--", lw=0.8, label="paper's Pi = 0.022")
-        ax.set_xlabel("Pi = tau / t*  (tau = eta/(2 mu), t* = sigma_Y/v_r)")
-        ax.legend(fontsize=6)
+        label_axes(ax, "Pi = tau / t*  (tau = eta/(2 mu), t* = sigma_Y/v_r)",
+                   legend={"fontsize": 6})
     fig.suptitle(f"Drying paste: drying-speed study (profile {profile})")
     seeds = ", ".join(str(int(n)) for n in study["n_seeds"].values)
     _caption(fig, [
@@ -421,8 +411,7 @@ def fig_kappa(study: xr.Dataset, profile: str):
         ax.axhline(1.0, color="0.5", lw=0.8, ls=":", label="perfect lattice (kappa = 1)")
         ax.axhline(1.0 / 0.40, color="C3", lw=0.8, ls="--",
                    label="source's onset 0.40 t* needs kappa = 2.5")
-        ax.set_xlabel(label)
-        ax.legend(fontsize=7)
+        label_axes(ax, label, legend={"fontsize": 7})
     axes[0].text(0.02, 0.6, "placements the mass solve accepts only\n(spec check 13.3: Shepard "
                  "field in [0.95, 1.05]);\nrefused points have no run", fontsize=7,
                  transform=axes[0].transAxes)
@@ -461,9 +450,7 @@ def fig_transition(ds: xr.Dataset, profile: str):
     for ax, (_, label) in zip(axes, keys, strict=True):
         if np.isfinite(d_c):
             ax.axvline(d_c, color="k", ls="--", lw=0.8, label=f"d_c = {d_c:.3g}")
-        ax.set_xlabel("damage d (removed particles / N)")
-        ax.set_ylabel(label)
-        ax.legend(fontsize=7)
+        label_axes(ax, "damage d (removed particles / N)", label, legend={"fontsize": 7})
     a = ds.attrs
 
     def est(key: str) -> str:

@@ -1,10 +1,9 @@
 """Initial state of the drying paste (drying spec section 7).
 
-Positions by random sequential addition (minimum separation ``rsa_min_separation`` x L/sqrt(N))
-or a square lattice; optional particle-free bands; particles sorted by cell for locality;
-masses from the truncated-CG mass-consistency solve, or its clamped variant that keeps every mass
-above the floor on more disordered positions (``numerics.mass_solve.method``), or equal masses
-(ablations); v = 0,
+Positions by random sequential addition (minimum separation ``rsa_min_separation`` x L/sqrt(N)) or a
+square lattice; optional particle-free bands; particles sorted by cell for locality; masses from the
+truncated-CG mass-consistency solve, or its clamped variant that keeps every mass above the floor on
+more disordered positions (``numerics.mass_solve.method``), or equal masses (ablations); v = 0,
 rho = rho0, elastic stress components i.i.d. U(-a sigma_Y, a sigma_Y).
 """
 

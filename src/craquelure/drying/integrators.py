@@ -35,21 +35,15 @@ Stabilised explicit scheme for the real viscous spectrum, not bound by the visco
   :math:`c_s = 1`). Its stability polynomial is
   :math:`R_s(z) = a_s + b_s T_s(w_0 + w_1 z)`, second order, with a real-axis stability
   interval :math:`[-\beta(s), 0]`,
-  :math:`\beta(s) \approx \tfrac23 (s^2-1)(1 - \tfrac{2}{15}\epsilon) \approx 0.653\,s^2`
-  (measured: 6.18, 9.85, 22.9, 64.7, 261 for s = 3, 4, 6, 10, 20; tests/drying). The stage
-  count is the smallest that covers the spectrum:
+  :math:`\beta(s) \approx \tfrac23 (s^2-1)(1 - \tfrac{2}{15}\epsilon) \approx 0.653\,s^2`.
+  The stage count is the smallest that covers the spectrum:
   :math:`s = 1 + \lfloor\sqrt{1 + 1.54\,\Delta t\,\rho}\rfloor` (:math:`\ge 2`), with
-  :math:`\rho` the (safety-scaled) spectral radius of the stiff part, so a step costs
-  :math:`s \approx \sqrt{1.54\,\rho\,\Delta t}` evaluations and the work per unit time falls
-  as :math:`\Delta t^{-1/2}`. For the paste (:math:`\rho \approx 168`, spec section 8):
-  ABM4 needs 2/0.004 = 500 evaluations per time unit, RKC2 at :math:`\Delta t = 0.2`
-  (26x ABM4's limit 0.0076) needs 8 per step, 40 per time unit.
-  Near the imaginary axis :math:`|R_s(iy)| \approx 1 + 0.035\,y^4` (:math:`s \ge 6`), a slow
-  growth of undamped oscillations (the substrate mode, :math:`y = \omega_0\Delta t`, and the
-  grid-scale velocity modes the kernel gradient cannot see, which oscillate undamped on the
-  substrate spring) that the step cap ``dt_max`` keeps small: on the paste with per-particle
-  white-noise velocities, dt = 0.2 (8 stages) decays steadily and dt = 0.5 (13 stages) grows
-  after a few hundred time units, hence the default ``dt_max = 0.2``.
+  :math:`\rho` the (safety-scaled) spectral radius of the stiff part, so the work per unit
+  time falls as :math:`\Delta t^{-1/2}`.
+  Near the imaginary axis :math:`|R_s(iy)| \approx 1 + 0.035\,y^4` (:math:`s \ge 6`): undamped
+  oscillations (the substrate mode, :math:`y = \omega_0\Delta t`, and the grid-scale velocity
+  modes the kernel gradient cannot see) grow slowly, which the step cap ``dt_max`` keeps
+  small; hence the default ``dt_max = 0.2``.
 
   Local error estimate (second order, from the two end rates, no extra evaluation because
   :math:`F_{n+1}` is needed anyway for the fracture test and the next step):
@@ -58,18 +52,16 @@ Stabilised explicit scheme for the real viscous spectrum, not bound by the visco
   :math:`e = \max |\mathrm{est}|/\mathrm{scale} \le 1` and proposes
   :math:`\Delta t_{new} = \Delta t \min(10, \max(0.1, 0.8\, e^{-1/3}))` (with the PI
   correction :math:`(\Delta t/\Delta t_{prev})(e_{prev}/e)^{1/3}` after an accepted step, and
-  no growth right after a rejection), capped at ``dt_max``. The max norm (not an RMS over
-  particles) makes the step follow the worst particle, so it shrinks where a removal starts a
-  fast local transient and grows again between removal events.
+  no growth right after a rejection), capped at ``dt_max``. The max norm makes the step follow
+  the worst particle: it shrinks where a removal starts a fast local transient.
 
 Every step takes ``f0 = f(y_n, t_n)`` (already known: it is the last evaluation of the previous
 step) and returns ``y_{n+1}``; the caller evaluates ``f(y_{n+1})`` once, which both ends this
 step (fracture test, ABM history, RKC error estimate) and starts the next.
 
-The per-step vector work (the RKC stage combinations, ABM4's predictor and corrector, the RKC
-error norm) runs in fused numba loops on the run's threads, each element computed by the same
-operations in the same order as the numpy expression, so the results are bit-identical to it;
-as numpy temporaries it would be serial work between the parallel pair passes.
+The per-step vector work (RKC stages, ABM4's predictor and corrector, the RKC error norm) runs
+in fused numba loops on the run's threads, each element computed in the same order as the
+numpy expression (bit-identical to it) instead of serial numpy temporaries.
 """
 
 from __future__ import annotations
@@ -244,14 +236,9 @@ def rkc2_error_norm(y0: np.ndarray, y1: np.ndarray, f0: np.ndarray, f1: np.ndarr
 
 
 class StepController:
-    """Step control of ``rkc2``: the error-controlled step size (elementary + PI control as in
-    RKC) and what the engine's rkc2 step keeps between steps (the scene's
-    ``numerics.step_control`` and ``adapt_dt``, the viscous spectral radius, the removal-event
-    limit ``dt_event``, the per-row error scale).
-
-    ``propose(err, dt)`` is called once per attempted step with the scaled error norm; it
-    returns True if the step is accepted and sets ``dt_next``.
-    """
+    """Step control of ``rkc2`` (elementary + PI control as in RKC) and what the engine's rkc2
+    step keeps between steps. ``propose(err, dt)``, once per attempted step with the scaled
+    error norm, returns True if the step is accepted and sets ``dt_next``."""
 
     SAFETY, FAC_MIN, FAC_MAX = 0.8, 0.1, 10.0
 

@@ -14,23 +14,14 @@ while every mass stays positive: an active-set projection. When a CG iterate has
 the floor :math:`m_{min} = 0.1\bar m`, those masses are clamped to the floor and fixed, and CG
 restarts on the remaining (free) ones, :math:`A_{FF} m_F = \rho_0 - A_{FC} m_C`, from the
 clamped iterate, with the same truncation ``rtol``; this repeats until CG reaches ``rtol``
-without a new violation. Measured on RSA points, N = 1600, L = 2, seed 1 (relative residual,
-max density error, masses / :math:`\bar m`): minimum gap 0.7 Delta: truncated CG 7.5e-3, 0.029
-(guard stop, misses ``rtol``) against clamped 2.4e-3, 0.012, m in [0.10, 2.4]; 0.6 Delta:
-2.6e-2, 0.12 against 4.0e-3, 0.035, m in [0.10, 3.1] (114 masses at the floor); 0.5 Delta:
-4.6e-2, 0.18 against 6.9e-3, 0.053. A bound-constrained least-squares solve
-(``scipy.optimize.lsq_linear``, m >= floor) reached residual 5e-5 on 2500 points but took
-12 minutes: too slow for an initial state. Masses at the floor leave their rows unsolved, so
-the clamped residual is held to ``guarded_rtol`` like a guard stop; the bounds on the result
-stay strict. Through the scene (drying/ci, N = 1600, seed 1) this admits a minimum gap of
-0.7 Delta (Shepard field min 0.959; truncated CG misses it, 0.933), while 0.65 and 0.6 Delta
-still miss the Shepard bound (0.90, 0.89) with every mass positive.
+without a new violation. (A bound-constrained least-squares solve is far too slow for an
+initial state.) Masses at the floor leave their rows unsolved, so the clamped residual is held
+to ``guarded_rtol`` like a guard stop.
 
 [D] When the minimum-mass guard stops CG before it reaches ``rtol``, the kept iterate may sit
-just above it (measured: 3.15e-3 on the Table I configuration of seed 1, N = 4e4). The residual
-is then held to ``guarded_rtol`` (1e-2) instead, while every bound on the result itself (masses,
-density error, total mass, Shepard field) stays as strict as check 3 asks: those are what the
-solve is for (spec section 7).
+just above it. The residual is then held to ``guarded_rtol`` (1e-2) instead, while every bound
+on the result itself (masses, density error, total mass, Shepard field) stays as strict as
+check 3 asks: those are what the solve is for (spec section 7).
 """
 
 from __future__ import annotations

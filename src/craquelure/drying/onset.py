@@ -12,7 +12,7 @@ solve)
 
 - ``kappa_max``: max over live particles of :math:`\bar\sigma_I / F` at the last snapshot,
   with the initial-stress scale :math:`a\sigma_Y / F` (0.01 at F = sigma_Y) as its
-  uncertainty (measured on a lattice: 1.08 times that scale);
+  uncertainty;
 - ``kappa_change``: its change from the previous snapshot (relaxation check: the values are
   read once the non-uniform stress has relaxed, rate :math:`(\lambda + 2\mu)/\eta`);
 - ``predicted_first_removal_over_t_star`` :math:`= 1/\kappa_{max}` (source criterion).

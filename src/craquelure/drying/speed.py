@@ -3,7 +3,7 @@ converge toward the paper's as the drying slows down?
 
 The dimensionless drying speed is :math:`\Pi = \tau/t^*` with the Voigt shear retardation time
 :math:`\tau = \eta/(2\mu)` and :math:`t^* = \sigma_Y/v_r` (paper: :math:`\Pi = 5/227.3 =
-0.022`; the laptop profiles 0.66). Each speed is a campaign of the same scene with
+0.022`). Each speed is a campaign of the same scene with
 :math:`v_r = \Pi\sigma_Y/\tau`, snapshots at fixed fractions of :math:`t^*`. Per speed, in units
 of :math:`t^*` and each with its 95 % bootstrap interval over seeds
 (:func:`craquelure.drying.ensemble.check_onset`, :func:`craquelure.drying.ensemble.

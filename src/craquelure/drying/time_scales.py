@@ -10,14 +10,13 @@ time scale, so in window mode ``paper`` every window is rescaled by :math:`t^*/t
 [D]. That rescaling does not hold when drying is much faster than the paper's: the shear
 retardation time :math:`\tau = \eta/(2\mu) = 5` (Voigt) is then no longer small against
 :math:`t^*`: :math:`\Pi = \tau/t^*` is 0.022 in the paper and 0.66 at 30x its rate, where the
-crack network forms later in units of :math:`t^*` (measured: about 3 t*, against < 0.8 t* in
-the paper). Every summary and caption states the run's :math:`\Pi` (:func:`drying_number`).
-The faster profiles therefore use window mode ``all_broken`` [D], the paper's own
-definition of the end of the initial stage ("when some samples are still unbroken"): the window
-runs from the first snapshot from which on every sample has at least two fragments to the last
-snapshot, and the collapse times :math:`t_k` are 7 snapshots evenly spread over it. The mode
-and the window are attributes of the campaign dataset (:func:`campaign_window`), so the
-statistics and the figures read one decision; the summary and every caption state it.
+crack network forms later in units of :math:`t^*`. Every summary and caption states the run's
+:math:`\Pi` (:func:`drying_number`). The faster profiles therefore use window mode ``all_broken``
+[D], the paper's own definition of the end of the initial stage ("when some samples are still
+unbroken"): the window runs from the first snapshot from which on every sample has at least two
+fragments to the last snapshot, and the collapse times :math:`t_k` are 7 snapshots evenly spread
+over it. The mode and the window are attributes of the campaign dataset (:func:`campaign_window`),
+so the statistics and the figures read one decision; the summary and every caption state it.
 """
 
 from __future__ import annotations

@@ -8,11 +8,8 @@ equally spaced times, the first at t = 0), ``particle`` (mass, body, row, col) a
 Attributes: derived constants (dt, k_n, k_s, E, nu, P-wave modulus, rho_2) and provenance.
 A diverged run raises :class:`~craquelure.errors.SimulationDiverged` and writes nothing.
 
-The loop, checkpoints and ``--resume`` are the runner's (:mod:`craquelure.runner`): every
-``numerics.checkpoint_every`` frames (or every few minutes of wall time) the full evolving state
-(:meth:`Engine.state`: configurations, bond list, rest states and damping history, contact
-list, accumulators, energy series) and the frames so far go to ``<out>.checkpoint.npz``;
-``--resume`` continues from it to a dataset bit-identical to the uninterrupted run.
+The loop, checkpoints and ``--resume`` are the runner's (:mod:`craquelure.runner`); a
+checkpoint holds :meth:`Engine.state` and the frames so far.
 """
 
 from __future__ import annotations
@@ -164,10 +161,9 @@ def to_dataset(scene: Scene, engine: Engine, labels: dict, frames: dict) -> xr.D
 
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None, **checkpoints) -> Path:
-    """``craquelure run lattice/<scene> --out RUN.nc [--resume]`` (through the runner;
-    ``checkpoints``: the options of :func:`craquelure.runner.run_to_file`; checkpoints every
-    ``numerics.checkpoint_every`` frames). The initial state is built from the scene and seed
-    (``--init`` is refused)."""
+    """``craquelure run lattice/<scene>`` through :func:`craquelure.runner.run_to_file`
+    (checkpoints every ``numerics.checkpoint_every`` frames). The initial state is built from
+    the scene and seed (``--init`` is refused)."""
     if init is not None:
         raise CraquelureError("lattice runs build their initial state from the scene and seed: "
                               "run without --init")

@@ -5,15 +5,11 @@ Sources: the ``summary.json`` files of :mod:`craquelure.lattice.analysis` (folde
 it summarises: ``glen``, ``gravity_block``, ``calving``, ``fretting``, ``accuracy``).
 
 Spec check 12 (weak scaling: time per step per particle constant within 30 % from 1e3 to 1e5
-particles) is a speed target of the implementation, not a finding of the source, and its only
-measurement is a timing: the same code and scenes gave "reproduced" idle (wall-time spread
-13 %) and "not reproduced" with other work on the machine (72 %). Speed targets are judged by
-benchmarks, so ``benchmarks/lattice_scaling.py`` judges it, on the CPU time per thread (which
-does not count waiting for a core) beside the wall time, and it is listed in
-:data:`BENCHMARKED`, not in the report: a timing is measured anew in every run and still
-shares caches, memory bandwidth and SMT cores with whatever else runs, so a verdict on it
-would not follow from the data alone. The workflow's scaling figure and table
-(``results/lattice/scaling/``) record both timings without a verdict.
+particles) is a speed target of the implementation whose only measurement is a timing, which
+depends on the machine's load: ``benchmarks/lattice_scaling.py`` judges it (CPU time per
+thread beside the wall time) and it is listed in :data:`BENCHMARKED`, not in the report. The
+workflow's scaling figure and table (``results/lattice/scaling/``) record both timings without
+a verdict.
 """
 
 from __future__ import annotations

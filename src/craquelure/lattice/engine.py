@@ -5,9 +5,8 @@ of inertia, diameter, fixed / driven dof masks, loads) and bonds (end indices, r
 L0, rest chord direction (cos, sin alpha0), theta refs, stiffnesses k_n, a, b, state,
 unbreakable flag). :class:`Engine` compiles the kernel for the effect set, advances in
 chunks, rebuilds the contact list and re-freezes bonds (melting) between chunks, and raises
-:class:`SimulationDiverged` on NaN or
-runaway energy. Stable step (spec section 5): the quick estimate
-omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, k_s).
+:class:`SimulationDiverged` on NaN or runaway energy. Stable step (spec section 5): the quick
+estimate omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, k_s).
 """
 
 from __future__ import annotations
@@ -27,10 +26,8 @@ from craquelure.registry import kernel_parameters, parameter_vector
 from craquelure.runner import Divergence, diverged, heartbeat, non_finite
 from craquelure.sph.neighbours import Box, neighbour_list
 
-# Waiting OpenMP threads sleep instead of spinning: set for every engine by
-# craquelure.threads (imported through craquelure.codegen before any kernel runs).
-# below this many bonds a serial kernel is faster (thread start-up per parallel region);
-# measured with benchmarks/lattice_engine.py on this 2-core machine
+# below this many bonds a serial kernel is faster (thread start-up per parallel region;
+# benchmarks/lattice_engine.py)
 PARALLEL_MIN_BONDS = 20000
 # per-step displacements within this many rounding units of the positions: the energy budget
 # is lost to round-off (the guard then says to raise the step, not to lower it)
@@ -141,10 +138,9 @@ def pair_keys(i: np.ndarray, j: np.ndarray, n: int) -> np.ndarray:
 @numba.njit(cache=True)
 def unbonded_pairs(off, idx, poff, pidx, bi, bj, state):
     """Pairs i < j of the neighbour list (CSR off, idx) not an intact bond (bi, bj), in list
-    order (i ascending, then as listed). A fracture run rebuilds its contact list after every
-    step that breaks a beam (a rebuild every ~9 steps in lattice/calving), so this filter runs
-    in compiled code: marking each particle's bonded partners (bond CSR poff, pidx) costs
-    O(bonds) where Python sets of pairs cost ~1 us per pair."""
+    order (i ascending, then as listed). Compiled, because a fracture run rebuilds its contact
+    list after every step that breaks a beam: marking each particle's bonded partners (bond
+    CSR poff, pidx) costs O(bonds)."""
     n = off.size - 1
     mark = np.full(n, -1, np.int64)
     ci = np.empty(idx.size, np.int64)

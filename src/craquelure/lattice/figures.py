@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from craquelure.lattice import fragments
-from craquelure.plotting import plt, save
+from craquelure.plotting import label_axes, plt, save
 
 
 def _save(fig, out, title=None, **title_kw) -> None:
@@ -42,11 +42,9 @@ def calving(ds, labels, summary, out, title):
     wl = ds.attrs.get("water_level")
     if wl is not None and np.isfinite(wl):
         big.axhline(wl, color="tab:blue", lw=0.8)
-    big.set_aspect("equal")
-    big.set_title(f"t = {float(ds.frame_time[-1]):.0f}: fragments (main body dark)")
+    big.set(aspect="equal", title=f"t = {float(ds.frame_time[-1]):.0f}: fragments (main body dark)")
     ax[2].plot(ds.time, ds.broken, color="k")
-    ax[2].set_xlabel("t")
-    ax[2].set_ylabel("broken beams")
+    label_axes(ax[2], "t", "broken beams")
     c, d, n = fragments.size_distribution(sz)
     slope, decades = summary["slope"], summary["decades"]
     tau, cut = summary["ml_exponent"], summary["ml_cutoff"]
@@ -64,8 +62,7 @@ def calving(ds, labels, summary, out, title):
         expected, _ = np.histogram(grid, edges, weights=(sz.size - 1) * w / w.sum())
         ax[3].loglog(c[sel], (expected / np.diff(edges))[sel], "-", color="tab:blue",
                      label=f"ML s^-{tau:.2f} exp(-s/{cut:.0f}), same bins")
-    ax[3].set_xlabel("fragment size s (particles)")
-    ax[3].set_ylabel("n(s)")
+    label_axes(ax[3], "fragment size s (particles)", "n(s)")
     ax[3].set_title(f"{sz.size - 1} fragments: ML exponent {tau:.2f} (cut-off {cut:.0f}); "
                     f"binned slope {slope:.2f} over {decades:.1f} dec.", fontsize=9)
     ax[3].legend(fontsize=8)
@@ -80,8 +77,7 @@ def fretting(ds, labels, per_cycle, out, title):
     ax[0].scatter(x0[body], y0[body], s=1, color="0.8")
     sc = ax[0].scatter(mx, my, c=tb, s=6, cmap="viridis")
     fig.colorbar(sc, ax=ax[0], label="break time")
-    ax[0].set_aspect("equal")
-    ax[0].set_title("broken beams in the reference configuration")
+    ax[0].set(aspect="equal", title="broken beams in the reference configuration")
     counts = np.bincount(labels[labels >= 0])
     main = np.argmax(counts)
     x, y = ds.x.values[-1], ds.y.values[-1]
@@ -97,8 +93,7 @@ def fretting(ds, labels, per_cycle, out, title):
                        f"{p['broken']} broken beams", (k, p["platelets"]), ha="center",
                        va="bottom", fontsize=7)
     ax[2].set_xticks(cyc)
-    ax[2].set_xlabel("cycle")
-    ax[2].set_ylabel("detached platelets")
+    label_axes(ax[2], "cycle", "detached platelets")
     _save(fig, out, title)
 
 
@@ -113,12 +108,9 @@ def glen(table, fit, frozen_fit, out, title):
         ax[0].loglog(tau, mu, marker, label=f"{lab}: slope {f[0]:.2f}")
         ax[0].loglog(tau, f[1] * tau ** f[0], "-", lw=0.8, color="0.4")
         ax[1].loglog(tau, rate, marker, label=lab)
-    ax[0].set_xlabel("applied shear stress tau_app")
-    ax[0].set_ylabel("viscosity mu = 2 tau / gamma_dot")
-    ax[0].legend(fontsize=8)
-    ax[1].set_xlabel("tau_app")
-    ax[1].set_ylabel("strain rate gamma_dot")
-    ax[1].legend(fontsize=8)
+    label_axes(ax[0], "applied shear stress tau_app", "viscosity mu = 2 tau / gamma_dot",
+               legend={"fontsize": 8})
+    label_axes(ax[1], "tau_app", "strain rate gamma_dot", legend={"fontsize": 8})
     _save(fig, out, title)
 
 
@@ -130,9 +122,7 @@ def gravity(ds, predicted, out, title):
     fig, ax = plt.subplots(figsize=(8, 4))
     ax.plot(x0, dy, ".", label="top row settlement")
     ax.axhline(predicted, color="tab:red", label="rho_2 g H^2 / (2M)")
-    ax.set_xlabel("x")
-    ax.set_ylabel("settlement")
-    ax.legend()
+    label_axes(ax, "x", "settlement", legend={})
     ax.set_title(title, fontsize=9)
     _save(fig, out)
 
@@ -145,16 +135,13 @@ def scaling(rows, out, title):
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     ax[0].loglog(n, t * 1e9, "o-", label="wall time")
     ax[0].loglog(n, cpu * 1e9, "s--", label="CPU time per thread")
-    ax[0].set_xlabel("particles N")
-    ax[0].set_ylabel("time per step per particle [ns]")
+    label_axes(ax[0], "particles N", "time per step per particle [ns]")
     both = np.concatenate([t, cpu])
     ax[0].set_ylim(both.min() * 1e9 / 3, both.max() * 1e9 * 3)
     ax[0].legend()
     ax[1].semilogx(n, rate / 1e6, "o-")
     ax[1].axhline(20, color="tab:red", ls="--", label="target 2e7/s")
-    ax[1].set_xlabel("particles N")
-    ax[1].set_ylabel("bond updates per second [1e6]")
-    ax[1].legend()
+    label_axes(ax[1], "particles N", "bond updates per second [1e6]", legend={})
     _save(fig, out, title, fontsize=9)
 
 
@@ -177,12 +164,10 @@ def accuracy(rows, out, title):
     chain = np.array([next(r["chain_prediction"] for r in rows if r["rows"] == k)
                       for k in n_all])
     ax[1].loglog(n_all, chain, "k--", lw=0.8, label="fixed-free chain (sin x/x - 1)")
-    ax[0].set_xlabel("wall time of the run [s] (compilation excluded)")
-    ax[0].set_ylabel("|T / T_continuum - 1|")
-    ax[0].legend(fontsize=8)
+    label_axes(ax[0], "wall time of the run [s] (compilation excluded)",
+               "|T / T_continuum - 1|", legend={"fontsize": 8})
     ax[0].set_title("error versus cost", fontsize=9)
-    ax[1].set_xlabel("free rows N (h = H/(N + 1/2))")
-    ax[1].set_ylabel("|T / T_continuum - 1|")
-    ax[1].legend(fontsize=8)
+    label_axes(ax[1], "free rows N (h = H/(N + 1/2))", "|T / T_continuum - 1|",
+               legend={"fontsize": 8})
     ax[1].set_title("error versus resolution (order 2 expected)", fontsize=9)
     _save(fig, out, title, fontsize=9)

@@ -6,13 +6,12 @@ logarithmic bins (counts divided by bin width), and its log-log slope is fitted 
 bins with at least ``min_count`` fragments (2D brittle fragmentation predicts -3/2 with a
 cut-off). Only the body particles (``body == 0``) are labelled; the pad is excluded.
 
-Decision [D]: the spec's form is a power law with an exponential cut-off,
-:math:`n(s) \propto s^{-\tau} e^{-s/s_*}`. A straight line through log-binned counts
-ignores the cut-off (the last bins steepen it) and weights the sparse large-size bins like
-the full small-size ones, so with the ~10^2 fragments of a laptop-size calving run it is
-biased steep. :func:`fit_cutoff_power_law` fits both parameters by maximum likelihood of the
-discrete distribution on s >= s_min (Clauset, Shalizi & Newman 2009, with the cut-off); the
-binned slope is still reported next to it.
+Decision [D]: the spec's form is a power law with an exponential cut-off, :math:`n(s) \propto
+s^{-\tau} e^{-s/s_*}`. A straight line through log-binned counts ignores the cut-off (the last bins
+steepen it) and weights the sparse large-size bins like the full small-size ones, so with a few
+hundred fragments it is biased steep. :func:`fit_cutoff_power_law` fits both parameters by maximum
+likelihood of the discrete distribution on s >= s_min (Clauset, Shalizi & Newman 2009, with the
+cut-off); the binned slope is still reported next to it.
 """
 
 from __future__ import annotations

@@ -1,10 +1,8 @@
 """Source template of the lattice time-step kernel (lattice spec sections 5-8).
 
-:func:`craquelure.codegen.specialise` copies this file with the effect flags / ``PERIODIC_X`` /
-``NODE_AVERAGED`` / ``BENDING`` / ``PARALLEL`` constants set for one scene's effect set into
-a cache folder and imports it: numba freezes module globals as compile-time constants, so
-the branches of absent effects are removed by the compiler and cost nothing, and
-``cache=True`` keeps one compiled kernel per effect set. This file itself is never compiled.
+:func:`craquelure.codegen.specialise` compiles a copy with the effect flags / ``PERIODIC_X`` /
+``NODE_AVERAGED`` / ``BENDING`` / ``PARALLEL`` constants of one scene; this file itself is
+never compiled.
 
 One call of :func:`advance` performs up to ``n_steps`` central-difference steps (section 5):
 
@@ -30,7 +28,7 @@ One call of :func:`advance` performs up to ``n_steps`` central-difference steps 
    ``energy_tolerance`` times max(E_mech, |W_ext|, dissipated, floor) plus the round-off
    allowance 4 eps sum_i |x_i| (m_i |x+ - x|/dt^2 + sum over the steps of |F_i|): positions
    are absolute, so at tiny steps a displacement, hence v and the booked work, is only known
-   to ~eps |x| (without it the guard fired at dt_factor 2e-6 on a block at rest).
+   to ~eps |x|.
 
 Determinism: the chunk count is a constant (not the thread count) and the per-chunk partial
 sums (energies, node forces) are added in chunk order, so the serial and the parallel kernel
@@ -184,12 +182,7 @@ def _bond_chunk(lo, hi, nlo, nhi, q, qm, bi, bj, bref, bk, state, unbreak, bprev
     for a in range(3):
         for i in range(nlo, nhi):
             fn[a, i] = 0.0
-    u_beams = 0.0
-    e_damp = 0.0
-    e_fract = 0.0
-    e_melt = 0.0
-    n_broken = 0.0
-    n_melted = 0.0
+    u_beams = e_damp = e_fract = e_melt = n_broken = n_melted = 0.0
     for b in range(lo, hi):
         if state[b] != 1:
             continue
@@ -284,26 +277,11 @@ def _particle_chunk(lo, hi, qm, q, qref, qbuild, mass, inertia, diam, fix, drive
     gam = p[GAMMA] if t < p[GAMMA_UNTIL] else 0.0
     g_x = p[G] * math.sin(p[SLOPE])
     g_y = -p[G] * math.cos(p[SLOPE])
-    kin = 0.0
-    rot = 0.0
-    u_ext = 0.0
-    work = 0.0
-    diss = 0.0
-    diss_fwd = 0.0
-    work_fwd = 0.0
-    lux = 0.0
-    luy = 0.0
-    nload = 0.0
-    dfx = 0.0
-    dfy = 0.0
-    moved = 0.0
-    round_kin = 0.0
-    round_work = 0.0
+    kin = rot = u_ext = work = diss = diss_fwd = work_fwd = lux = luy = nload = dfx = dfy = 0.0
+    moved = round_kin = round_work = 0.0
     for i in range(lo, hi):
         m = mass[i]
-        fx = 0.0
-        fy = 0.0
-        tq = 0.0
+        fx = fy = tq = 0.0
         if BEAMS:
             for c in range(NCHUNK):
                 if crange[0, c] <= i < crange[1, c]:
@@ -432,9 +410,7 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
         t = gstep * dt
         broken_before = acc[A_BROKEN]
         # 1. bonds
-        u_beams = 0.0
-        e_fract = 0.0
-        n_broken = 0.0
+        u_beams = e_fract = n_broken = 0.0
         if BEAMS:
             for c in prange(NCHUNK):
                 _bond_chunk(cb[c], cb[c + 1], crange[0, c], crange[1, c], q, qm, bi, bj, bref,
@@ -451,9 +427,7 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
         if BEAMS and FRACTURE and NODE_AVERAGED and t >= p[T_FRACTURE]:
             vol = 2.0 * p[CELL_AREA]
             for i in range(n):
-                sxx = 0.0
-                syy = 0.0
-                sxy = 0.0
+                sxx = syy = sxy = 0.0
                 best = -1
                 best_r = -1.0
                 for kk in range(poff[i], poff[i + 1]):

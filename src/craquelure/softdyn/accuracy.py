@@ -89,8 +89,7 @@ def run_accuracy(scene) -> xr.Dataset:
 
 def heun_order(ds: xr.Dataset, n_finest: int = 3) -> tuple[float, float]:
     """Least-squares convergence orders of heun (duration, state) over the ``n_finest``
-    smallest stable steps (the coarse ones are pre-asymptotic: measured order 1.2 between
-    dt = 0.08 and 0.04 tau, 1.9-2.1 below 0.02 tau)."""
+    smallest stable steps (the coarse ones are pre-asymptotic)."""
     ok = np.isfinite(ds.heun_error.values) & (ds.heun_error.values > 0)
     finest = np.argsort(ds.dt.values)[:n_finest]
     ok &= np.isin(np.arange(ok.size), finest)

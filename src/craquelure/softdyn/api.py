@@ -173,10 +173,9 @@ def study(scene: Scene, batch: list[tuple[int, int]] | None = None) -> StudyRun:
 def run(scene: Scene, out: Path, seed: int | None = 0, init: Path | None = None,
         batch: list[tuple[int, int]] | None = None, attrs: dict | None = None,
         **checkpoints) -> Path:
-    """Run the scene's study (or one sweep ``batch``) through the runner (``checkpoints``: the
-    options of :func:`craquelure.runner.run_to_file`; every ``checkpoint_every`` points, default
-    every few minutes of wall time). The runs are deterministic: ``seed`` is only recorded
-    (``None``: not at all); ``attrs`` are added to the dataset."""
+    """Run the scene's study (or one sweep ``batch``) through
+    :func:`craquelure.runner.run_to_file`. ``seed`` is only recorded (``None``: not at all);
+    ``attrs`` are added to the dataset."""
     if init is not None:
         raise CraquelureError("softdyn runs start from the scene's arrangement; --init is not "
                               "used")

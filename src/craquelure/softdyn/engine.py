@@ -8,8 +8,7 @@ Velocity solve: ``linear_solver: dense`` runs the whole right-hand side in one n
 (N d <= 128 with ``auto``); ``sparse`` computes the per-pair blocks in numba and solves the
 (N d)^2 system with SuperLU (``scipy.sparse.linalg.splu``, last particle pinned and the mean
 velocity removed afterwards; LSQR with the sum rows when ``lubrication_tangential`` is absent and
-the system may be singular). The sparsity pattern is fixed by the pair list and
-built once.
+the system may be singular). The sparsity pattern is fixed by the pair list and built once.
 """
 
 from __future__ import annotations
@@ -26,8 +25,7 @@ from craquelure.registry import parameter_vector
 from craquelure.softdyn import kernel_template as template
 from craquelure.softdyn.integrate import Result, integrate
 
-# benchmarks/softdyn_cost.py: at N = 64 (128 unknowns) a RHS takes 0.17 ms dense, 0.59 ms sparse;
-# at N = 256, 11 ms dense, 2.3 ms sparse
+# the dense solve is the faster one up to this size (benchmarks/softdyn_cost.py)
 DENSE_MAX_UNKNOWNS = 128
 
 
@@ -275,9 +273,8 @@ class Engine:
                         sgn.append(sign)
         # Gauge: with lubrication_tangential the last particle is pinned (v_last = 0, one
         # diagonal entry per component) and the mean velocity is removed after the solve; a
-        # dense row sum_i v_i = 0 would fill the LU factors (measured with the row: solve 60 ms
-        # at N = 1024 and 650 ms at 4096; pinned: 7 ms and 45 ms). Without it (possible
-        # rotation null modes, LSQR) the sum rows are kept.
+        # dense row sum_i v_i = 0 would fill the LU factors. Without it (possible rotation
+        # null modes, LSQR) the sum rows are kept.
         self._pinned = self.flags.tangential
         if self._pinned:
             extra_rows = extra_cols = [last * d + e for e in range(d)]
@@ -306,9 +303,8 @@ class Engine:
         rhs[(self.n - 1) * d:] = 0.0
         if self._pinned:
             # rows sum to zero (translation null mode) and the last particle's equations
-            # follow from the others, so the pinned solution plus a uniform shift solves all
-            # the pattern is structurally symmetric: minimum degree on A^T + A (N = 4096
-            # patch: 40 ms against 72 ms with the default COLAMD)
+            # follow from the others, so the pinned solution plus a uniform shift solves all;
+            # the pattern is structurally symmetric: minimum degree on A^T + A
             v = spla.splu(M, permc_spec="MMD_AT_PLUS_A").solve(rhs).reshape(self.n, d)
             return (v - v.mean(axis=0)).reshape(-1)
         return spla.lsqr(M, rhs, atol=1e-15, btol=1e-15, iter_lim=50 * m)[0]

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from craquelure.plotting import plt, save
+from craquelure.plotting import label_axes, plt, save
 
 
 def fig4(ds, path, profile: str, scene: str):
@@ -23,9 +23,7 @@ def fig4(ds, path, profile: str, scene: str):
     ax[2].set_ylabel("zeta_n,AB / (eta R)")
     for pair in ("AB", "AC", "CD"):
         ax[3].semilogx(t[keep], ds.force_normal.sel(pair=pair).values[keep], label=pair)
-    ax[3].set_ylabel("f_n / F_v")
-    ax[3].set_xlabel("t / tau")
-    ax[3].legend()
+    label_axes(ax[3], "t / tau", "f_n / F_v", legend={})
     if ds.attrs.get("stopped"):
         for a in ax:
             a.axvline(ds.attrs["duration"], color="grey", lw=0.8, ls="--")
@@ -49,14 +47,11 @@ def fig5(ds, path, profile: str, scene: str):
         ax[1].loglog(col.h0_over_h_star.values[ok], col.duration.values[ok], "o-", color=c,
                      label=f"F~ = {force:g}")
     ax[0].set_ylim(5, None)
-    ax[0].set_xlabel("h0 / R")
-    ax[0].set_ylabel("T / tau")
+    label_axes(ax[0], "h0 / R", "T / tau")
     ax[0].set_title("dotted: T_P (Eq. 33), dashed: T_H (Eq. 34)", fontsize=8)
     ax[0].legend(fontsize=8)
     ax[1].axvline(1.0, color="grey", lw=0.8)
-    ax[1].set_xlabel("h0 / h*")
-    ax[1].set_ylabel("T / tau")
-    ax[1].legend(fontsize=8)
+    label_axes(ax[1], "h0 / h*", "T / tau", legend={"fontsize": 8})
     fig.suptitle(f"T1 duration ({profile} profile, scene {scene}): "
                  f"{int(ds.attrs['n_points'])} runs, {int(ds.attrs['n_finished'])} finished",
                  fontsize=9)
@@ -75,9 +70,7 @@ def fig3(ds, path, profile: str, scene: str):
     ax.plot(x, math.sqrt(3) * x, "k-", lw=0.8, label="F_v = sqrt3 F_h")
     ax.set_xscale("symlog", linthresh=1e-4)
     ax.set_yscale("log")
-    ax.set_xlabel("F_h / (E R^2)")
-    ax.set_ylabel("F_v / (E R^2)")
-    ax.legend(fontsize=8)
+    label_axes(ax, "F_h / (E R^2)", "F_v / (E R^2)", legend={"fontsize": 8})
     ax.set_title(f"T1 occurrence ({profile} profile, scene {scene}), h0 = {ds.attrs['h0']:g} R,"
                  f"\ntheta <= {ds.attrs['theta_end_deg']:g} deg within {ds.attrs['t_end']:g} "
                  f"tau", fontsize=9)
@@ -91,8 +84,7 @@ def two_sphere(ds, path, profile: str, scene: str):
     ax.loglog(t[keep], ds.gap.values[keep, 0], label="h / R")
     ax.loglog(t[keep], np.abs(ds.deflection_normal.values[keep, 0]), label="|s| / R")
     ax.axhline(ds.attrs["h_star"], color="grey", lw=0.8, ls="--", label="h*")
-    ax.set_xlabel("t / tau")
-    ax.legend(fontsize=8)
+    label_axes(ax, "t / tau", legend={"fontsize": 8})
     ax.set_title(f"two spheres ({profile} profile, scene {scene}): h0 = {ds.attrs['h0']:g} R, "
                  f"F~ = {ds.attrs['reduced_force']:g}", fontsize=9)
     return save(fig, path)
@@ -117,8 +109,7 @@ def accuracy(ds, path, profile: str, scene: str):
                                                                 1e-16),
                      marker="D", ls="--", color="k",
                      label=f"heun (dt {ds.dt.values[ok][0]:g}..{ds.dt.values[ok][-1]:g} tau)")
-        a.set_xlabel("integration wall time [s]")
-        a.set_ylabel(label)
+        label_axes(a, "integration wall time [s]", label)
         a.grid(True, which="both", alpha=0.3)
     ax[0].legend(fontsize=8)
     order = ds.attrs.get("heun_duration_order", math.nan)

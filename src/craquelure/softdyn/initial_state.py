@@ -8,12 +8,10 @@ F~ = |F_v/sqrt3 - F_h|/(E R^2) and r = F_h/F_v, so F_v = F~ E R^2/|1/sqrt3 - r| 
 tau = eta R^2/F with F = F~ E R^2 (for r = 0: tau = sqrt3 eta R^2/F_v, spec Eq. 29). theta is the
 angle between AC and AB. ``numerics.mirror_symmetry`` (default on) [D]: the rates are projected
 on the two mirror symmetries of the rhombus (x -> -x swapping A and B, y -> -y swapping C and D;
-the spec's T1 is symmetric, check 9). Without it the blocked rhombus (F_h/F_v = 0.65) is unstable
-to a rigid rotation (both load pairs are compressive and fixed in direction, and the tangential
-springs relax through the sliding films): the mode grows at about 0.03 per tau from round-off,
-by t = 650 tau the diagonals AC and BD carry the load tangentially (q = 0.025 R, s -> 0), and the
-sgn(s) kink of a(h, s) then stalls the stiff solvers (steps of 1e-12 tau at 698 tau). The T1
-ends when the CD normal force reaches phi (F_v - F_h/sqrt3)
+the spec's T1 is symmetric, check 9). Without it the blocked rhombus is unstable to a rigid
+rotation grown from round-off (both load pairs are compressive and fixed in direction, and the
+tangential springs relax through the sliding films) until the sgn(s) kink of a(h, s) stalls the
+stiff solvers. The T1 ends when the CD normal force reaches phi (F_v - F_h/sqrt3)
 (``stop: cd_force``) or when theta <= theta_end (``stop: angle``).
 
 Pair: spheres 0 and 1 on the x axis at distance 2R + h0, loaded by F = F~ E R^2 toward each other

@@ -1,9 +1,7 @@
 r"""Right-hand side of Soft Dynamics (spec section 5), written once and specialised per effect set.
 
-:func:`craquelure.codegen.specialise` copies this source with the flag block below replaced by
-the scene's effect set and imports the copy (numba ``cache=True``): numba freezes module globals
-as compile-time constants, so the branches of absent effects are removed from the machine code
-and cost nothing. Do not import this module directly for runs; ask ``engine.kernels(flags)``.
+:func:`craquelure.codegen.specialise` compiles a copy with the flag block below set to the
+scene's effect set; for runs ask ``engine.kernels(flags)``, do not import this module.
 
 State ``y = (x - x0 (N,d), s (P) [hertz], q (P,d) [hertz + lubrication_tangential])``: the
 centres are stored as displacements from the initial positions x0, so the solver's relative

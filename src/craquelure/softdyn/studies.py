@@ -7,9 +7,8 @@ Poiseuille or hopelessly long), the others are NaN with ``computed = 0``. Each p
 end of the T1 (``stop: cd_force``); points that do not finish by ``outputs.t_end`` have
 ``finished = 0`` and a NaN duration. The workflow runs the points in ``n`` batches of similar
 estimated cost (:func:`sweep_batches`), one process each, since a process start costs more than
-most points. Phase: grid ``study.fh_over_fv`` x ``study.reduced_force``,
-each run until theta <= ``outputs.theta_end_deg`` or ``outputs.t_end`` (units of tau of the AB
-load |F_v/sqrt3 - F_h|).
+most points. Phase: grid ``study.fh_over_fv`` x ``study.reduced_force``, each run until theta
+<= ``outputs.theta_end_deg`` or ``outputs.t_end`` (units of tau of the AB load |F_v/sqrt3 - F_h|).
 """
 
 from __future__ import annotations

@@ -1,11 +1,6 @@
 r"""Beams: elastic bonds between particles with bond damping (lattice spec sections 3-5).
 
-Per bond, in the chord frame (:mod:`craquelure.lattice.beam`):
-:math:`e = \ell - L_0`, :math:`\varphi_k' = (\theta_k - \theta_{k,0}) - \Delta\alpha`,
-:math:`N = k_n e`, :math:`M_1 = a\varphi_1' + b\varphi_2'`, :math:`M_2 = b\varphi_1' + a\varphi_2'`,
-:math:`V = (M_1+M_2)/\ell`, energy :math:`U = \frac12 k_n e^2 + \frac12 a(\varphi_1'^2 +
-\varphi_2'^2) + b\varphi_1'\varphi_2'`. Force on node 2: :math:`-N\hat e + V\hat e_\perp`,
-on node 1 the opposite; torques :math:`-M_1`, :math:`-M_2`.
+Per bond, the chord-frame energy, forces and torques of :mod:`craquelure.lattice.beam`.
 
 Bond damping [D, departs from HiDEM's dashpot on the global relative displacement]: a
 stiffness-proportional dashpot on the deformation rates, :math:`N \mathrel{+}= \beta k_n \dot e`,
