@@ -77,3 +77,14 @@ def test_rate_effects_raise_the_strength_in_the_disc():
     _, plain, _, _ = simulate(load_scene("impact/cscm", SMALL), 0, progress=False)
     assert np.abs(series["balance_error"]).max() < 0.02
     assert eng.state.dmg.mean() < plain.state.dmg.mean()
+
+
+@pytest.mark.parametrize(("rate", "plain"), [("impact/cscm3d_rate", "impact/cscm3d"),
+                                             ("impact/cscm_rate", "impact/cscm")])
+def test_rate_scenes_are_their_twins_with_rate_effects(rate, plain):
+    with_rate, without = load_scene(rate).data, load_scene(plain).data
+    assert with_rate["effects"] == [*without["effects"], "rate_effects"]
+    for data in (with_rate, without):
+        data.pop("description")
+        data.pop("effects")
+    assert with_rate == without

@@ -55,13 +55,17 @@ s^(1-n) (seconds, 1/s strain rates), OVERT/OVERC in MPa; SRATE = REPOW = 1:
     \mathrm{OVERT} = \mathrm{OVERC} = 1.309663\times10^{-2} f_c'^2 - 0.3927659 f_c' + 21.45.
 
 At f'_c = 43.1 MPa (8 mm aggregate; the fits do not depend on the aggregate size):
-η_0t = 5.0711e-5 s^0.52, η_0c = 3.1580e-4 s^0.22, OVERT = OVERC = 28.85 MPa. Units [D, the
-reading that fits the manual's text]: OVERT's fit is a stress in MPa (in psi it would give
-5.1e5). The η_0 fits give nearly constant values over the fitted range (20-58 MPa), and with
-E and f_t rising with f'_c this keeps the DIF of stronger concrete lower, the trend of the
-CEB data they were fitted to; read in psi they would raise η_0 by 50 % (7.61e-5) and the DIF
-with f'_c. With E = 29.72 GPa, f_t = 3.22 MPa, f_c = 43.1 MPa: DIF_t = 1.47 / 2.55 / 6.14
-and DIF_c = 1.22 / 1.36 / 1.60 at 1 / 10 / 100 1/s (the limits are not reached).
+η_0t = 5.0711e-5 s^0.52, η_0c = 3.1580e-4 s^0.22, OVERT = OVERC = 28.85 MPa. Units [D, read
+from the fits themselves]: OVERT's fit is a stress in MPa (in psi it would give 5.1e5). The
+η_0 fits give nearly constant values over the fitted range (20-58 MPa), and with E and f_t
+rising with f'_c this keeps the DIF of stronger concrete lower, the trend of the CEB data they
+were fitted to; read in psi they would raise η_0 by 50 % (7.61e-5) and the DIF with f'_c.
+Time in seconds (strain rates in 1/s). With E = 29.72 GPa, f_t = 3.22 MPa, f_c = 43.1 MPa:
+DIF_t = 1.47 / 2.55 / 6.14 and DIF_c = 1.22 / 1.36 / 1.60 at 1 / 10 / 100 1/s (the limits
+are not reached). Measured at a material point (tests/impact/effects/test_rate_effects.py):
+uniaxial tension follows DIF_t; in unconfined compression the overstress
+:math:`\eta\,C:\dot\varepsilon` of the lateral flow confines the inviscid state, whose
+pressure-dependent strength then rises, so the 3D point exceeds the 1D DIF_c.
 """
 
 import math
