@@ -314,25 +314,3 @@ def figure_fragments(runs_by_kappa: dict, out: Path, label: str) -> None:
                  f"{label}", fontsize=7)
     save(fig, out)
 
-
-def figure_strength_sweep(rows: list[dict], out: Path, label: str) -> None:
-    """Opening maps of the static-strength sensitivity: one row per f_t factor, one panel per
-    specimen (homogeneous, then the seeds), titled with N_main by opening and the
-    strength-to-load ratio; ``rows`` as :func:`craquelure.impact.regime.strength_row`."""
-    factors = sorted({r["factor"] for r in rows})
-    keys = sorted({(r["masses"] != "homogeneous", r["seed"]) for r in rows})
-    fig, axes = plt.subplots(len(factors), len(keys),
-                             figsize=(2.4 * len(keys) + 1.0, 2.6 * len(factors) + 0.8),
-                             squeeze=False, layout="constrained")
-    sc = None
-    for r in rows:
-        ax = axes[factors.index(r["factor"]), keys.index((r["masses"] != "homogeneous",
-                                                         r["seed"]))]
-        sc = _opening_panel(ax, open_dataset(r["path"]))
-        ax.set_title(f"f_t x{r['factor']:g}, {r['masses']} seed {r['seed']}: N = "
-                     f"{r['n_main_cracks']}, F/F_s = {r['strength_to_load']:.2f}", fontsize=6)
-    if sc is not None:
-        fig.colorbar(sc, ax=axes, shrink=0.6, label="largest pair opening [mm]")
-    fig.suptitle(_wrapped(f"static f_t sensitivity, opening maps at the end (3D mid-layer); "
-                          f"{label}", len(keys)), fontsize=8)
-    save(fig, out, tight=False)

@@ -183,19 +183,3 @@ def ratio_panel(ax, rows: list[dict], style: dict) -> None:
     ax.set_xlabel("peak contact force / static splitting load pi D t f_t / 2")
     ax.set_ylabel("impact speed [m/s]")
 
-
-def strength_row(path: Path, base_f_t: float) -> dict:
-    """One run of the static-strength sensitivity (``impact.strength_sweep``): its f_t factor
-    over ``base_f_t`` (the scene's), specimen, main cracks by opening and where they cross the
-    centre row, the main run's share and the strength-to-load ratio."""
-    from craquelure.impact.analysis import run_metrics
-
-    ds = open_dataset(path)
-    m = run_metrics(ds)
-    return {"factor": round(float(m["f_t"]) / base_f_t, 6),
-            "masses": str(m["distribution"]),
-            "seed": int(ds.attrs.get("seed", 0)), "n_main_cracks": int(m[MAIN_CRACKS]),
-            "main_runs_x_mm": m["row_runs_x_mm"], "main_run_share": m["main_run_share"],
-            "strength_to_load": float(ds["strength_to_load"]),
-            "energy_balance_error_max": float(m["energy_balance_error_max"]),
-            "path": str(path)}
