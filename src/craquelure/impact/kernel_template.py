@@ -33,9 +33,9 @@ from craquelure.impact.effects.damage import damage_update
 from craquelure.impact.effects.elasticity import jaumann_trial, secant_energy_density
 from craquelure.impact.effects.plasticity import dp_return
 from craquelure.impact.effects.rate_effects import (
-    energy_factor,
     softening_left,
     strain_rate,
+    tensile_increase,
     viscoplastic,
 )
 from craquelure.impact.effects.variable_smoothing_length import benz_update
@@ -264,12 +264,15 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, eps_max, dmg, ep
         nominal = s
         rate = strain_rate(d) if RATE_EFFECTS else 0.0
         eps_f = prm[P_EPS_F]
+        dif_t = 1.0
+        if RATE_EFFECTS:
+            q = P_RATE
+            dif_t = tensile_increase(rate, prm[P_YOUNG], prm[q], prm[q + 1], prm[q + 4],
+                                     prm[q + 8])
         if DAMAGE:
             d_min = 0.0
             if RATE_EFFECTS:
-                q = P_RATE
-                eps_f *= energy_factor(rate, prm[P_YOUNG], prm[q], prm[q + 1], prm[q + 4],
-                                       prm[q + 8], prm[q + 7])
+                eps_f *= dif_t ** (prm[q + 7] - 1.0)  # G_F DIF_t^REPOW with the overstress
                 d_min = dmg[i]
             k, dmg_i, nominal = damage_update(s, eps_max[i], prm[P_YOUNG], prm[P_EPS_0], eps_f,
                                               d_min)
@@ -283,11 +286,11 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, eps_max, dmg, ep
             dmg[i] = dmg_i
         if RATE_EFFECTS:
             q = P_RATE
-            intact = softening_left(eps_max[i], prm[P_EPS_0], eps_f) if DAMAGE else 1.0
+            intact = softening_left(eps_max[i], prm[P_EPS_0], eps_f, dif_t) if DAMAGE else 1.0
             nominal = viscoplastic(jaumann_trial(old, d, w, prm[P_BULK], prm[P_SHEAR], dt),
                                    nominal, rate, dt, prm[q], prm[q + 1], prm[q + 2],
-                                   prm[q + 3], intact * prm[q + 4], intact * prm[q + 5],
-                                   prm[q + 6])
+                                   prm[q + 3], prm[q + 4], prm[q + 5], prm[q + 6],
+                                   prm[P_YOUNG], intact)
         store_stress(nom, i, nominal, tiny if DAMAGE or RATE_EFFECTS else 0.0)
         new = stress_of(nom, i)
         power = ((old[0] + new[0]) * lxx + (old[1] + new[1]) * lyy

@@ -26,10 +26,10 @@ from craquelure.impact.effects.elasticity import jaumann_trial
 from craquelure.impact.effects.plasticity import dp_constants, dp_return
 from craquelure.impact.effects.rate_effects import (
     RATE_PARAMS,
-    energy_factor,
     rate_constants,
     softening_left,
     strain_rate,
+    tensile_increase,
     viscoplastic,
 )
 
@@ -152,18 +152,18 @@ def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young,
     n = s
     ed = strain_rate(d)
     intact = 1.0
+    dif_t = tensile_increase(ed, young, cap[10], cap[11], cap[14], cap[18]) if rate else 1.0
     if damage:
-        if rate:
-            eps_f *= energy_factor(ed, young, cap[10], cap[11], cap[14], cap[18], cap[17])
+        eps_f *= dif_t ** (cap[17] - 1.0)  # G_F DIF_t^REPOW with the overstress
         eps_max, dt_, n = damage_update(s, state[4], young, eps_0, eps_f,
                                         state[5] if rate else 0.0)
         state[4], state[5] = eps_max, dt_
-        intact = softening_left(eps_max, eps_0, eps_f)
+        intact = softening_left(eps_max, eps_0, eps_f, dif_t)
     if rate:
         old = (state[9], state[10], state[11], state[12], 0.0, 0.0)
         n = viscoplastic(jaumann_trial(old, d, (w, 0.0, 0.0), bulk, shear, dt), n, ed, dt,
-                         cap[10], cap[11], cap[12], cap[13], intact * cap[14],
-                         intact * cap[15], cap[16])
+                         cap[10], cap[11], cap[12], cap[13], cap[14], cap[15], cap[16], young,
+                         intact)
     state[9], state[10], state[11], state[12] = n[0], n[1], n[2], n[3]
     nom = np.empty(4)
     nom[0], nom[1], nom[2], nom[3] = n[0], n[1], n[2], n[3]

@@ -1,6 +1,8 @@
 """CSCM's rate effects (FHWA-HRT-05-062, chapter 2): the viscoplastic update at a material point
 under constant strain rates, and in the SPH engine (scene impact/cscm)."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -34,17 +36,30 @@ def test_default_fits_at_43_1_mpa():
 
 
 @pytest.mark.parametrize(("rate", "manual"), [(1.0, 1.47), (10.0, 2.55), (100.0, 6.14)])
-def test_tensile_dynamic_increase_factor_is_the_manuals(rate, manual):
+def test_tensile_dynamic_increase_and_fracture_energy_are_the_manuals(rate, manual):
     """DIF_t = 1 + min(E eta_0t rate^(1 - n_t), OVERT)/f_t = 1.47 / 2.55 / 6.14 at 1 / 10 /
-    100 1/s. The Duvaut-Lions overstress builds up over eta while the inviscid stress softens
-    (slowly: G_F grows with DIF_t^REPOW), so the peak sits a little below the steady value:
-    within 3 %."""
+    100 1/s, the steady 1D overstress. The Duvaut-Lions overstress builds up over eta (within
+    3 eta to 1 - e^-3 of its steady value) while the softening takes its share w away, so the
+    peak falls short of DIF_t by at most the w reached within 3 eta, 3 eta rate / eps_f
+    (1.4 / 4.7 / 15 %), plus e^-3 of the overstress (1.6 / 3.0 / 4.2 %), and never exceeds
+    it. The dissipated energy is G_F DIF_t^REPOW (REPOW = 1) within 5 %: the
+    overstress carries the DIF_t, the inviscid softening keeps G_F."""
     dif = increase_factor(rate, MAT.young, RATES["eta0_t"], RATES["n_t"], RATES["overt"],
                           MAT.f_t)
     assert dif == pytest.approx(manual, abs=0.005)
-    peak = uniaxial(rate, +1, 2e-6)
-    assert peak / MAT.f_t == pytest.approx(dif, rel=0.03)
-    assert peak / MAT.f_t <= dif * 1.001  # never above the steady overstress
+    step = 2e-6
+    n = int(1.3 * MAT.eps_f / step)
+    path = np.zeros((n, 4))
+    path[:, 1] = np.arange(n) * step
+    eps, sig = drive(MAT, path, free=("xx", "zz"), plastic="cap", compressive=True, rate=True,
+                     dt=step / rate)
+    peak = sig[:, 1].max() / MAT.f_t
+    eta = RATES["eta0_t"] / rate ** RATES["n_t"]
+    short = 3.0 * eta * rate / MAT.eps_f + (1.0 - 1.0 / dif) * math.exp(-3.0)
+    assert 1.0 - short <= peak / dif <= 1.001
+    assert sig[-1, 1] == pytest.approx(0.0, abs=1e-6 * MAT.f_t)  # a stress-free crack
+    energy = np.trapezoid(sig[:, 1], eps[:, 1]) * MAT.band
+    assert energy / MAT.G_F == pytest.approx(dif ** RATES["repow"], rel=0.05)
 
 
 def test_compressive_dynamic_increase_is_at_least_the_manuals():
@@ -65,7 +80,10 @@ def test_compressive_dynamic_increase_is_at_least_the_manuals():
 
 def test_rate_free_point_is_unchanged_by_the_slow_limit():
     """At 1e-6 1/s the overstress E eta_0 rate^(1-n) is 1e-3 f_t: the peak is f_t."""
-    assert uniaxial(1e-6, +1, 2e-6) / MAT.f_t == pytest.approx(1.0, abs=2e-3)
+    path = np.zeros((200, 4))
+    path[:, 1] = np.arange(200) * 2e-6
+    _, sig = drive(MAT, path, free=("xx", "zz"), plastic="cap", rate=True, dt=2.0)
+    assert sig[:, 1].max() / MAT.f_t == pytest.approx(1.0, abs=2e-3)
 
 
 @pytest.mark.slow

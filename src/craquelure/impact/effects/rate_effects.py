@@ -31,18 +31,21 @@ dynamic increase factors
 .. math::
     \mathrm{DIF} = 1 + \frac{\min(E\,\eta_0\,\dot\varepsilon^{1-n},\ \mathrm{OVER})}{f'},
 
-f' = f_t (tension) or f_c (compression). The fracture energy grows with the rate as REPOW sets,
-:math:`G_F^{dyn} = G_F\,\mathrm{DIF}_t^{\mathrm{REPOW}}` (the softening strain of
-:mod:`.damage` scales by it; the damage never decreases when the rate drops).
+f' = f_t (tension) or f_c (compression). The fracture energy grows with the rate as REPOW
+sets, :math:`G_F^{dyn} = G_F\,\mathrm{DIF}_t^{\mathrm{REPOW}}`: the overstress, carried to
+full softening (below), already dissipates the factor DIF_t, so the softening strain of
+:mod:`.damage` scales by :math:`\mathrm{DIF}_t^{\mathrm{REPOW}-1}` (1 for CSCM's default
+REPOW = 1; the damage never decreases when the rate drops).
 
 Strain rate [D]: :math:`\dot\varepsilon = \max(\dot\varepsilon_1, -\dot\varepsilon_3)`, the
 largest principal strain-rate magnitude (the axial rate of a uniaxial test). Cracked material
 [D]: CSCM applies its damage d to the viscoplastic stress, :math:`(1-d)\sigma^{vp}`, so a failed
-point carries no overstress; here the Rankine damage acts on the inviscid stress, and the
-overstress limits are scaled by the tensile strength left on the softening branch,
-:math:`1 - w`, :math:`w = (\kappa - \varepsilon_0)/(\varepsilon_f - \varepsilon_0)` clipped to
-[0, 1] (:func:`softening_left`; the role of CSCM's 1 - d, which for a stress held at the surface
-is the strength left), else an open crack would stay loaded by :math:`E\dot\varepsilon\eta`.
+point carries no overstress. Here the Rankine damage acts on the inviscid stress, and the
+overstress is limited to :math:`(1 - w)\min(\mathrm{OVER}, E\dot\varepsilon\eta)`,
+:math:`w = (\kappa - \mathrm{DIF}_t\varepsilon_0)/(\varepsilon_f - \mathrm{DIF}_t
+\varepsilon_0)` clipped to [0, 1] (:func:`softening_left`): the share of the strength lost on
+the softening branch past the dynamic strength, CSCM's d; without it an open crack would stay
+loaded by :math:`E\dot\varepsilon\eta`.
 
 Default fits (Murray's, :func:`rate_constants`), with f'_c in MPa and η_0 in
 s^(1-n) (seconds, 1/s strain rates), OVERT/OVERC in MPa; SRATE = REPOW = 1:
@@ -112,22 +115,24 @@ def strain_rate(d):
 
 
 @njit(inline="always", cache=True)
-def energy_factor(rate, young, eta0_t, n_t, overt, f_t, repow):
-    """G_F^dyn / G_F = DIF_t^REPOW at the strain rate ``rate``."""
+def tensile_increase(rate, young, eta0_t, n_t, overt, f_t):
+    """DIF_t = 1 + min(E η_0t rate^(1-n_t), OVERT)/f_t (1 at rate 0)."""
     if rate <= 0.0:
         return 1.0
-    return (1.0 + min(young * eta0_t * rate ** (1.0 - n_t), overt) / f_t) ** repow
+    return 1.0 + min(young * eta0_t * rate ** (1.0 - n_t), overt) / f_t
 
 
 @njit(inline="always", cache=True)
-def softening_left(kappa, eps_0, eps_f):
-    """1 - w, w = (κ - ε_0)/(ε_f - ε_0) in [0, 1]: the tensile strength left on the linear
-    softening branch (CSCM's 1 - d), which scales the overstress limits."""
-    return 1.0 - min(1.0, max(0.0, (kappa - eps_0) / (eps_f - eps_0)))
+def softening_left(kappa, eps_0, eps_f, dif_t):
+    """1 - w, w = (κ - DIF_t ε_0)/(ε_f - DIF_t ε_0) in [0, 1]: the share of the overstress left
+    on the softening branch past the dynamic strength (CSCM's 1 - d)."""
+    start = dif_t * eps_0
+    return 1.0 - min(1.0, max(0.0, (kappa - start) / max(eps_f - start, 1e-300)))
 
 
 @njit(inline="always", cache=True)
-def viscoplastic(trial, inviscid, rate, dt, eta0_t, n_t, eta0_c, n_c, overt, overc, srate):
+def viscoplastic(trial, inviscid, rate, dt, eta0_t, n_t, eta0_c, n_c, overt, overc, srate,
+                 young, intact):
     """σ^vp = (1 - γ) σ^T + γ σ^P with the overstress limit, all (xx, yy, xy, zz, xz, yz)."""
     sxx, syy, sxy, szz, sxz, syz = trial
     i1 = sxx + syy + szz
@@ -140,6 +145,7 @@ def viscoplastic(trial, inviscid, rate, dt, eta0_t, n_t, eta0_c, n_c, overt, ove
     elif i1 != 0.0:
         r = -1.0 if i1 > 0.0 else 1.0
     keep = 1.0  # 1 - γ; η infinite at rate 0: no relaxation within the step
+    over = overt + max(r, 0.0) * (overc - overt)
     if rate > 0.0:
         eta_t = eta0_t / rate ** n_t
         eta_s = srate * eta_t
@@ -148,11 +154,12 @@ def viscoplastic(trial, inviscid, rate, dt, eta0_t, n_t, eta0_c, n_c, overt, ove
         else:
             eta = eta_s - r * (eta_t - eta_s)
         keep = eta / (eta + dt)
+        over = min(over, young * rate * eta)
+    over *= intact
     qxx, qyy, qxy = trial[0] - inviscid[0], trial[1] - inviscid[1], trial[2] - inviscid[2]
     qzz, qxz, qyz = trial[3] - inviscid[3], trial[4] - inviscid[4], trial[5] - inviscid[5]
     norm = keep * math.sqrt(qxx * qxx + qyy * qyy + qzz * qzz
                             + 2.0 * (qxy * qxy + qxz * qxz + qyz * qyz))
-    over = overt + max(r, 0.0) * (overc - overt)
     if norm > over:
         keep *= over / norm
     return (inviscid[0] + keep * qxx, inviscid[1] + keep * qyy, inviscid[2] + keep * qxy,
