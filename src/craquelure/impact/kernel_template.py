@@ -33,9 +33,9 @@ from craquelure.impact.effects.damage import damage_update
 from craquelure.impact.effects.elasticity import jaumann_trial, secant_energy_density
 from craquelure.impact.effects.plasticity import dp_return
 from craquelure.impact.effects.rate_effects import (
+    increase_factor,
     softening_left,
     strain_rate,
-    tensile_increase,
     viscoplastic,
 )
 from craquelure.impact.effects.variable_smoothing_length import benz_update
@@ -267,7 +267,7 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, eps_max, dmg, ep
         dif_t = 1.0
         if RATE_EFFECTS:
             q = P_RATE
-            dif_t = tensile_increase(rate, prm[P_YOUNG], prm[q], prm[q + 1], prm[q + 4],
+            dif_t = increase_factor(rate, prm[P_YOUNG], prm[q], prm[q + 1], prm[q + 4],
                                      prm[q + 8])
         if DAMAGE:
             d_min = 0.0

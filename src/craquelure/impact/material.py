@@ -26,10 +26,10 @@ from craquelure.impact.effects.elasticity import jaumann_trial
 from craquelure.impact.effects.plasticity import dp_constants, dp_return
 from craquelure.impact.effects.rate_effects import (
     RATE_PARAMS,
+    increase_factor,
     rate_constants,
     softening_left,
     strain_rate,
-    tensile_increase,
     viscoplastic,
 )
 
@@ -152,7 +152,7 @@ def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young,
     n = s
     ed = strain_rate(d)
     intact = 1.0
-    dif_t = tensile_increase(ed, young, cap[10], cap[11], cap[14], cap[18]) if rate else 1.0
+    dif_t = increase_factor(ed, young, cap[10], cap[11], cap[14], cap[18]) if rate else 1.0
     if damage:
         eps_f *= dif_t ** (cap[17] - 1.0)  # G_F DIF_t^REPOW with the overstress
         eps_max, dt_, n = damage_update(s, state[4], young, eps_0, eps_f,

@@ -96,12 +96,6 @@ def rate_constants(f_c: float) -> dict[str, float]:
             "overt": over, "overc": over, "srate": 1.0, "repow": 1.0}
 
 
-def increase_factor(rate: float, young: float, eta0: float, n: float, over: float,
-                    strength: float) -> float:
-    """The manual's dynamic increase factor 1 + min(E η_0 rate^(1-n), OVER)/f'."""
-    return 1.0 + min(young * eta0 * rate ** (1.0 - n), over) / strength
-
-
 @njit(inline="always", cache=True)
 def strain_rate(d):
     """max(D_1, -D_3) of d = (xx, yy, xy, zz, xz, yz): the largest principal rate magnitude."""
@@ -115,11 +109,11 @@ def strain_rate(d):
 
 
 @njit(inline="always", cache=True)
-def tensile_increase(rate, young, eta0_t, n_t, overt, f_t):
-    """DIF_t = 1 + min(E η_0t rate^(1-n_t), OVERT)/f_t (1 at rate 0)."""
+def increase_factor(rate, young, eta0, n, over, strength):
+    """The manual's dynamic increase factor 1 + min(E η_0 rate^(1-n), OVER)/f' (1 at rate 0)."""
     if rate <= 0.0:
         return 1.0
-    return 1.0 + min(young * eta0_t * rate ** (1.0 - n_t), overt) / f_t
+    return 1.0 + min(young * eta0 * rate ** (1.0 - n), over) / strength
 
 
 @njit(inline="always", cache=True)
