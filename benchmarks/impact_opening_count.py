@@ -62,8 +62,10 @@ def main() -> None:
     ds = open_dataset(args.run)
     m = run_metrics(ds)
     n, runs = independent_count(ds, args.threshold)
-    lines = [f"run {args.run} (scene impact/{ds.attrs.get('scene_name')}, seed "
-             f"{ds.attrs.get('seed')}, kappa {m['kappa']:g}, {ds.attrs.get('material_model')})",
+    lines = [f"run {args.run.name} (scene impact/{ds.attrs.get('scene_name')}, seed "
+             f"{ds.attrs.get('seed')}, kappa {m['kappa']:g}, {ds.attrs.get('material_model')}, "
+             f"commit {str(ds.attrs.get('git_commit', ''))[:7]}, t_end "
+             f"{1e3 * float(ds['time'].values[-1]):g} ms)",
              f"project: {m['n_main_cracks_opening']} main cracks by opening (w_c = "
              f"{1e3 * m['opening_w_c']:.4f} mm), centre-row runs at x = {m['row_runs_x_mm']} mm, "
              f"openings {m['row_runs_opening_mm']} mm",
@@ -71,8 +73,11 @@ def main() -> None:
              f"mid-layer centre row: " + (", ".join(f"x = {xm:.0f} mm ({w:.3f} mm)"
                                                    for xm, w in runs) or "none"),
              f"agree: {n == m['n_main_cracks_opening']}"]
-    if "strength_to_load" in ds:
-        lines.append(f"strength-to-load ratio: {float(ds['strength_to_load']):.3f}")
+    lines.append(f"largest pair opening of the layer {1e3 * m['max_opening']:.3f} mm, cracked "
+                 f"fraction {m['cracked_fraction']:.3f}, peak contact force "
+                 f"{1e-3 * float(ds['series_contact_force'].values.max()):.1f} kN"
+                 + (f", strength-to-load ratio {float(ds['strength_to_load']):.3f}"
+                    if "strength_to_load" in ds else ""))
     print("\n".join(lines))
     if args.out:
         args.out.parent.mkdir(parents=True, exist_ok=True)
