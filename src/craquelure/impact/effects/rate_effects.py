@@ -21,8 +21,8 @@ interpolated by the stress state as CSCM does, linearly in the ratio
     \eta = \eta_s + r(\eta_c - \eta_s)\ (r \ge 0),\qquad
     \eta = \eta_s - r(\eta_t - \eta_s)\ (r < 0),
 
-with r clipped to [-1, 1] (decision [D]; beyond, e.g. near the hydrostatic axis, the uniaxial values).
-The overstress :math:`\sigma^{vp} - \sigma^P` is limited in norm
+with r clipped to [-1, 1] (decision [D]; beyond, e.g. near the hydrostatic axis, the
+uniaxial values). The overstress :math:`\sigma^{vp} - \sigma^P` is limited in norm
 (:math:`\|\cdot\|` Frobenius, the uniaxial stress difference in a uniaxial state) by OVERT in
 tension and shear and by OVERC in compression (interpolated like η). At a steady uniaxial rate
 the overstress settles at :math:`E\dot\varepsilon\eta` (1D Duvaut-Lions), hence the manual's
@@ -40,9 +40,9 @@ REPOW = 1; the damage never decreases when the rate drops).
 Strain rate [D]: :math:`\dot\varepsilon = \max(\dot\varepsilon_1, -\dot\varepsilon_3)`, the
 largest principal strain-rate magnitude (the axial rate of a uniaxial test). Cracked material,
 decision [D]: CSCM applies its damage d to the viscoplastic stress,
-:math:`(1-d)\sigma^{vp}`, so a failed point carries no overstress. Here the Rankine damage acts on the inviscid stress, and the
-overstress is limited to :math:`(1 - w)\min(\mathrm{OVER}, E\dot\varepsilon\eta)`,
-:math:`w = (\kappa - \mathrm{DIF}_t\varepsilon_0)/(\varepsilon_f - \mathrm{DIF}_t
+:math:`(1-d)\sigma^{vp}`, so a failed point carries no overstress. Here the Rankine damage
+acts on the inviscid stress, and the overstress is limited to
+:math:`(1 - w)\min(\mathrm{OVER}, E\dot\varepsilon\eta)`, :math:`w = (\kappa - \mathrm{DIF}_t\varepsilon_0)/(\varepsilon_f - \mathrm{DIF}_t
 \varepsilon_0)` clipped to [0, 1] (:func:`softening_left`): the share of the strength lost on
 the softening branch past the dynamic strength, CSCM's d; without it an open crack would stay
 loaded by :math:`E\dot\varepsilon\eta`.
