@@ -42,10 +42,11 @@ largest principal strain-rate magnitude (the axial rate of a uniaxial test). Cra
 decision [D]: CSCM applies its damage d to the viscoplastic stress,
 :math:`(1-d)\sigma^{vp}`, so a failed point carries no overstress. Here the Rankine damage
 acts on the inviscid stress, and the overstress is limited to
-:math:`(1 - w)\min(\mathrm{OVER}, E\dot\varepsilon\eta)`, :math:`w = (\kappa - \mathrm{DIF}_t\varepsilon_0)/(\varepsilon_f - \mathrm{DIF}_t
-\varepsilon_0)` clipped to [0, 1] (:func:`softening_left`): the share of the strength lost on
-the softening branch past the dynamic strength, CSCM's d; without it an open crack would stay
-loaded by :math:`E\dot\varepsilon\eta`.
+:math:`(1 - w)\min(\mathrm{OVER}, E\dot\varepsilon\eta)`, with
+:math:`w = (\kappa - \mathrm{DIF}_t\varepsilon_0)/(\varepsilon_f - \mathrm{DIF}_t\varepsilon_0)`
+clipped to [0, 1] (:func:`softening_left`): the share of the strength lost on the softening
+branch past the dynamic strength, CSCM's d; without it an open crack would stay loaded by
+:math:`E\dot\varepsilon\eta`.
 
 Default fits (Murray's, :func:`rate_constants`), with f'_c in MPa and η_0 in
 s^(1-n) (seconds, 1/s strain rates), OVERT/OVERC in MPa; SRATE = REPOW = 1:
