@@ -10,11 +10,13 @@ BIN := $(VENV)/bin
 CORES ?=
 SNAKEMAKE := $(BIN)/snakemake $(if $(CORES),--cores $(CORES))
 # The documentation site (mkdocs.yml) into site/; --strict: any warning, a broken internal link
-# or anchor included, fails the build (pytest's tests/test_docs.py runs the same build in
-# `make test`). NO_MKDOCS_2_WARNING silences the theme's banner.
+# or anchor included, fails the build; the build executes the tutorials (docs/tutorials/*.ipynb,
+# about a minute; CRAQUELURE_DOCS_EXECUTE=0 skips that while editing pages). pytest's
+# tests/test_docs.py runs the same build in `make test`. NO_MKDOCS_2_WARNING silences the
+# theme's banner.
 MKDOCS := NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
 
-.PHONY: install run test test-fast test-slurm lint bench docs reference clean-results
+.PHONY: install run test test-fast test-slurm lint bench docs reference clean-results publish
 
 $(BIN)/.installed: pyproject.toml requirements.lock
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -68,6 +70,23 @@ reference: install
 	$(BIN)/python -m tests.reference.regenerate --reason "$(REASON)" \
 		$(if $(RESULTS),--from $(RESULTS))
 
+# Install a finished drying ensemble's archived result in results/published/$(NAME)/ (the
+# compact tables, then the figures, summary and validation rows rebuilt from them, and the
+# SHA-256 manifest `craquelure verify` checks); commit the folder. For the Table I ensemble:
+#   make publish NAME=drying-table1 SCENE=table1_trace \
+#       CONFIG="config/faithful.yaml config/table1_ensemble.yaml"
+PUBLISH := $(BIN)/python -c 'import sys; from craquelure.drying.published import publish; \
+	publish(*[None if a == "-" else a for a in sys.argv[1:]])'
+publish: install
+	@test -n "$(NAME)" -a -n "$(SCENE)" -a -n "$(CONFIG)" || { echo "usage: make publish" \
+		"NAME=drying-table1 SCENE=<drying scene> CONFIG='<config files>'"; exit 2; }
+	$(SNAKEMAKE) results/drying/$(SCENE)/published --configfile $(CONFIG)
+	$(PUBLISH) results/drying/$(SCENE)/published - results/published/$(NAME)
+	$(SNAKEMAKE) published --forcerun drying_published
+	$(PUBLISH) results/drying/$(SCENE)/published results/drying_published/$(NAME) \
+		results/published/$(NAME)
+	$(BIN)/craquelure verify results/published/$(NAME)
+
 clean-results:
-	find results -mindepth 1 ! -name README.md -delete
+	find results -mindepth 1 ! -name README.md ! -path 'results/published' ! -path 'results/published/*' -delete
 	rm -rf .snakemake logs benchmarks/results

@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from craquelure import codegen
+from craquelure import codegen, registry
 from craquelure.errors import SceneError
-from craquelure.registry import known_effects
+from craquelure.registry import kernel_parameters, known_effects
 
 
 def test_generated_dir_is_a_subfolder_of_the_cache_root(tmp_path, monkeypatch):
@@ -106,15 +106,6 @@ def test_unknown_effect_is_rejected():
         codegen.effect_flags("softdyn", ["lubrication_normal", "gravity"])
 
 
-def test_pack_parameters_orders_by_name_and_rejects_unknown_names():
-    p = codegen.pack_parameters(("a", "b", "c"), {"c": 3, "a": 1}, defaults={"b": 2})
-    assert p.tolist() == [1.0, 2.0, 3.0]
-    with pytest.raises(KeyError, match="unknown kernel parameters"):
-        codegen.pack_parameters(("a",), {"a": 1, "z": 2})
-    with pytest.raises(KeyError, match="without a value"):
-        codegen.pack_parameters(("a", "b"), {"a": 1})
-
-
 def _index_constants(module) -> dict[str, str]:
     """{constant: parameter name} for every ``A, B = param_indices(PARAMS, "a", "b")`` and
     ``NAME = PARAMS.index("name")`` in a template."""
@@ -137,6 +128,39 @@ def _index_constants(module) -> dict[str, str]:
     return found
 
 
+class EveryEffectScene:
+    """Every effect on; each scene path a model declares reads the distinct value ``values``
+    gives its parameter (a vector parameter: one per entry)."""
+
+    def __init__(self, model, values):
+        self.paths = {p.path: values[name] for name, (p, _) in kernel_parameters(model).items()
+                      if p.path and p.kernel}
+
+    def get(self, path):
+        return self.paths[path]
+
+    optional = get
+
+    def has(self, effect):
+        return True
+
+
+def _distinct_values(model):
+    """{parameter: value}: 0.5, 1.5, ... one per entry; the expected vector."""
+    values, expected = {}, []
+    for name, (p, _) in kernel_parameters(model).items():
+        if p.kernel:
+            entries = [0.5 + len(expected) + k for k in range(p.size)]
+            values[name] = entries if p.size > 1 else entries[0]
+            expected += entries
+    return values, np.array(expected)
+
+
+def _pack_drying(values):
+    from craquelure.drying.engine import parameters
+    return parameters(EveryEffectScene("drying", values))
+
+
 def _pack_lattice(values):
     from craquelure.lattice.engine import default_params
     return default_params(**values)
@@ -148,45 +172,46 @@ def _pack_softdyn(values):
         x0=np.array([[0.0, 0.0], [2.0, 0.0]]), pairs=np.array([[0, 1]]), F0=np.zeros((2, 2)),
         radius=values["R"], viscosity=values["eta"], young=values["E"], k_n=values["k_n"],
         k_t=values["k_t"], c_n=values["c_n"], c_t=values["c_t"],
-        tau_baumgarte=1.0 / values["inv_tau_B"], ramp_time=values["t_r"], flags=Flags(),
+        tau_baumgarte=1.0 / values["inv_tau_B"], ramp_time=values["t_r"],
+        flags=Flags(("lubrication_normal", "lubrication_tangential", "hertz")),
         linear_solver="dense")
     return system.p
 
 
-def _pack_drying(values):
-    from craquelure.drying.engine import parameters
-
-    class Scene:  # every effect on; the scene paths the engine reads, each with its own value
-        paths = {"material.lame_lambda": "lame_lambda", "material.lame_mu": "lame_mu",
-                 "material.eta": "eta", "material.drying_rate": "drying_rate",
-                 "material.thickness": "thickness", "numerics.xsph_epsilon": "xsph_epsilon",
-                 "numerics.h": "support", "domain.box_length": "box_length",
-                 "material.drying_stress_cap": "drying_stress_cap"}
-
-        def get(self, path):
-            return values[self.paths[path]]
-
-        optional = get
-
-        def has(self, effect):
-            return True
-
-    return parameters(Scene())
+def _pack_impact(values):
+    return registry.parameter_vector("impact", values=values)
 
 
-@pytest.mark.parametrize(("template", "pack"), [
-    ("craquelure.lattice.kernel_template", _pack_lattice),
-    ("craquelure.softdyn.kernel_template", _pack_softdyn),
-    ("craquelure.drying.kernel_template", _pack_drying),
-], ids=["lattice", "softdyn", "drying"])
-def test_every_parameter_has_one_index_and_packing_puts_it_there(template, pack):
-    """Parameters declared once: the template's index constants and the engine's packing by
-    name agree for every parameter of the template's PARAMS tuple."""
-    template = importlib.import_module(template)
+@pytest.mark.parametrize(("model", "pack"), [
+    ("drying", _pack_drying), ("impact", _pack_impact), ("lattice", _pack_lattice),
+    ("softdyn", _pack_softdyn)])
+def test_every_parameter_has_one_index_and_packing_puts_it_there(model, pack):
+    """Parameters declared once, by the effects: the template's PARAMS are the registry's, its
+    index constants name each parameter once, and the engine's packing puts every value (each
+    from its scene path or given by name) at the entry its index constant reads."""
+    template = importlib.import_module(f"craquelure.{model}.kernel_template")
+    assert template.PARAMS == registry.parameter_names(model)
     consts = _index_constants(template)
-    assert sorted(consts.values()) == sorted(template.PARAMS)  # each parameter exactly once
-    values = {name: 0.5 + i for i, name in enumerate(template.PARAMS)}
-    p = pack(values)
-    assert p.shape == (len(template.PARAMS),)
+    firsts = [name for name in template.PARAMS if "[" not in name]
+    assert sorted(consts.values()) == sorted(firsts)  # each parameter exactly once
+    values, expected = _distinct_values(model)
+    assert np.array_equal(pack(values), expected)
     for const, name in consts.items():
-        assert p[getattr(template, const)] == values[name], (const, name)
+        assert pack(values)[getattr(template, const)] == expected[template.PARAMS.index(name)]
+
+
+def test_parameter_vector_reads_declared_paths_and_neutral_values():
+    """An effect's parameter is read from the scene only when the effect is on; otherwise it
+    is the declared neutral value; an undeclared name is an error."""
+    class Scene(EveryEffectScene):
+        def has(self, effect):
+            return effect == "drying"
+
+    values, _ = _distinct_values("drying")
+    p = registry.parameter_vector("drying", Scene("drying", values))
+    names = registry.parameter_names("drying")
+    assert p[names.index("drying_rate")] == values["drying_rate"]
+    assert p[names.index("support")] == values["support"]  # model-wide: always read
+    assert p[names.index("thickness")] == 1.0 and p[names.index("eta")] == 0.0
+    with pytest.raises(KeyError, match="unknown drying kernel parameters"):
+        registry.parameter_vector("drying", values={"gravity": 1.0})

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import importlib.util
 import re
+import textwrap
 
 import pytest
 
@@ -96,9 +97,10 @@ def test_links_are_rewritten_for_the_site_and_missing_targets_warned(hooks, capl
 
 @pytest.mark.slow
 def test_site_builds_strict_and_renders_every_equation_offline(tmp_path):
-    """`mkdocs build --strict` (warnings, broken links and anchors are errors), then each API
-    page in headless Chromium without network: every equation typeset by the site's own
-    MathJax, none left as TeX, no MathJax error."""
+    """`mkdocs build --strict` (warnings, broken links and anchors are errors; the tutorials
+    executed, with their figures; no script loaded from the network), then each API page in
+    headless Chromium without network: every equation typeset by the site's own MathJax, none
+    left as TeX, no MathJax error."""
     import os
     import subprocess
     import sys
@@ -111,6 +113,12 @@ def test_site_builds_strict_and_renders_every_equation_offline(tmp_path):
                             "--site-dir", str(site)], cwd=ROOT, env=env, capture_output=True,
                            text=True)
     assert built.returncode == 0, built.stdout + built.stderr
+    for model in MODELS:  # the tutorials, executed by the build, with their figures
+        tutorial = (site / "tutorials" / model / "index.html").read_text()
+        assert "data:image/png;base64," in tutorial and "Traceback" not in tutorial, model
+    external = [str(p.relative_to(site)) for p in site.rglob("*.html")
+                if re.search(r"<script[^>]+src=\"(https?:)?//", p.read_text())]
+    assert external == []  # the site reads offline: no script from the network
     browser = require_chromium()
     for model in (*MODELS, "core"):
         page = site / "api" / model / "index.html"
@@ -167,3 +175,139 @@ def test_documented_snakemake_commands_name_their_targets_before_configfile():
             if any(not w.rstrip(".,;)'\"").endswith(".yaml") for w in files):
                 bad.append(f"{page.relative_to(ROOT)}: {command.strip()}")
     assert bad == [], "\n".join(bad)
+
+
+DOC_PAGES = [ROOT / "README.md", ROOT / "config" / "README.md", ROOT / "results" / "README.md",
+             *sorted((ROOT / "docs").glob("*.md"))]
+
+
+def code_blocks(text: str, language: str) -> list[str]:
+    """The fenced code blocks of ``language`` of a Markdown text (indented fences included)."""
+    return [textwrap.dedent(m.group(2)) for m in re.finditer(
+        rf"^([ \t]*)```{language}[ \t]*\n(.*?)^\1```", text, re.M | re.S)]
+
+
+def documented_commands() -> list[tuple[str, str]]:
+    """(page, command) of every `craquelure ...` line of the pages' bash blocks, without its
+    comment and optional parts in [brackets]."""
+    found = []
+    for page in DOC_PAGES:
+        for block in code_blocks(page.read_text(), "bash"):
+            for line in block.splitlines():
+                line = re.sub(r"\[[^\]]*\]", "", line.split(" #")[0]).strip()
+                if line.startswith("craquelure "):
+                    found.append((page.relative_to(ROOT).as_posix(), line))
+    return found
+
+
+def test_documented_commands_parse_and_their_scenes_are_valid():
+    """Every documented `craquelure` command parses with the CLI's own parser, and a command
+    that takes a scene names a valid scene with valid overrides (what `check` would say)."""
+    import shlex
+
+    from craquelure import cli
+    from craquelure.api import load_scene
+
+    commands = documented_commands()
+    assert len(commands) >= 15 and {c.split()[1] for _, c in commands} >= {
+        "scenes", "check", "init", "run", "fragments", "export"}
+    parser = cli.build_parser()
+    for page, command in commands:
+        args = parser.parse_args(shlex.split(command)[1:])
+        if getattr(args, "scene", None):
+            load_scene(args.scene, args.overrides)  # raises the one-line SceneError
+        assert page
+
+
+def test_documented_scripts_exist():
+    """Every script a bash block runs (`python benchmarks/x.py`, `.venv/bin/python ...`)."""
+    missing = []
+    for page in DOC_PAGES:
+        for block in code_blocks(page.read_text(), "bash"):
+            for script in re.findall(r"python\s+(\S+\.py)", block):
+                if not (ROOT / script).is_file():
+                    missing.append(f"{page.relative_to(ROOT)}: {script}")
+    assert missing == []
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", [p for p in DOC_PAGES if code_blocks(p.read_text(), "python")],
+                         ids=lambda p: p.relative_to(ROOT).as_posix())
+def test_documented_python_blocks_run(page, tmp_path):
+    """A page's Python blocks, in order, in one fresh process (a block may use what an earlier
+    one defined), in an empty folder: each documented snippet runs as written."""
+    import os
+    import subprocess
+    import sys
+
+    code = "\n\n".join(code_blocks(page.read_text(), "python"))
+    env = {**os.environ, "MPLBACKEND": "Agg",
+           "PYTHONPATH": os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")])}
+    proc = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+
+
+def test_include_and_verdicts_markers(hooks):
+    """`{{ include: ... }}` inserts a Markdown file or renders a JSON table, `{{ verdicts: ...
+    model=... }}` a model's validation rows; a file that does not exist fails the build."""
+    from mkdocs.exceptions import PluginError
+
+    page = "Before\n\n{{ include: benchmarks/tables/cost_softdyn.md }}\n\nAfter\n"
+    out = hooks.expand_markers(page, "softdyn.md")
+    assert "| `softdyn/t1_single_ci` |" in out and out.endswith("\n\nAfter\n")
+    out = hooks.expand_markers(
+        "{{ verdicts: tests/reference/ci/validation.json model=drying }}\n", "drying.md")
+    assert sum(line.startswith("|") for line in out.splitlines()) == 2 + 4  # head, rule, rows
+    assert "**not reproduced**" in out and "0.78 t\\*" in out  # t* is text, not emphasis
+    for missing in ("{{ include: benchmarks/tables/nope.md }}",
+                    "{{ verdicts: results/published/nope/validation.json model=drying }}"):
+        with pytest.raises(PluginError, match="does not exist"):
+            hooks.expand_markers(f"x\n{missing}\n", "drying.md")
+    assert "value" in hooks.json_table({"a": 1.5, "b": 2}) and "| a | 1.5 |" in \
+        hooks.json_table({"a": 1.5, "b": 2})
+
+
+def test_cost_tables_are_those_the_benchmark_writes():
+    """benchmarks/tables/cost_<model>.md equal what benchmarks/cost_table.py writes today:
+    a scene or a calibration change without re-running it fails here."""
+    spec = importlib.util.spec_from_file_location("cost_table",
+                                                  ROOT / "benchmarks" / "cost_table.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    for model in MODELS:
+        assert (ROOT / "benchmarks" / "tables" / f"cost_{model}.md").read_text() == \
+            module.cost_table(model), model
+
+
+def test_model_pages_read_as_a_manual():
+    """Each model page is at most about 300 lines, has the manual's sections, shows its
+    verdicts from a committed report and carries no dated measurement prose."""
+    for model in MODELS:
+        text = (ROOT / "docs" / f"{model}.md").read_text()
+        assert text.count("\n") <= 300, model
+        for heading in ("## The model", "## Scenes and keys", "## How to run it",
+                        "## What it shows now", "## Departures from the source", "## Cost"):
+            assert heading in text, (model, heading)
+        assert re.search(rf"^\{{\{{ verdicts: \S+ model={model} \}}\}}$", text, re.M), model
+        assert not re.search(r"20\d\d-\d\d-\d\d|measured on|under load", text), model
+
+
+def test_verdicts_show_the_figures_beside_the_report(hooks, tmp_path, monkeypatch):
+    """A report's figures, in its folder or its figures/ folder, are shown in the rows (and
+    copied into the site); a figure that is not there is named, not linked."""
+    import json
+
+    monkeypatch.setattr(hooks, "ROOT", tmp_path)
+    report = tmp_path / "results" / "published" / "x" / "validation.json"
+    (report.parent / "figures").mkdir(parents=True)
+    (report.parent / "figures" / "a.png").write_bytes(b"\x89PNG")
+    rows = [{"model": "drying", "claim": "c1", "verdict": "reproduced", "figure": "a.png"},
+            {"model": "drying", "claim": "c2", "verdict": "partly", "figure": "b.png"}]
+    report.write_text(json.dumps({"profile": "p", "claims": rows}))
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs" / "drying.md").write_text(
+        "{{ verdicts: results/published/x/validation.json model=drying }}\n")
+    out = hooks.verdicts_table(report, "drying", "drying.md")
+    assert "(figures/results/published/x/figures/a.png)" in out and "`b.png`" in out
+    assert hooks.marked_figures() == [report.parent / "figures" / "a.png"]

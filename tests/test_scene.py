@@ -15,11 +15,12 @@ from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
 from craquelure import cli
-from craquelure.commands.check import derived_numbers, format_number
+from craquelure.api import check
+from craquelure.commands.check import format_number
 from craquelure.drying.rules import run_step as drying_run_step
 from craquelure.errors import CraquelureError, SceneError
 from craquelure.lattice.rules import step_estimate as lattice_step_estimate
-from craquelure.models import model_api, stage
+from craquelure.models import stage
 from craquelure.registry import known_effects
 from craquelure.scene import (
     apply_override,
@@ -429,8 +430,7 @@ def test_mutated_scene_is_rejected_naming_the_key_or_checkable(case):
     scene = validate(name, text, overrides, mutated)
     if scene is None:
         return
-    api = model_api(scene.model)
-    numbers = derived_numbers(api, scene)  # must not raise
+    numbers = check(scene)  # must not raise
     for value in numbers.values():
         format_number(value)
 
@@ -476,7 +476,7 @@ def test_accepted_mutated_scene_runs_or_stops_with_a_named_error(case, tmp_path_
     if memory_estimate(scene.data)[0] > 4 * BASE_MEMORY[name] + 2**24:
         event("accepted, too large for a short run")
         return  # a much larger scene: validated and checked above, too slow for a short run
-    derived_numbers(model_api(scene.model), scene)
+    check(scene)
     try:
         short = short_version(scene)
     except SceneError as exc:  # shortening broke a cross-field rule: still a named error

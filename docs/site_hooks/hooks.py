@@ -16,16 +16,30 @@
   target does not exist in the repository is a warning (an error under ``--strict``), so the
   build is also the link check. Links to repository files that are not pages (``LICENSE``,
   sources) become code spans. Anchors are checked by MkDocs' own ``validation.anchors``.
+* Numbers that a benchmark or the workflow writes are included from its output file, never
+  retyped: a line ``{{ include: path/from/repo.md }}`` is replaced by that Markdown file (a
+  ``.json`` file becomes a table: a list of rows, or a mapping of names to values), and
+  ``{{ verdicts: path/to/validation.json model=drying }}`` by the model's rows of a validation
+  report (claim, verdict, what was measured, the figure when it lies beside the report). A
+  marker whose file does not exist fails the build.
+* The tutorials (``docs/tutorials/*.ipynb``) are executed during the build (nbclient, in a
+  temporary folder) and become pages with their outputs; a cell that raises fails the build.
+  ``CRAQUELURE_DOCS_EXECUTE=0`` renders them without executing (outputs as stored).
 """
 
 from __future__ import annotations
 
 import ast
+import base64
+import json
 import logging
+import os
 import posixpath
 import re
+import tempfile
 from pathlib import Path
 
+from mkdocs.exceptions import PluginError
 from mkdocs.structure.files import File, Files
 
 log = logging.getLogger("mkdocs.hooks.craquelure")
@@ -122,9 +136,18 @@ def api_pages() -> dict[str, str]:
     return pages
 
 
+def generated_pages() -> set[str]:
+    """Site paths of the pages the hooks generate (API pages, tutorials): link targets that are
+    no file of the repository."""
+    api = {f"api/{m}.md" for m in model_names()} | {"api/core.md"}
+    return api | {f"tutorials/{p.stem}.md" for p in (ROOT / "docs" / "tutorials").glob("*.ipynb")}
+
+
 def _site_path(repo_path: str) -> str | None:
     if repo_path in ROOT_PAGES:
         return ROOT_PAGES[repo_path]
+    if repo_path.startswith("docs/tutorials/") and repo_path.endswith(".ipynb"):
+        return repo_path[len("docs/"):].removesuffix(".ipynb") + ".md"  # its page
     if repo_path.startswith("docs/"):
         return repo_path[len("docs/"):]
     return None
@@ -148,7 +171,7 @@ def rewrite_links(markdown: str, repo_path: str, site_path: str) -> str:
             path, sep, anchor = target.partition("#")
             repo_target = posixpath.normpath(posixpath.join(posixpath.dirname(repo_path), path))
             full = ROOT / repo_target
-            if not full.exists():
+            if not full.exists() and _site_path(repo_target) not in generated_pages():
                 log.warning("%s links to %s, which does not exist", repo_path, target)
                 return m.group(0)
             site_target = _site_path(repo_target)
@@ -178,8 +201,164 @@ def mathjax_file() -> Path:
     return Path(next(f for f in files if str(f).endswith("mathjax/tex-svg.js")).locate())
 
 
+_MARKER = re.compile(
+    r"^\{\{[ \t]*(include|verdicts):[ \t]*(\S+)((?:[ \t]+\w+=\S+)*)[ \t]*\}\}[ \t]*$", re.M)
+# site folder of the figures that validation reports name
+FIGURES = "figures"
+
+
+def _marker_file(kind: str, path: str, where: str) -> Path:
+    full = ROOT / path
+    if not full.is_file():
+        raise PluginError(f"{where}: {{{{ {kind}: {path} }}}}: {path} does not exist")
+    return full
+
+
+def _cell(value) -> str:
+    if isinstance(value, float):
+        value = f"{value:.4g}"
+    elif isinstance(value, (list, tuple)):
+        value = ", ".join(_cell(v) for v in value)
+    return str(value).replace("|", "\\|").replace("\n", " ")
+
+
+def plain(text: str) -> str:
+    """Text of a report shown as is in Markdown (``t*`` is not emphasis, ``<S>`` no tag)."""
+    return (str(text).replace("\\", "\\\\").replace("*", "\\*").replace("_", "\\_")
+            .replace("<", "&lt;").replace(">", "&gt;"))
+
+
+def markdown_table(rows: list[dict]) -> str:
+    """A Markdown table of ``rows`` (columns: every key, in order of first appearance)."""
+    columns = list(dict.fromkeys(k for row in rows for k in row))
+    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+    lines += ["| " + " | ".join(_cell(row.get(c, "")) for c in columns) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def json_table(data) -> str:
+    """A JSON benchmark output as a table: a list of rows, or ``{name: value}`` (nested
+    mappings become one row each: ``{name: {column: value}}``)."""
+    if isinstance(data, dict) and all(isinstance(v, dict) for v in data.values()):
+        data = [{"": k, **v} for k, v in data.items()]
+    elif isinstance(data, dict):
+        data = [{"": k, "value": v} for k, v in data.items()]
+    return markdown_table(data)
+
+
+def figure_path(report: Path, name: str) -> Path | None:
+    """The figure a validation row names, if it lies beside the report (or in its
+    ``figures/`` folder)."""
+    for folder in (report.parent / "figures", report.parent):
+        if name and (folder / name).is_file():
+            return folder / name
+    return None
+
+
+def verdicts_table(report: Path, model: str, site_path: str) -> str:
+    """A validation report's rows of ``model``: a tally line, then one row per claim."""
+    data = json.loads(report.read_text())
+    rows = [c for c in data.get("claims", []) if c.get("model") == model]
+    if not rows:
+        raise PluginError(f"{report.relative_to(ROOT)} has no claims of model {model!r}")
+    tally = data.get("tally", {}).get(model, {})
+    head = (f"Profile **{data.get('profile', '?')}**, from "
+            f"`{report.relative_to(ROOT)}`: " + ", ".join(f"{n} {v}" for v, n in tally.items()))
+    table = []
+    for row in rows:
+        fig = figure_path(report, row.get("figure", ""))
+        if fig is not None:
+            link = posixpath.relpath(f"{FIGURES}/{fig.relative_to(ROOT).as_posix()}",
+                                     posixpath.dirname(site_path) or ".")
+            shown = f"[![{row['figure']}]({link})]({link})"
+        else:
+            shown = f"`{row['figure']}`" if row.get("figure") else ""
+        table.append({"claim (source)": plain(f"{row['claim']} ({row.get('source', '')})"),
+                      "verdict": f"**{row['verdict']}**",
+                      "measured": plain(row.get("measured", "")), "figure": shown})
+    return head + ".\n\n" + markdown_table(table)
+
+
+def expand_markers(markdown: str, site_path: str) -> str:
+    """Replace the ``{{ include: ... }}`` and ``{{ verdicts: ... }}`` lines of a page."""
+
+    def expand(m: re.Match) -> str:
+        kind, path = m.group(1), m.group(2)
+        options = dict(o.split("=", 1) for o in m.group(3).split())
+        full = _marker_file(kind, path, site_path)
+        if kind == "verdicts":
+            if "model" not in options:
+                raise PluginError(f"{site_path}: {{{{ verdicts: {path} }}}} needs model=<model>")
+            return verdicts_table(full, options["model"], site_path)
+        if full.suffix == ".json":
+            return json_table(json.loads(full.read_text()))
+        return rewrite_links(full.read_text().rstrip("\n"), path, site_path)
+
+    return _MARKER.sub(expand, markdown)
+
+
+def marked_figures() -> list[Path]:
+    """Every figure that a ``{{ verdicts: ... }}`` marker of a page shows."""
+    pages = [ROOT / p for p in ROOT_PAGES] + sorted((ROOT / "docs").rglob("*.md"))
+    found = []
+    for page in filter(Path.is_file, pages):
+        for m in _MARKER.finditer(page.read_text()):
+            report = ROOT / m.group(2)
+            if m.group(1) == "verdicts" and report.is_file():
+                found += [f for c in json.loads(report.read_text()).get("claims", [])
+                          if (f := figure_path(report, c.get("figure", ""))) is not None]
+    return sorted(set(found))
+
+
+def notebook_markdown(path: Path, execute: bool = True) -> str:
+    """A tutorial notebook as a page: its Markdown cells, its code cells as Python blocks and
+    their outputs (text, and images inline), after executing it in a temporary folder."""
+    import nbformat
+
+    nb = nbformat.read(path, as_version=4)
+    if execute:
+        from nbclient import NotebookClient
+        from nbclient.exceptions import CellExecutionError
+
+        with tempfile.TemporaryDirectory() as tmp:
+            try:
+                NotebookClient(nb, timeout=600, kernel_name="python3",
+                               resources={"metadata": {"path": tmp}}).execute()
+            except CellExecutionError as exc:
+                raise PluginError(f"{path.relative_to(ROOT)}: a cell failed:\n{exc}") from exc
+    out = []
+    for cell in nb.cells:
+        if cell.cell_type == "markdown":
+            out.append(cell.source)
+            continue
+        if cell.cell_type != "code":
+            continue
+        out.append(f"```python\n{cell.source}\n```")
+        for o in cell.get("outputs", []):
+            data = o.get("data", {})
+            if o.get("output_type") == "stream" and o.get("name") == "stdout":
+                out.append(f"```text\n{o['text'].rstrip()}\n```")
+            elif "image/png" in data:
+                png = data["image/png"]
+                png = png if isinstance(png, str) else base64.b64encode(png).decode()
+                out.append(f"![output](data:image/png;base64,{png.replace(chr(10), '')})")
+            elif "text/plain" in data:
+                out.append(f"```text\n{data['text/plain'].rstrip()}\n```")
+            elif o.get("output_type") == "error":
+                raise PluginError(f"{path.relative_to(ROOT)}: stored error output")
+    return "\n\n".join(out) + "\n"
+
+
 def on_files(files: Files, config) -> Files:
     files.append(File.generated(config, MATHJAX, abs_src_path=str(mathjax_file())))
+    for fig in marked_figures():
+        files.append(File.generated(config, f"{FIGURES}/{fig.relative_to(ROOT).as_posix()}",
+                                    abs_src_path=str(fig)))
+    execute = os.environ.get("CRAQUELURE_DOCS_EXECUTE", "1") != "0"
+    for nb in sorted((ROOT / "docs" / "tutorials").glob("*.ipynb")):
+        site_path = f"tutorials/{nb.stem}.md"
+        log.info("executing %s", nb.relative_to(ROOT))
+        files.append(File.generated(config, site_path, content=notebook_markdown(nb, execute)))
     for repo_path, site_path in ROOT_PAGES.items():
         text = (ROOT / repo_path).read_text()
         files.append(File.generated(config, site_path,
@@ -191,6 +370,8 @@ def on_files(files: Files, config) -> Files:
 
 def on_page_markdown(markdown: str, page, config, files) -> str:
     src = page.file.src_uri
-    if src in ROOT_PAGES.values() or src.startswith("api/"):
-        return markdown  # the generated pages are rewritten when generated
-    return rewrite_links(markdown, "docs/" + src, src)
+    if src.startswith(("api/", "tutorials/")):
+        return markdown
+    if src not in ROOT_PAGES.values():  # the root pages are rewritten when generated
+        markdown = rewrite_links(markdown, "docs/" + src, src)
+    return expand_markers(markdown, src)

@@ -39,6 +39,8 @@ from functools import cache
 from importlib import import_module
 from pathlib import Path
 
+import numpy as np
+
 from craquelure.io import write_text_atomic
 from craquelure.models import MODELS
 from craquelure.provenance import git_commit, library_versions
@@ -123,6 +125,13 @@ def fraction_interval(k: float, n: int, level: float = DECISION_LEVEL) -> tuple[
     lo = stats.beta.ppf(tail, k, n - k + 1) if k > 0 else 0.0
     hi = stats.beta.ppf(1 - tail, k + 1, n - k) if k < n else 1.0
     return float(lo), float(hi)
+
+
+def bootstrap_interval(replicates, axis: int | None = None):
+    """The 95 % percentile interval of bootstrap replicates, their 2.5th and 97.5th percentiles
+    (NaN replicates left out): ``[lo, hi]``, or along ``axis`` the arrays ``(lo, hi)``."""
+    lo, hi = np.nanpercentile(replicates, [2.5, 97.5], axis=axis)
+    return [float(lo), float(hi)] if axis is None else (lo, hi)
 
 
 def fraction_decision(successes: int, n: int, threshold: float,

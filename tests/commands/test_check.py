@@ -9,8 +9,7 @@ from pathlib import Path
 import pytest
 
 from craquelure import cli
-from craquelure.commands.check import derived_numbers
-from craquelure.models import model_api
+from craquelure.api import check
 from craquelure.scene import (
     load_scene,
 )
@@ -21,7 +20,7 @@ def test_check_uses_the_step_the_run_takes():
     """A huge viscosity makes the run halve dt many times; check's step count and wall-time
     estimate follow the run's step, not numerics.dt."""
     scene = load_scene("drying/ci", ["material.eta=1e6"])
-    numbers = derived_numbers(model_api("drying"), scene)
+    numbers = check(scene)
     dt_run = numbers["time step of the run (halved below 0.6 of the viscous limit)"]
     assert dt_run < 1e-8 < scene.get("numerics.dt")
     assert numbers["steps"] == math.ceil(scene.get("outputs.t_end") / dt_run)

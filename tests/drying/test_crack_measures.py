@@ -60,7 +60,11 @@ def test_clean_split():
     areas = fragment_areas(image, DX)
     assert label_periodic(image)[1] == 2
     # Without wrap-around the fragment cut by the box edge counts twice.
-    assert cm.open_fragment_count(image) == 3
+    open_areas = fragment_areas(image, DX, periodic=False)
+    assert open_areas.size == 3
+    # the same paste pixels: the edge-cut pieces add up to the periodic fragment
+    assert open_areas.sum() == pytest.approx(areas.sum(), rel=1e-12)
+    assert sorted(open_areas)[-1] == pytest.approx(max(areas), rel=1e-12)
     assert cm.largest_fraction(areas, L) == pytest.approx(196 / N, rel=1e-12)
     # Two cracks of length L across an L x L box: 2/L per area. Axis-aligned interfaces are
     # where the four-direction Crofton estimate is lowest, 0.948 of the true length.
@@ -73,7 +77,8 @@ def test_tiling_of_fragments():
     image = _tiling()
     areas = fragment_areas(image, DX)
     assert label_periodic(image)[1] == 16
-    assert cm.open_fragment_count(image) == 25  # the edge rows and columns split 9 blocks
+    # the edge rows and columns split 9 blocks
+    assert fragment_areas(image, DX, periodic=False).size == 25
     assert cm.largest_fraction(areas, L) == pytest.approx(96**2 / N**2, rel=1e-12)
     # Eight cracks (four rows, four columns); between crossings each face of each is
     # L - 4 w long (w = 4 pixels): 8 (L - 4 w) / L^2, at the Crofton factor of 0 degrees
@@ -87,7 +92,7 @@ def test_fan_of_cracks():
     image = _fan()
     # Cracks from one point cut no fragment off: one fragment either way.
     assert label_periodic(image)[1] == 1
-    assert cm.open_fragment_count(image) == 1
+    assert fragment_areas(image, DX, periodic=False).size == 1
     assert cm.largest_fraction(fragment_areas(image, DX), L) == pytest.approx(
         image.mean(), rel=1e-12)
     # Six rays 1.5 long at 15-165 degrees: the Crofton factors average over those angles.
@@ -129,3 +134,9 @@ def test_damage_of_a_removed_band_and_the_run_measures():
     assert ds["largest_fragment_fraction"].values[1] == pytest.approx(1 - width / 2.0, abs=0.02)
     # band and column: one periodic fragment still, four without wrap-around
     assert ds["n_fragments"].values[2] == 1 and ds["n_fragments_open"].values[2] == 4
+    # the open-image areas are recorded per snapshot and tile the same paste as the periodic
+    open_index = ds["fragment_time_index_open"].values
+    assert np.bincount(open_index) == pytest.approx(ds["n_fragments_open"].values)
+    for k in range(3):
+        assert ds["fragment_area_open"].values[open_index == k].sum() == pytest.approx(
+            ds["fragment_area"].values[ds["fragment_time_index"].values == k].sum(), rel=1e-12)

@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 import yaml
 
-from craquelure.drying.engine import NEUTRAL_PARAMETERS, VX, VY, X, Y, parameters
+from craquelure.drying.engine import VX, VY, X, Y, parameters
 from craquelure.drying.integrators import rkc_stages
 from craquelure.drying.kernel_template import PARAMS
 from craquelure.errors import SimulationDiverged
+from craquelure.registry import kernel_parameters
 from craquelure.scene import load_scene_text
 
 
@@ -225,7 +226,7 @@ def test_rkc2_converges_at_second_order_beyond_the_viscous_limit(make_scene):
     errors = []
     for dt in dts:
         eng = _smooth_paste(make_scene, "rkc2", float(dt))
-        assert eng.stepper.stages == rkc_stages(float(dt), eng.spectral_radius)
+        assert eng.stepper.stages == rkc_stages(float(dt), eng.controller.spectral_radius)
         errors.append(np.linalg.norm(eng.state[VX:VY + 1] - reference)
                       / np.linalg.norm(reference))
     slope = np.polyfit(np.log(dts), np.log(errors), 1)[0]
@@ -289,22 +290,25 @@ def test_rkc2_steps_shrink_at_removal_and_grow_between(make_scene):
     assert dt[last + 1:].max(initial=0.0) > 0.1
 
 
-@pytest.mark.parametrize("effects, off", [
-    (["viscosity", "xsph", "continuity"],
-     ["lame_lambda", "lame_mu", "thickness", "drying_rate", "drying_stress_cap"]),
-    (["elasticity", "continuity"], ["eta", "thickness", "drying_rate", "drying_stress_cap"]),
-    (["substrate", "drying"], ["lame_lambda", "eta"]),
-])
-def test_an_off_effects_parameters_are_its_neutral_values(make_scene, effects, off):
-    """The kernel's parameter vector holds NEUTRAL_PARAMETERS for the material constants of
+@pytest.mark.parametrize("effects", [
+    ["viscosity", "xsph", "continuity"], ["elasticity", "continuity"], ["substrate", "drying"],
+    ["body_force"]])
+def test_an_off_effects_parameters_are_its_neutral_values(make_scene, effects):
+    """The kernel's parameter vector holds the declared neutral values for the parameters of
     effects that are off, whether or not the scene gives them (no fallback reads them), and
-    the scene's values for the effects that are on."""
-    given = make_scene(effects=effects, material={"drying_stress_cap": 1.0})
+    the scene's values (at each parameter's declared path) for the effects that are on."""
+    given = make_scene(effects=effects,
+                       material={"drying_stress_cap": 1.0, "body_force": [0.25, -0.5]})
+    params = kernel_parameters("drying")
+    on = {name for name, (_, owners) in params.items() if not owners or owners & set(effects)}
     data = copy.deepcopy(given.data)
-    for key in off:
-        del data["material"][key]
+    for name, (param, _) in params.items():
+        section, key = param.path.split(".")
+        if name not in on and key in data[section]:
+            del data[section][key]
     p = parameters(given)
     assert np.array_equal(p, parameters(load_scene_text(yaml.safe_dump(data), name="absent")))
-    for key in NEUTRAL_PARAMETERS:
-        expected = NEUTRAL_PARAMETERS[key] if key in off else given.get(f"material.{key}")
-        assert p[PARAMS.index(key)] == expected, key
+    for name, (param, _) in params.items():
+        expected = given.get(param.path) if name in on else param.neutral
+        first = PARAMS.index(name)
+        assert np.array_equal(p[first:first + param.size], np.broadcast_to(expected, param.size))

@@ -41,7 +41,8 @@ def test_captions_state_profile_sizes_and_fit(data):
     assert "Pi = tau/t* = 0.22 with tau = eta/(2 mu) = 5 (paper 0.022)" in setup
     fit = fit_line(summary)
     assert f"alpha = {summary['fit']['alpha']:.3g}" in fit
-    assert f"R^2 = {summary['fit']['r2']:.4f}" in fit
+    c14 = summary["checks"]["check14_inverse_mean_area_linear"]
+    assert f"reduced chi^2 = {c14['reduced_chi2']:.3g}" in fit
     lo, hi = summary["fit"]["alpha_ci95"]
     assert f"{lo:.3g}-{hi:.3g}" in fit
     fig = fig_inverse_mean_area(campaign, summary, "test")

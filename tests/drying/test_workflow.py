@@ -222,3 +222,21 @@ def test_kappa_points_and_their_overrides():
     assert "numerics.mass_solve.method=truncated_cg" in args
     with pytest.raises(ValueError, match="does not match"):
         kappa.point_overrides(SimpleNamespace(point="gap0p8"))
+
+
+def test_explicit_seeds_and_the_archived_ones(tmp_path, monkeypatch):
+    """`seeds` replaces the range; the seeds of the archived ensemble `published` are not run
+    again (the campaign continues with the rest in a later session)."""
+    sec = _merged("faithful.yaml", "table1_ensemble.yaml")
+    assert workflow.Jobs({**sec, "published": None}).seeds() == list(range(1, 41))
+    assert workflow.Jobs({**sec, "seeds": [35, 12], "published": None}).seeds() == [35, 12]
+    tables = tmp_path / "results/published/drying-table1/tables"
+    tables.mkdir(parents=True)
+    (tables / "seeds.csv").write_text("seed,first_removal_time\n12,80.5\n3,81.0\n")
+    monkeypatch.chdir(tmp_path)
+    jobs = workflow.Jobs(sec)
+    assert sec["published"] == "drying-table1"
+    assert jobs.seeds() == [s for s in range(1, 41) if s not in (3, 12)]
+    fragments = jobs.campaign_fragments(type("W", (), {"scene": "table1_trace"})())
+    assert "results/drying/table1_trace/fragments/seed12.nc" not in fragments
+    assert len(fragments) == 38

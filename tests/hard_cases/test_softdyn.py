@@ -10,6 +10,7 @@ import pytest
 
 from craquelure.scene import load_scene
 from craquelure.softdyn import theory
+from craquelure.softdyn.engine import run
 from craquelure.softdyn.initial_state import build, predictions
 
 BASE = load_scene("softdyn/t1_single_ci")
@@ -24,7 +25,7 @@ def test_deep_hertz_t1_takes_the_hertzian_time():
     pred = predictions(scene)
     assert pred["regime"] == "hertz" and pred["h0_over_h_star"] == pytest.approx(0.02)
     setup = build(scene)
-    res = setup.run(desc="deep hertz")
+    res = run(setup, desc="deep hertz")
     assert res.stopped
     assert np.isfinite(res.y).all()
     assert res.t_stop / setup.tau == pytest.approx(pred["T_sep"], rel=0.25)
@@ -35,7 +36,7 @@ def test_micro_gap_stays_finite_and_open():
     from draining (T_sep ~ 5e9 tau), within 10 % of 1e-6 R."""
     scene = BASE.with_overrides(["particles.h0=1.0e-6"])
     setup = build(scene)
-    res = setup.run(desc="micro gap")
+    res = run(setup, desc="micro gap")
     assert np.isfinite(res.y).all()
     gaps = np.array([setup.system.min_gap(y) for y in res.y]) / setup.system.radius
     assert (gaps > 0).all()

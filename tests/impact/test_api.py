@@ -9,7 +9,7 @@ import pytest
 import yaml
 
 from craquelure.errors import SceneError, SimulationDiverged
-from craquelure.impact import kernel_template, workflow
+from craquelure.impact import workflow
 from craquelure.impact.api import (
     concrete,
     derived_numbers,
@@ -19,8 +19,8 @@ from craquelure.impact.api import (
     softening,
 )
 from craquelure.impact.initial_state import build_specimen
-from craquelure.impact.material import NEUTRAL
 from craquelure.io import open_dataset
+from craquelure.registry import neutral_parameters
 from craquelure.scene import load_scene, load_scene_text, project_root
 
 from ..killed_run import check_message, kill_and_resume, same_dataset, stop_and_resume
@@ -95,17 +95,18 @@ def test_contact_scale_auto(overrides, expected):
 ])
 def test_an_off_effects_strengths_are_the_neutral_ones(effects, off):
     """The kernel's parameter vector and the concrete do not depend on a strength or fracture
-    energy whose effects are all off (they hold NEUTRAL), whether or not the scene gives it:
-    no fallback reads it; the effects that are on read the scene's."""
+    energy whose effects are all off (they hold their declared neutral values), whether or not
+    the scene gives it: no fallback reads it; the effects that are on read the scene's."""
     given = load_scene("impact/ci", [f"effects={effects}"])
     data = copy.deepcopy(given.data)
     for name in off:
         del data["material"][name]
     st, st_absent = settings(given), settings(load_scene_text(yaml.safe_dump(data), "absent"))
     assert st.material == st_absent.material
-    assert np.array_equal(st.params(kernel_template), st_absent.params(kernel_template))
+    assert np.array_equal(st.params(), st_absent.params())
     for name in ("f_c", "f_t", "G_F"):
-        expected = NEUTRAL[name] if name in off else given.get(f"material.{name}")
+        expected = (neutral_parameters("impact")[name] if name in off
+                    else given.get(f"material.{name}"))
         assert getattr(st.material, name) == expected, name
 
 

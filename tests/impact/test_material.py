@@ -1,10 +1,12 @@
 """Check 6 (spec section 10): the concrete material point, strain-driven, no SPH."""
 
+import math
+
 import numpy as np
 import pytest
 
-from craquelure.impact.material import MATERIAL_CONSTANTS, NEUTRAL, drive, standard_concrete
-from craquelure.registry import known_effects
+from craquelure.impact.material import MATERIAL_CONSTANTS, drive, standard_concrete
+from craquelure.registry import kernel_parameters, known_effects
 
 MAT = standard_concrete()
 
@@ -80,9 +82,11 @@ def test_fully_cracked_point_carries_compression():
 
 
 def test_material_constants_are_read_by_the_effects_that_require_them():
-    """Each constant of the concrete is read when one of the effects listing its key in
-    ``requires=`` is on (so the scene sets it), and only then; NEUTRAL covers every one."""
-    effects = known_effects("impact")
-    for _, key, readers in MATERIAL_CONSTANTS:
-        assert set(readers) == {e for e, eff in effects.items() if key in eff.requires}, key
-    assert set(NEUTRAL) == {name for name, _, _ in MATERIAL_CONSTANTS}
+    """Each constant of the concrete is declared by effects (which then require its scene key),
+    with a neutral value for when they are all off."""
+    declared = kernel_parameters("impact")
+    for name in MATERIAL_CONSTANTS:
+        param, owners = declared[name]
+        assert owners and math.isfinite(param.neutral), name
+        for effect in owners:
+            assert param.path in known_effects("impact")[effect].requires, (name, effect)

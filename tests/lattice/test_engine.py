@@ -137,13 +137,12 @@ def test_parallel_kernel_is_bit_identical_to_serial():
 def test_schema_owned_parameters_come_from_the_schema_and_nowhere_else():
     """The energy tolerance, the contact skin and the friction regularisation have one default,
     the schema's: a probe takes it from there, and an engine given none stops by name."""
-    from craquelure.lattice.engine import PARAMS, Engine
-    from craquelure.lattice.initial_state import SCHEMA_OWNED
+    from craquelure.lattice.engine import PARAMS, Engine, schema_owned
     from craquelure.scene import schema_default
 
     s, _ = small_block(4, 4)
     eng = probe_engine(s, ("beams", "contact"), dict(dt=0.01, contact_stiffness=1.0))
-    for name, path in SCHEMA_OWNED.items():
+    for name, path in schema_owned().items():
         assert eng.p[PARAMS.index(name)] == schema_default("lattice", path)
     assert probe_engine(s, ("beams",), dict(dt=0.01, energy_tolerance=0.5)).p[
         PARAMS.index("energy_tolerance")] == 0.5

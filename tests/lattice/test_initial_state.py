@@ -79,7 +79,7 @@ def test_time_step_is_the_fraction_of_the_stiffest_oscillator():
 
 def packed_params(scene):
     system, _ = build_system(scene, 0)
-    return default_params(**engine_params(scene, system), period_x=system.period_x)
+    return default_params(**{**engine_params(scene, system), "period_x": system.period_x})
 
 
 def test_buoyancy_off_leaves_its_densities_unread():

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 import yaml
 
+from craquelure.registry import neutral_parameters
 from craquelure.scene import load_scene, load_scene_text
+from craquelure.softdyn.engine import run
 from craquelure.softdyn.initial_state import (
-    NEUTRAL,
-    RIGID_YOUNG,
     build,
     material_constants,
     predictions,
@@ -24,7 +24,7 @@ SQRT3 = math.sqrt(3.0)
 def hertz_t1():
     """Fig. 4 scene: h0 = 1e-3 R, F~ = 1e-3 (h0/h* = 0.1), run on to 2000 tau."""
     setup = build(load_scene("softdyn/t1_single"))
-    res = setup.run()
+    res = run(setup)
     return setup, res, series_dataset(setup, res)
 
 
@@ -90,7 +90,7 @@ def run_angle(ratio, t_end):
         f"loads.fh_over_fv={ratio!r}", "loads.reduced_force=1.0e-4", "particles.h0=1.0e-2",
         f"outputs.t_end={t_end!r}"])
     setup = build(sc)
-    res = setup.run(sample_times_tau=np.geomspace(0.01, t_end, 200))
+    res = run(setup, sample_times_tau=np.geomspace(0.01, t_end, 200))
     return setup, res, series_dataset(setup, res)
 
 
@@ -126,7 +126,7 @@ def test_blocked_rhombus_rotation_mode_grows_without_the_symmetry():
             "loads.fh_over_fv=0.65", "loads.reduced_force=1.0e-4", "particles.h0=1.0e-2",
             "outputs.t_end=500.0", f"numerics.mirror_symmetry={mirror}"])
         setup = build(sc)
-        res = setup.run(sample_times_tau=np.array([]))
+        res = run(setup, sample_times_tau=np.array([]))
         s = setup.system.unpack(res.y_stop)[1]
         return abs(s[1] - s[2]) / setup.system.radius
 
@@ -140,7 +140,7 @@ def test_literal_rule_jams_the_t1():
     setup = build(load_scene("softdyn/t1_single", [
         "numerics.deflection_rule=literal", "outputs.run_past_stop=false",
         "outputs.t_end=600.0"]))
-    res = setup.run(sample_times_tau=np.array([]))
+    res = run(setup, sample_times_tau=np.array([]))
     theta = math.degrees(math.atan2(*reversed(_ab_ac(setup, res.y_stop))))
     assert not res.stopped  # the co-rotating rule finished the T1 at 395 tau
     assert 45.0 < theta < 56.0
@@ -185,7 +185,7 @@ def test_threshold_follows_the_deformed_angle(force, occurs):
         "loads.fh_over_fv=0.6", f"loads.reduced_force={force!r}", "particles.h0=1.0e-2",
         "outputs.t_end=1000.0"])
     setup = build(sc)
-    res = setup.run(sample_times_tau=np.array([1.0]))
+    res = run(setup, sample_times_tau=np.array([1.0]))
     ds = series_dataset(setup, res)
     cot = 1.0 / math.tan(math.radians(float(ds.theta.sel(time=1.0))))
     assert res.stopped == occurs
@@ -200,8 +200,8 @@ def test_threshold_follows_the_deformed_angle(force, occurs):
 ])
 def test_an_off_effects_constants_are_the_neutral_ones(effects, off):
     """The kernel's parameter vector, the time unit and the theory's predictions do not depend
-    on a constant whose effects are all off (it is NEUTRAL), whether or not the scene gives it:
-    no fallback reads it; the effects that are on read the scene's."""
+    on a constant whose effects are all off (it is its declared neutral value), whether or not
+    the scene gives it: no fallback reads it; the effects that are on read the scene's."""
     given = load_scene("softdyn/t1_single_ci", [f"effects={effects}", "material.k_n=2.0",
                                                 "material.k_t=3.0", "material.c_t=4.0"])
     data = copy.deepcopy(given.data)
@@ -211,9 +211,9 @@ def test_an_off_effects_constants_are_the_neutral_ones(effects, off):
     a, b = build(given), build(absent)
     assert np.array_equal(a.system.p, b.system.p) and a.tau == b.tau
     assert predictions(given) == predictions(absent)
-    constants = material_constants(given)
-    for key in NEUTRAL:
-        assert constants[key] == (NEUTRAL[key] if key in off else given.get(f"material.{key}"))
+    constants, neutral = material_constants(given), neutral_parameters("softdyn")
+    for key in ("k_n", "k_t", "c_t"):
+        assert constants[key] == (neutral[key] if key in off else given.get(f"material.{key}"))
 
 
 def test_young_is_the_force_unit_whenever_given():
@@ -224,4 +224,4 @@ def test_young_is_the_force_unit_whenever_given():
     data = copy.deepcopy(rigid.data)
     del data["material"]["young"]
     assert material_constants(load_scene_text(yaml.safe_dump(data), "absent"))["young"] \
-        == RIGID_YOUNG
+        == 1.0

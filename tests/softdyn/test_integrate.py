@@ -5,6 +5,7 @@ import pytest
 
 from craquelure.errors import CraquelureError, SimulationDiverged
 from craquelure.scene import load_scene
+from craquelure.softdyn.engine import run
 from craquelure.softdyn.initial_state import build
 
 # Short T1 on the Poiseuille side: h0 = 0.1 R, F~ = 1e-2, T ~ 28 tau.
@@ -18,7 +19,7 @@ def duration(*overrides):
 def run_case(*overrides, probe_tau=5.0):
     """(T1 duration / tau, state at t = probe_tau)."""
     setup = build(load_scene("softdyn/t1_single", CASE + list(overrides)))
-    res = setup.run(sample_times_tau=np.array([probe_tau]))
+    res = run(setup, sample_times_tau=np.array([probe_tau]))
     assert res.stopped
     k = int(np.argmin(np.abs(res.t / setup.tau - probe_tau)))
     assert res.t[k] / setup.tau == pytest.approx(probe_tau, rel=1e-12)
@@ -93,4 +94,4 @@ def test_nan_in_the_rhs_is_caught():
 
     setup.system.rhs = poisoned
     with pytest.raises(SimulationDiverged):
-        setup.run(sample_times_tau=np.array([]))
+        run(setup, sample_times_tau=np.array([]))

@@ -11,15 +11,18 @@ from craquelure.softdyn.engine import Engine, Flags, kernels
 
 from .test_engine import C_N, C_T, t1_setup
 
+ALL = ("lubrication_normal", "lubrication_tangential", "hertz")
+NO_TANGENTIAL = ("lubrication_normal", "hertz")
+
 
 def test_effects_are_compiled_in_or_out():
     """Effects on demand: each effect set gets its own generated kernel with the absent effects
     as compile-time False, and the state only holds what the effects need."""
     src, _ = codegen.generate("craquelure.softdyn.kernel_template",
-                              Flags(tangential=False, hertz=True, literal=False).template_flags())
+                              Flags(NO_TANGENTIAL).template_flags())
     assert "\nLUBRICATION_TANGENTIAL = False\n" in src and "\nHERTZ = True\n" in src
-    mod = kernels(Flags(tangential=False, hertz=True, literal=False))
-    assert mod.LUBRICATION_TANGENTIAL is False and mod is not kernels(Flags())
+    mod = kernels(Flags(NO_TANGENTIAL))
+    assert mod.LUBRICATION_TANGENTIAL is False and mod is not kernels(Flags(ALL))
     full = t1_setup().system
     no_t = t1_setup("effects=[lubrication_normal, hertz]").system
     rigid = t1_setup("effects=[lubrication_normal, lubrication_tangential]").system
@@ -40,7 +43,7 @@ def hex_cluster(rows, cols, gap, rng):
     return x, np.array(pairs), F
 
 
-@pytest.mark.parametrize("effects", [Flags(), Flags(tangential=False)])
+@pytest.mark.parametrize("effects", [Flags(ALL), Flags(NO_TANGENTIAL)])
 def test_sparse_path_matches_dense(effects):
     """The N-sphere sparse (SuperLU / LSQR) solve gives the dense right-hand side (N = 20)."""
     rng = np.random.default_rng(9)

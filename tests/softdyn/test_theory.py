@@ -7,6 +7,7 @@ import pytest
 
 from craquelure.scene import load_scene
 from craquelure.softdyn import theory
+from craquelure.softdyn.engine import run
 from craquelure.softdyn.initial_state import build, series_dataset
 
 C_N = 1.5 * math.pi
@@ -17,7 +18,7 @@ def approach():
     """F~ = 1e-6 (h* = 1e-4 R) from h0 = 0.1 R down to h = 1e-7 R = h*/1000."""
     setup = build(load_scene("softdyn/two_sphere_approach",
                              ["outputs.gap_end=1.0e-7", "outputs.t_end=1.0e+7"]))
-    res = setup.run(sample_times_tau=np.geomspace(1e-3, 1e7, 1000))
+    res = run(setup, sample_times_tau=np.geomspace(1e-3, 1e7, 1000))
     return setup, series_dataset(setup, res), res
 
 
@@ -57,7 +58,7 @@ def test_separation_time_matches_quadrature(h0):
     force = 1e-3
     setup = build(load_scene("softdyn/two_sphere_separation", [
         f"particles.h0={h0!r}", f"loads.reduced_force={force!r}", "outputs.t_end=1.0e+6"]))
-    res = setup.run(sample_times_tau=np.array([]))
+    res = run(setup, sample_times_tau=np.array([]))
     assert res.stopped
     t_open = res.t_stop / setup.tau
     assert t_open == pytest.approx(theory.t_separation(h0, force, 1.0, C_N), rel=2e-2)

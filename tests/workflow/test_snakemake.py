@@ -406,7 +406,7 @@ def test_ci_runs_export_for_viewers(ci_run, tmp_path):
     per-particle field the exporter found, equal to the dataset's values."""
     import meshio
 
-    from craquelure.export import export, frames_from_dataset
+    from craquelure.export_formats import export, frames_from_dataset
 
     work, proc = ci_run
     assert proc.returncode == 0

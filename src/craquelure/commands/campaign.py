@@ -1,4 +1,5 @@
-"""``craquelure campaign FRAG1.nc FRAG2.nc ... --out CAMPAIGN.nc [--bins 30] [--window MODE]``:
+"""``craquelure campaign FRAG1.nc FRAG2.nc ... --out CAMPAIGN.nc [--bins 30] [--window MODE]
+[--labelling periodic|open]``:
 aggregate the per-seed fragment datasets of one drying scene over seeds (drying spec section
 10); MODE is the statistics window (:func:`craquelure.drying.time_scales.campaign_window`)."""
 
@@ -16,6 +17,9 @@ def add_arguments(parser) -> None:
                         help="statistics window: 'paper' (the paper's t = 180-300 rescaled by "
                              "t*) or 'all_broken' (from the first snapshot with every sample "
                              "broken to the end)")
+    parser.add_argument("--labelling", default="periodic",
+                        help="fragments counted: 'periodic' (labelled on the torus) or 'open' "
+                             "(the image as a plain rectangle, its edges cut fragments)")
 
 
 def main(args) -> int:
@@ -33,6 +37,10 @@ def main(args) -> int:
     if args.window not in windows.WINDOW_MODES:
         raise CraquelureError(f"--window {args.window} is not allowed; allowed values: "
                               f"{', '.join(windows.WINDOW_MODES)}")
-    out = campaign.campaign_from_files(args.fragments, args.out, args.bins, args.window)
+    if args.labelling not in campaign.LABELLINGS:
+        raise CraquelureError(f"--labelling {args.labelling} is not allowed; allowed values: "
+                              f"{', '.join(campaign.LABELLINGS)}")
+    out = campaign.campaign_from_files(args.fragments, args.out, args.bins, args.window,
+                                       args.labelling)
     print(f"wrote {out}")
     return 0

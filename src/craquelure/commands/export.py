@@ -7,7 +7,7 @@ HELP = "export a run dataset for ParaView (.pvd of VTU point clouds) and OVITO (
 
 
 def add_arguments(parser) -> None:
-    from craquelure.export import FORMATS
+    from craquelure.export_formats import FORMATS
 
     parser.add_argument("run", help="run dataset (.nc) of any model")
     parser.add_argument("--to", default="vtu", choices=FORMATS,
@@ -17,7 +17,7 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    from craquelure.export import export
+    from craquelure.api import export
 
     for path in export(args.run, args.to, args.out):
         print(f"wrote {path}")

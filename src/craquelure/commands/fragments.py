@@ -1,14 +1,13 @@
 """``craquelure fragments RUN.nc --out FRAG.nc [--phi0 0.8] [--spacing 0.01]``: binarise every
-snapshot of a drying run and write the fragment areas (drying spec section 9)."""
-
-from craquelure.errors import CraquelureError
+snapshot of a drying run and write the fragment areas (drying spec section 9); of a lattice
+run, the fragment label of every body particle (:func:`craquelure.api.fragments`)."""
 
 NAME = "fragments"
-HELP = "label the fragments of every snapshot of a drying run dataset"
+HELP = "label the fragments of a run dataset (drying: every snapshot; lattice: the last frame)"
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("run", help="run dataset written by `craquelure run` (drying model)")
+    parser.add_argument("run", help="run dataset written by `craquelure run` (drying or lattice)")
     parser.add_argument("--out", required=True, help="output fragment dataset (.nc)")
     parser.add_argument("--phi0", type=float, default=None,
                         help="paste threshold on the Shepard field (default: the scene's "
@@ -20,13 +19,8 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    from pathlib import Path
+    from craquelure.api import fragments
 
-    from craquelure.models import model_module
-
-    analysis = model_module("drying", "analysis")  # the fragments of drying runs
-    if not Path(args.run).is_file():
-        raise CraquelureError(f"run dataset {args.run!r} not found")
-    out = analysis.fragments_from_run_file(args.run, args.out, args.phi0, args.spacing)
-    print(f"wrote {out}")
+    fragments(args.run, args.out, args.phi0, args.spacing)
+    print(f"wrote {args.out}")
     return 0

@@ -1,11 +1,10 @@
 """``craquelure init SCENE --seed N --out FILE.nc``: build the initial state (positions,
-mass-consistency masses, initial stress) and write it with provenance."""
+mass-consistency masses, initial stress) and write it with provenance
+(:func:`craquelure.api.initial_state`)."""
 
+from craquelure import api
 from craquelure.commands import add_scene_arguments
 from craquelure.io import write_dataset
-from craquelure.models import stage
-from craquelure.provenance import WallClock, provenance_attrs
-from craquelure.scene import load_scene
 
 NAME = "init"
 HELP = "build the initial state of a scene and write it as netCDF"
@@ -19,11 +18,8 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    clock = WallClock()
-    scene = load_scene(args.scene, args.overrides)
-    ds = stage(scene.model, "build_initial_state")(scene, args.seed)
-    ds.attrs.update(provenance_attrs(scene, args.seed, clock))
+    ds = api.initial_state(api.load_scene(args.scene, args.overrides), args.seed)
     write_dataset(ds, args.out)
     print(f"wrote {args.out}: {ds.sizes.get('particle', 0)} particles, "
-          f"wall time {clock.elapsed:.1f} s")
+          f"wall time {ds.attrs['wall_time_s']:.1f} s")
     return 0

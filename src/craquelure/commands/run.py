@@ -3,14 +3,11 @@ scene and write the run dataset (checkpointing as it goes).
 
 Exit status: 0 done; 2 a clear error (bad scene or input, a file that cannot be written, a
 diverged run); 3 stopped by SIGTERM or SIGINT after writing its checkpoint (run again with
-``--resume``, which also starts from the beginning when there is no checkpoint)."""
+``--resume``, which also starts from the beginning when there is no checkpoint)
+(:func:`craquelure.api.run_to_file`)."""
 
-from pathlib import Path
-
+from craquelure import api
 from craquelure.commands import add_scene_arguments
-from craquelure.commands.check import warn_if_long
-from craquelure.models import model_api, stage
-from craquelure.scene import load_scene
 
 NAME = "run"
 HELP = "simulate a scene and write the run dataset"
@@ -32,13 +29,9 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    scene = load_scene(args.scene, args.overrides)
-    import numba
-
-    warn_if_long(model_api(scene.model), scene, args.threads or numba.get_num_threads())
-    out = stage(scene.model, "run")(scene, Path(args.out), seed=args.seed,
-                                    init=Path(args.init) if args.init else None,
-                                    resume=args.resume, checkpoint_every=args.checkpoint_every,
-                                    checkpoint_minutes=args.checkpoint_minutes)
+    out = api.run_to_file(api.load_scene(args.scene, args.overrides), args.out, seed=args.seed,
+                          init=args.init, resume=args.resume,
+                          checkpoint_every=args.checkpoint_every,
+                          checkpoint_minutes=args.checkpoint_minutes)
     print(f"wrote {out}")
     return 0

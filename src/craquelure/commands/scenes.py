@@ -1,6 +1,6 @@
 """``craquelure scenes``: list the built-in scenes."""
 
-from craquelure.scene import list_scenes
+from craquelure.api import scenes
 
 NAME = "scenes"
 HELP = "list built-in scenes with a one-line description"
@@ -11,8 +11,8 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    rows = list_scenes()
-    width = max((len(name) for name, _ in rows), default=0)
-    for name, desc in rows:
+    rows = scenes()
+    width = max(map(len, rows), default=0)
+    for name, desc in rows.items():
         print(f"{name:<{width}}  {desc}")
     return 0

@@ -7,7 +7,7 @@ file of its own (the claims read only the summary):
 2. :func:`~craquelure.drying.campaign.campaign_from_files`: the campaign aggregate of the
    per-seed fragment datasets.
 3. :func:`~craquelure.drying.summary.write_summary`: the statistics that test the paper's
-   claims, with checks 14-16 as revised (:mod:`craquelure.drying.statistics`).
+   claims, checks 14-16 (:mod:`craquelure.drying.ensemble`).
 
 Times are in units of :math:`t^* = \sigma_Y/v_r`, with the paper's windows rescaled
 (:mod:`craquelure.drying.time_scales`).
@@ -72,8 +72,10 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
     ``phi0`` and ``spacing_h`` (mesh spacing in units of h) default to the scene's
     ``outputs.binarisation_threshold`` and ``outputs.binarisation_spacing``.
     Returns a dataset with ``fragment_area``, ``fragment_time``, ``fragment_time_index``
-    (dim ``fragment``: ragged fragments of all snapshots, in time order) and
-    ``n_fragments``, ``mean_area``, ``paste_fraction``, ``n_alive`` (dim ``time``).
+    (dim ``fragment``: ragged fragments of all snapshots, in time order, periodic labelling),
+    ``fragment_area_open`` and ``fragment_time_index_open`` (dim ``fragment_open``: the same
+    for the open image, whose edges cut fragments) and ``n_fragments``, ``n_fragments_open``,
+    ``mean_area``, ``paste_fraction``, ``n_alive`` (dim ``time``).
     """
     missing = [name for name in RUN_VARIABLES if name not in run]
     if missing or "time" not in run.dims or "particle" not in run.dims:
@@ -98,7 +100,7 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
     h, length = float(run.attrs["h"]), float(run.attrs["box_length"])
     times = run["time"].values
     bar = Progress(len(times), "fragments", unit="snapshot") if progress else None
-    areas, frag_time_index = [], []
+    areas, frag_time_index, areas_open, open_time_index = [], [], [], []
     n_frag = np.zeros(len(times), np.int64)
     n_open = np.zeros(len(times), np.int64)
     mean_area = np.full(len(times), np.nan)
@@ -117,7 +119,10 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
         if a.size:
             mean_area[k] = a.mean()
         paste[k] = image.mean()
-        n_open[k] = crack_measures.open_fragment_count(image)
+        a_open = fragment_areas(image, spacing, periodic=False)
+        areas_open.append(a_open)
+        open_time_index.append(np.full(a_open.size, k, np.int64))
+        n_open[k] = a_open.size
         crack_length[k] = crack_measures.crack_length_per_area(image, spacing)
         largest[k] = crack_measures.largest_fraction(a, length)
         damage[k] = crack_measures.damage(alive_all[k])
@@ -127,6 +132,9 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
         bar.close()
     area = np.concatenate(areas) if areas else np.zeros(0)
     index = np.concatenate(frag_time_index) if frag_time_index else np.zeros(0, np.int64)
+    area_open = np.concatenate(areas_open) if areas_open else np.zeros(0)
+    index_open = (np.concatenate(open_time_index) if open_time_index
+                  else np.zeros(0, np.int64))
     alive = run["alive"].values.astype(bool)
     # bare variables get their long names and units from craquelure.cf's table on writing
     ds = xr.Dataset(
@@ -152,6 +160,10 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
             "n_fragments_open": ("time", n_open, {
                 "long_name": "fragments without periodic wrap-around (image as a plain "
                              "rectangle)", "units": "1"}),
+            "fragment_area_open": ("fragment_open", area_open, {
+                "long_name": "fragment area S, open-image labelling (no wrap-around)",
+                "units": "length^2"}),
+            "fragment_time_index_open": ("fragment_open", index_open),
         },
         coords={"time": ("time", times, dict(run["time"].attrs))},
     )

@@ -138,9 +138,14 @@ def label_periodic(image: np.ndarray) -> tuple[np.ndarray, int]:
     return relabel[labels], int(ordered.size)
 
 
-def fragment_areas(image: np.ndarray, spacing: float) -> np.ndarray:
-    """Areas of the fragments of a periodic paste image (pixel count x spacing^2), in the
-    numbering of :func:`label_periodic`."""
-    labels, n = label_periodic(image)
+def fragment_areas(image: np.ndarray, spacing: float, periodic: bool = True) -> np.ndarray:
+    """Areas of the fragments of a paste image (pixel count x spacing^2): on the torus, in the
+    numbering of :func:`label_periodic`, or (``periodic=False``) of the image as a plain
+    rectangle, where the box edges cut fragments into pieces, in scikit-image's raster order."""
+    if periodic:
+        labels, n = label_periodic(image)
+    else:
+        labels, n = sk_label(np.asarray(image, dtype=bool), connectivity=1, background=0,
+                             return_num=True)
     counts = np.bincount(labels.ravel(), minlength=n + 1)[1:]
     return counts * float(spacing) ** 2

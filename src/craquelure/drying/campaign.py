@@ -37,7 +37,13 @@ from craquelure.io import read_dataset, write_dataset
 from craquelure.provenance import WallClock, provenance_attrs
 
 DEFAULT_BINS = 30
-FRAGMENT_VARS = ("fragment_area", "fragment_time_index", "n_fragments", "time")
+# Fragment labellings of the per-seed datasets: fragment areas, their snapshot index and the
+# count per snapshot. "periodic": the torus (the spec's); "open": the image as a plain
+# rectangle, whose edges cut fragments (what clustering a snapshot without wrap-around gives).
+LABELLINGS = {
+    "periodic": ("fragment_area", "fragment_time_index", "n_fragments"),
+    "open": ("fragment_area_open", "fragment_time_index_open", "n_fragments_open"),
+}
 SCENE_NUMBERS = {  # campaign attribute -> scene path
     "yield_stress": "material.yield_stress",
     "drying_rate": "material.drying_rate",
@@ -72,12 +78,17 @@ def _density(values: np.ndarray, edges: np.ndarray) -> np.ndarray:
 
 
 def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
-                   window_mode: str = "paper") -> xr.Dataset:
+                   window_mode: str = "paper", labelling: str = "periodic") -> xr.Dataset:
     """Aggregate per-seed fragment datasets (same scene and snapshot times) over seeds;
     ``window_mode`` (:data:`~craquelure.drying.time_scales.WINDOW_MODES`) fixes the statistics
-    window, recorded in the attributes."""
+    window, ``labelling`` (:data:`LABELLINGS`) which fragments are counted; both are recorded
+    in the attributes."""
     if not fragments:
         raise CraquelureError("campaign: no fragment datasets given")
+    if labelling not in LABELLINGS:
+        raise CraquelureError(f"campaign: labelling {labelling!r} is not allowed; one of "
+                              f"{', '.join(LABELLINGS)}")
+    area_key, index_key, count_key = LABELLINGS[labelling]
     first = fragments[0]
     times = first["time"].values
     seeds = []
@@ -99,12 +110,12 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
     seeds = [seeds[i] for i in order]
     n_s, n_t = len(seeds), times.size
 
-    count = np.stack([ds["n_fragments"].values for ds in fragments]).astype(np.int64)
+    count = np.stack([ds[count_key].values for ds in fragments]).astype(np.int64)
     total = np.zeros((n_s, n_t))
     area, f_time_index, f_seed = [], [], []
     for s, ds in enumerate(fragments):
-        a = ds["fragment_area"].values
-        k = ds["fragment_time_index"].values.astype(np.int64)
+        a = ds[area_key].values
+        k = ds[index_key].values.astype(np.int64)
         total[s] = np.bincount(k, weights=a, minlength=n_t)
         area.append(a)
         f_time_index.append(k)
@@ -211,17 +222,20 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
     ds.attrs["fracture_stress_measure"] = str(scene.get("material.fracture_stress_measure"))
     ds.attrs.update({"scene_name": str(first.attrs.get("scene_name", scene.name)),
                      "n_seeds": n_s, "seeds": ",".join(map(str, seeds)), "t_star": tstar,
+                     "labelling": labelling,
                      "window_mode": window_mode, "window_start": win["start"],
                      "window_end": win["end"]})
     return ds
 
 
 def campaign_from_files(paths: Sequence[str | Path], out: str | Path,
-                        n_bins: int = DEFAULT_BINS, window_mode: str = "paper") -> Path:
+                        n_bins: int = DEFAULT_BINS, window_mode: str = "paper",
+                        labelling: str = "periodic") -> Path:
     clock = WallClock()
-    fragments = [read_dataset(p, "fragment dataset", model="drying", variables=FRAGMENT_VARS)
+    variables = (*LABELLINGS.get(labelling, LABELLINGS["periodic"]), "time")
+    fragments = [read_dataset(p, "fragment dataset", model="drying", variables=variables)
                  for p in paths]
-    ds = build_campaign(fragments, n_bins, window_mode)
+    ds = build_campaign(fragments, n_bins, window_mode, labelling)
     ds.attrs.update(provenance_attrs(run_scene(fragments[0]), None, clock,
                                      effects=str(fragments[0].attrs.get("effects", ""))
                                      .split(",")))

@@ -2,7 +2,7 @@
 
 Sources (registered by the drying rules): ``results/drying/summary.json`` and the criterion
 sensitivity's ``results/drying/<scene>_C<measure>/summary.json`` (checks 14-16, see
-:mod:`craquelure.drying.statistics`; each verdict is recomputed here from the recorded conditions
+:mod:`craquelure.drying.ensemble`; each verdict is recomputed here from the recorded conditions
 and what the sample cannot decide; a criterion other than the source's is named in every row),
 when the thickness sweep ran, ``results/drying/<scene>/thickness.nc``
 (:mod:`craquelure.drying.thickness`), and when the transition study ran,
@@ -29,7 +29,7 @@ MODEL = "drying"
 THICKNESS_SIGMAS = 2.0
 
 
-def _caveat(summary: dict) -> str:
+def _caveat(summary: dict, key: str = "checks") -> str:
     pi = summary.get("pi")
     pace = ("" if pi is None else f", Pi = tau/t* = {pi:.3g} (paper "
             f"{summary.get('pi_paper', 0.022):.2g})")
@@ -40,7 +40,7 @@ def _caveat(summary: dict) -> str:
     criterion = departure_note(summary.get("fracture_stress_measure", SOURCE_MEASURE))
     if criterion:
         parts.append(criterion)
-    if not summary["checks"]["sample_size_meets_spec"]:
+    if not summary[key]["sample_size_meets_spec"]:
         parts.append("fewer samples than the spec asks (>= 100 seeds at N = 4e4 or >= 300 at "
                      "N = 1e4)")
     return "; ".join(parts)
@@ -110,8 +110,24 @@ def _onset_number(c16: dict) -> str:
     return f"first broken {at('first_sample_broken')} (<= 0.45 t*)"
 
 
-def inverse_area_claim(summary: dict) -> Claim:
-    c14, tstar = summary["checks"]["check14_inverse_mean_area_linear"], summary["t_star"]
+# Checks 14-16 per fragment labelling: summary key -> what the row says of its labelling.
+LABELLING_KEYS = {"checks": "periodic labelling (on the torus)",
+                  "checks_open_image": "open-image labelling (no wrap-around)"}
+
+
+def _labelled(summary: dict, key: str, source: str) -> str:
+    """The source column of a row of one labelling, and whether the source most likely used it
+    (summaries that judge both labellings say which; older ones judge only the periodic)."""
+    if "checks_open_image" not in summary:
+        return source
+    likely = summary.get("source_labelling", {})
+    used = LABELLING_KEYS[key].startswith(likely.get("labelling", "?"))
+    return (f"{source}; {LABELLING_KEYS[key]}"
+            + (f", most likely the source's: {likely['why']}" if used else ""))
+
+
+def inverse_area_claim(summary: dict, key: str = "checks") -> Claim:
+    c14, tstar = summary[key]["check14_inverse_mean_area_linear"], summary["t_star"]
     verdict, note = _verdict(c14)
     if "error" in c14:
         measured = f"no test: {c14['error']}"
@@ -130,18 +146,18 @@ def inverse_area_claim(summary: dict) -> Claim:
                     f"{c14['alternative']}: {c14['power']:.2f}; free power law alpha = "
                     f"{c14['alpha_free_power_law']:.2f}")
     return Claim(MODEL, "after the initial stage the average fragment area decreases as 1/t",
-                 "paper Fig. 3; drying spec check 14 (revised)",
+                 _labelled(summary, key, "paper Fig. 3; drying spec check 14 (revised)"),
                  "weighted fit 1/<S>_t = b (t - t0): (a) reduced chi^2 below its 99 % critical "
                  "value, (b) quadratic term not significant at 1 %, (c) 0 < t0 <= t* (only "
                  "over snapshots where every sample has several fragments), "
                  "0.2 b* <= b <= 5 b*; (d) power >= 0.8 against the t^-2 law",
-                 measured, verdict, _with(note, _caveat(summary)),
+                 measured, verdict, _with(note, _caveat(summary, key)),
                  deciding=_inverse_area_number(c14, verdict),
                  figure="drying_inverse_mean_area.png")
 
 
-def collapse_claim(summary: dict) -> Claim:
-    c15 = summary["checks"]["check15_scaling_collapse"]
+def collapse_claim(summary: dict, key: str = "checks") -> Claim:
+    c15 = summary[key]["check15_scaling_collapse"]
     verdict, note = _verdict(c15)
     if "error" in c15:
         measured = f"no test: {c15['error']}"
@@ -156,12 +172,12 @@ def collapse_claim(summary: dict) -> Claim:
                     f"{c15['alternative']}: {c15['power']:.2f}; an exact collapse passes in "
                     f"{c15['confirmation_rate']:.0%} of simulated samples")
     return Claim(MODEL, "the fragment-size distributions collapse when scaled by their mean",
-                 "paper Figs. 5-6; drying spec check 15 (revised)",
+                 _labelled(summary, key, "paper Figs. 5-6; drying spec check 15 (revised)"),
                  "upper 95 % bootstrap bounds of KS(X_first, X_last) and of the CV of <X^2>_t "
                  "within half what a 25 % width drift does to the first snapshot's sizes; "
                  "KS(S_first, S_last) >= 0.3; an exact collapse passes and the drift fails "
                  "in >= 80 % of simulated samples of the measured counts",
-                 measured, verdict, _with(note, _caveat(summary)),
+                 measured, verdict, _with(note, _caveat(summary, key)),
                  deciding=_collapse_number(c15, verdict), figure="drying_scaled_distribution.png")
 
 
@@ -171,8 +187,17 @@ def _share(c16: dict) -> str:
     return "" if ci is None else f" (exact 95 % interval {ci[0]:.2f}-{ci[1]:.2f})"
 
 
-def onset_claim(summary: dict) -> Claim:
-    c16 = summary["checks"]["check16_onset"]
+def _onset_rates(c16: dict) -> str:
+    """Check 16's rates at the source's sample size (summaries made before them: none)."""
+    if "power" not in c16:
+        return ""
+    return (f"; at {c16['rates_at_samples']} samples drawn from these, both conditions hold in "
+            f"{c16['confirmation_rate']:.0%}; power against {c16['alternative']}: "
+            f"{c16['power']:.2f}")
+
+
+def onset_claim(summary: dict, key: str = "checks") -> Claim:
+    c16 = summary[key]["check16_onset"]
     c16 = {**c16, "partial": True}
     verdict, note = _verdict(c16)
 
@@ -186,12 +211,13 @@ def onset_claim(summary: dict) -> Claim:
                 f"{item('first_removal_median')}; samples broken (>= 2 fragments): first "
                 f"{item('first_sample_broken')}, half {item('half_samples_broken')}, all "
                 f"{item('all_samples_broken')}; {c16['unbroken_at_end']} of "
-                f"{c16['n_samples']} unbroken at the end{_share(c16)}")
+                f"{c16['n_samples']} unbroken at the end{_share(c16)}{_onset_rates(c16)}")
     return Claim(MODEL, "fragments appear early: the first sample breaks by 0.40 t*, all are "
                  "broken before 0.8 t* (100 samples)",
-                 "paper Figs. 4-6 (t = 90, 150, 180); drying spec check 16",
+                 _labelled(summary, key, "paper Figs. 4-6 (t = 90, 150, 180); drying spec "
+                           "check 16"),
                  "first sample broken by 0.45 t*, all broken by 0.9 t*",
-                 measured, verdict, _with(note, _caveat(summary)),
+                 measured, verdict, _with(note, _caveat(summary, key)),
                  deciding=_onset_number(c16), figure="drying_snapshots.png")
 
 
@@ -319,9 +345,11 @@ def claims(sources: list[Path]) -> list[Claim]:
     for path in sources:
         if path.name == "summary.json":
             summary = json.loads(path.read_text())
-            out += [inverse_area_claim(summary), collapse_claim(summary)]
-            if "check16_onset" in summary["checks"]:
-                out.append(onset_claim(summary))
+            for key in LABELLING_KEYS:
+                if key in summary:
+                    out += [inverse_area_claim(summary, key), collapse_claim(summary, key)]
+                    if "check16_onset" in summary[key]:
+                        out.append(onset_claim(summary, key))
         elif path.name == "thickness.nc":
             out.append(thickness_claim(path))
         elif path.name == "transition.nc":

@@ -1,4 +1,4 @@
-r"""Crack measures that do not depend on how fragments are counted (issue 32, item 5), per
+r"""Crack measures that do not depend on how fragments are counted, per
 snapshot of a drying run, from its particles and its paste image (:mod:`.binarise`):
 
 - damage :math:`d = n_{removed}/N`, the removed-area fraction: every particle stands for the
@@ -20,10 +20,10 @@ snapshot of a drying run, from its particles and its paste image (:mod:`.binaris
   1.026 at 22.5° (:func:`crofton_factor`): within -5.2 % / +2.6 % of the true length.
 - largest fragment's area fraction :math:`m_{max} = S_{max}/L^2` (periodic labelling), the
   order parameter of the damage-to-fragmentation transition (Szatmari et al. 2025).
-- fragment count with and without periodic wrap-around: the torus labelling of the spec, and
-  the 4-connected components of the image taken as a plain rectangle (a band around the torus
-  is one fragment on the torus, and the cuts by the box edges count as separate pieces without
-  wrap-around).
+
+The fragments of the image taken as a plain rectangle (no wrap-around: a band around the torus
+is one fragment on the torus, and the box edges cut it into separate pieces) are labelled by
+:func:`craquelure.drying.binarise.fragment_areas` with ``periodic=False``.
 """
 
 from __future__ import annotations
@@ -31,7 +31,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from skimage.measure import label as sk_label
 
 CROFTON_WEIGHT = math.pi / 8.0
 
@@ -67,14 +66,6 @@ def crofton_factor(angle_deg: float) -> float:
     q = math.radians(45.0)
     return CROFTON_WEIGHT * (abs(math.sin(phi)) + abs(math.cos(phi)) + abs(math.sin(phi - q))
                              + abs(math.cos(phi - q)))
-
-
-def open_fragment_count(image: np.ndarray) -> int:
-    """4-connected components of the paste pixels of the image as a plain rectangle (no
-    periodic wrap-around)."""
-    _, n = sk_label(np.asarray(image, dtype=bool), connectivity=1, background=0,
-                    return_num=True)
-    return int(n)
 
 
 def largest_fraction(areas: np.ndarray, box_length: float) -> float:

@@ -15,9 +15,8 @@ integrator loop (drying spec sections 2-8). No file I/O here (see :mod:`craquelu
   the first removal comes at t*/kappa_max (source criterion). :meth:`DryingEngine.onset_kappa`
   gives kappa_max = max_I sigma_bar_I/F and the criterion's max_I s_I/F while nothing has
   been removed and F >= 20 a sigma_Y (a = ``material.initial_stress_amplitude``): the initial
-  stress, |sigma_bar(0)| <= a sigma_Y at the start, then shifts kappa by about a sigma_Y/F
-  <= 0.05 (it relaxes and redistributes: 1.08 a sigma_Y/F measured on a lattice), under 4 %
-  of the kappa_max = 1.3-2 measured; NaN otherwise.
+  stress, |sigma_bar(0)| <= a sigma_Y at the start, then shifts kappa by about
+  a sigma_Y/F <= 0.05, small against kappa_max - 1; NaN otherwise.
 - Time step, fixed-step integrators (abm4, rk4, rk2): the scene's dt; at the start and every
   ``spectral_check_every`` steps the viscous spectral radius is re-estimated by power iteration
   and dt is halved while it exceeds 0.6 of the integrator's real-axis limit (spec section 8).
@@ -46,7 +45,7 @@ import math
 
 import numpy as np
 
-from craquelure.codegen import effect_flags, pack_parameters, specialise
+from craquelure.codegen import effect_flags, specialise
 from craquelure.drying import kernel_template as template
 from craquelure.drying.effects.fracture import criterion_stress, particles_to_remove
 from craquelure.drying.integrators import (
@@ -58,6 +57,7 @@ from craquelure.drying.integrators import (
     rkc_stages,
 )
 from craquelure.errors import SimulationDiverged
+from craquelure.registry import energy_bound, parameter_vector
 from craquelure.runner import Divergence, diverged, non_finite, runaway
 from craquelure.scene import Scene
 from craquelure.sph.kernels import kernel_kind
@@ -76,33 +76,11 @@ def compile_rate(effects, kernel: str):
     return specialise(template.__name__, flags, "drying")
 
 
-# The kernel's value of a parameter whose effect is off: that effect's branch is compiled out,
-# and these make it contribute nothing where the engine reads the vector itself (energy bound,
-# error scale, drying stress): no stiffness, no viscosity, no drying, no cap; the substrate's
-# H = 1 only keeps mu/H^2 finite.
-NEUTRAL_PARAMETERS = dict(lame_lambda=0.0, lame_mu=0.0, eta=0.0, drying_rate=0.0,
-                          thickness=1.0, drying_stress_cap=math.inf)
-
-
 def parameters(scene: Scene) -> np.ndarray:
-    """The rate kernel's parameter vector: each effect's material constants when it is on (its
-    ``requires=`` guarantees them), :data:`NEUTRAL_PARAMETERS` when it is off."""
-    values = dict(xsph_epsilon=scene.get("numerics.xsph_epsilon"),
-                  support=scene.get("numerics.h"), box_length=scene.get("domain.box_length"))
-    if scene.has("elasticity"):
-        values.update(lame_lambda=scene.get("material.lame_lambda"),
-                      lame_mu=scene.get("material.lame_mu"))
-    if scene.has("substrate"):
-        values.update(lame_mu=scene.get("material.lame_mu"),
-                      thickness=scene.get("material.thickness"))
-    if scene.has("viscosity"):
-        values["eta"] = scene.get("material.eta")
-    if scene.has("drying"):
-        values["drying_rate"] = scene.get("material.drying_rate")
-        cap = scene.optional("material.drying_stress_cap")
-        if cap is not None:  # absent: sigma_dry grows without bound
-            values["drying_stress_cap"] = cap
-    return pack_parameters(template.PARAMS, values, defaults=NEUTRAL_PARAMETERS)
+    """The rate kernel's parameter vector, as the effects declare it
+    (:func:`craquelure.registry.parameter_vector`): each effect's constants when it is on, their
+    neutral values when it is off."""
+    return parameter_vector("drying", scene)
 
 
 class DryingEngine:
@@ -148,17 +126,8 @@ class DryingEngine:
         self.stop_at = math.inf
         self.stage_evaluations = 0
         self.viscous_evaluations = 0
-        self.spectral_radius = 0.0
-        self.dt_event = math.inf
-        self.controller: StepController | None = None
-        if self.stepper.adaptive:
-            control = scene.get("numerics.step_control")
-            self.adapt = bool(scene.get("numerics.adapt_dt"))
-            self.tolerance = float(control["tolerance"])
-            self.removal_tolerance = float(control["removal_tolerance"])
-            self.spectral_every = int(control["spectral_radius_every"])
-            self.controller = StepController(self.dt, float(control["dt_max"]))
-            self.dt_floor = float(control["dt_min"])
+        self.controller = (StepController.from_scene(scene, self.dt) if self.stepper.adaptive
+                           else None)
         self.overwrite_velocity = bool(scene.get("numerics.xsph_overwrite_velocity"))
         self.n_removed = 0
         self.evaluations = 0
@@ -167,7 +136,7 @@ class DryingEngine:
         self.f_current = self.evaluate(self.state, self.t)
         self.energy_bound = self._energy_bound()
         if self.controller is not None:
-            self.error_scale = self._error_scale()
+            self.controller.error_scale = self._error_scale()
 
     # -- neighbours and rates ------------------------------------------------------------
     def _build_neighbours(self) -> None:
@@ -253,7 +222,8 @@ class DryingEngine:
                 float(np.sum(self.mass * self.state[VY])))
 
     def _energy_bound(self) -> float:
-        """Energy the stresses can supply over the run (used by the runaway guard)."""
+        """Energy the stresses and the effects' declarations can supply over the run (used by
+        the runaway guard)."""
         lam, mu = self.params[template.P_LAMBDA], self.params[template.P_MU]
         t_end = float(self.scene.get("outputs.t_end"))
         sigma = max(float(np.abs(self.state[SXX:SXY + 1]).max(initial=0.0)),
@@ -261,7 +231,8 @@ class DryingEngine:
                     self.yield_stress if math.isfinite(self.yield_stress) else 0.0)
         modulus = max(min(mu, lam + mu), 1e-12)
         area = self.box_length**2
-        return self.kinetic_energy() + area * sigma**2 / (2 * modulus) + 1e-300
+        return (self.kinetic_energy() + area * sigma**2 / (2 * modulus) + 1e-300
+                + energy_bound("drying", self))
 
     def health(self) -> Divergence | None:
         """NaN/inf in the state, or kinetic energy above ``numerics.energy_runaway_factor``
@@ -373,7 +344,7 @@ class DryingEngine:
         scale[VX] = scale[VY] = sigma * velocity
         scale[RHO] = rho0 * sigma / modulus
         scale[SXX:SXY + 1] = sigma
-        return self.tolerance * scale
+        return self.controller.tolerance * scale
 
     def _removal_step_limit(self, before: np.ndarray, dt: float) -> float:
         """Largest next step for which no particle's linearly predicted mean stress passes
@@ -387,37 +358,37 @@ class DryingEngine:
         if not rising.any():
             return math.inf
         rate = (now[rising] - before[rising]) / dt
-        room = self.yield_stress * (1.0 + self.removal_tolerance) - now[rising]
+        room = self.yield_stress * (1.0 + self.controller.removal_tolerance) - now[rising]
         return float(np.min(room / rate))
 
     def _rkc_step(self) -> int:
         ctrl = self.controller
-        if self.step_count % self.spectral_every == 0:
-            self.spectral_radius = RKC_SPECTRAL_SAFETY * self.viscous_spectral_radius()
+        if self.step_count % ctrl.spectral_every == 0:
+            ctrl.spectral_radius = RKC_SPECTRAL_SAFETY * self.viscous_spectral_radius()
         while True:
-            dt = min(ctrl.dt_next, self.dt_event) if self.adapt else self.dt
+            dt = min(ctrl.dt_next, ctrl.dt_event) if ctrl.adapt else self.dt
             remaining = self.stop_at - self.t
             landing = remaining <= dt * (1.0 + 1e-9)
             if landing:
                 dt = remaining
-            elif self.adapt and remaining < 2.0 * dt:
+            elif ctrl.adapt and remaining < 2.0 * dt:
                 dt = 0.5 * remaining
-            self.stepper.stages = rkc_stages(dt, self.spectral_radius)
+            self.stepper.stages = rkc_stages(dt, ctrl.spectral_radius)
             new = self.stepper.step(self.state, self.f_current, self.t, dt, self._stage_rate)
             t_new = self.stop_at if landing else self.t + dt
             stress = np.empty_like(self.stress)
             f_new = self.evaluate(new, t_new, stress=stress)
             self.stage_evaluations += self.stepper.stages
-            if not self.adapt:
+            if not ctrl.adapt:
                 break
             err = rkc2_error_norm(self.state, new, self.f_current, f_new, dt,
-                                  self.error_scale, self.alive)
+                                  ctrl.error_scale, self.alive)
             if ctrl.propose(err, dt):
                 break
-            if ctrl.dt_next < self.dt_floor:
+            if ctrl.dt_next < ctrl.dt_floor:
                 raise diverged("drying", Divergence(
                     "time step", f"the rkc2 error-controlled step fell below "
-                    f"numerics.step_control.dt_min = {self.dt_floor:g} (scaled error "
+                    f"numerics.step_control.dt_min = {ctrl.dt_floor:g} (scaled error "
                     f"{err:.3g}); loosen numerics.step_control.tolerance or use abm4"),
                     self.step_count, self.t, "eta/lambda")
         before = self.criterion
@@ -428,7 +399,7 @@ class DryingEngine:
         removed = self.remove_overstressed() if self.fracture else 0
         if removed:
             ctrl.forget()
-        self.dt_event = self._removal_step_limit(before, dt) if self.adapt else math.inf
+        ctrl.dt_event = self._removal_step_limit(before, dt) if ctrl.adapt else math.inf
         if self.overwrite_velocity:
             self.state[VX] = self.f_current[X]
             self.state[VY] = self.f_current[Y]
@@ -437,7 +408,7 @@ class DryingEngine:
     def time_tolerance(self) -> float:
         """How close to an output time counts as on it: half a fixed step; adaptive steps end
         exactly on ``stop_at``."""
-        if self.stepper.adaptive and self.adapt:
+        if self.controller is not None and self.controller.adapt:
             return 1e-9 * max(1.0, abs(self.t))
         return 0.5 * self.dt
 

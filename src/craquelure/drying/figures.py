@@ -67,9 +67,9 @@ def fit_line(summary: dict[str, Any]) -> str:
     lo, hi = (_fmt(v) for v in summary["window"])
     return (f"window t = [{lo}, {hi}]: "
             f"alpha = {_fmt(fit.get('alpha'))} (95% CI {_fmt(ci[0])}-{_fmt(ci[1])}), "
-            f"1/<S> linear: R^2 = {_fmt(fit.get('r2'), '.4f')}, "
-            f"b = {_fmt(fit.get('slope_b'))} = {_fmt(summary.get('slope_over_b_star'))} b*, "
-            f"t0 = {_fmt(fit.get('x_intercept'))}; check 14 {c14['verdict']} (power "
+            f"1/<S> linear: reduced chi^2 = {_fmt(c14.get('reduced_chi2'))}, "
+            f"b = {_fmt(c14.get('slope_b'))} = {_fmt(summary.get('slope_over_b_star'))} b*, "
+            f"t0 = {_fmt(c14.get('x_intercept_t0'))}; check 14 {c14['verdict']} (power "
             f"{_fmt(c14.get('power'), '.2f')} against t^-2)")
 
 
@@ -113,7 +113,7 @@ def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any]
     times = run["time"].values
     start = summary.get("initial_stage_end")  # None when no snapshot has every sample broken
     late = np.flatnonzero(times >= start) if start is not None else np.zeros(0, int)
-    if late.size == 0:
+    if late.size == 0 or times.size <= n_panels:  # an archived run holds only its panels
         late = np.arange(times.size)
     picks = np.unique(late[np.linspace(0, late.size - 1, min(n_panels, late.size)).astype(int)])
     length = float(run.attrs["box_length"])
@@ -149,12 +149,12 @@ def fig_inverse_mean_area(campaign: xr.Dataset, summary: dict[str, Any], profile
     fig, ax = plt.subplots(figsize=(6.4, 5.2))
     ax.errorbar(t, inv, yerr=np.where(np.isfinite(err), err, 0.0), fmt="o", ms=4,
                 capsize=2, label="1/<S>_t (pooled over seeds, +- 1 SE)")
-    fit = summary.get("fit", {})
+    fit = summary["checks"]["check14_inverse_mean_area_linear"]
     if "slope_b" in fit:
         tt = np.linspace(summary["window"][0], summary["window"][1], 50)
         ax.plot(tt, fit["intercept_a"] + fit["slope_b"] * tt, "k-",
-                label=f"linear fit, R^2 = {fit['r2']:.4f}")
-        t0 = fit["x_intercept"]
+                label=f"weighted linear fit (check 14), reduced chi^2 = {fit['reduced_chi2']:.3g}")
+        t0 = fit["x_intercept_t0"]
         if np.isfinite(t0):
             ext = np.linspace(max(min(t0, tt[0]), 0.0), tt[0], 20)  # t >= 0 only
             ax.plot(ext, fit["intercept_a"] + fit["slope_b"] * ext, "k:", lw=0.8)

@@ -47,10 +47,9 @@ Stabilised explicit scheme for the real viscous spectrum, not bound by the visco
   Near the imaginary axis :math:`|R_s(iy)| \approx 1 + 0.035\,y^4` (:math:`s \ge 6`), a slow
   growth of undamped oscillations (the substrate mode, :math:`y = \omega_0\Delta t`, and the
   grid-scale velocity modes the kernel gradient cannot see, which oscillate undamped on the
-  substrate spring) that the step cap ``dt_max`` keeps small. Measured on the paste with
-  per-particle white-noise velocities (N = 400, 2026-12-01): fixed dt = 0.2 (8 stages) decays
-  steadily over 1000 time units; dt = 0.5 (13 stages) decays to t ~ 300, then the kinetic
-  energy grows 2.4x per 100 time units. Hence the default ``dt_max = 0.2``.
+  substrate spring) that the step cap ``dt_max`` keeps small: on the paste with per-particle
+  white-noise velocities, dt = 0.2 (8 stages) decays steadily and dt = 0.5 (13 stages) grows
+  after a few hundred time units, hence the default ``dt_max = 0.2``.
 
   Local error estimate (second order, from the two end rates, no extra evaluation because
   :math:`F_{n+1}` is needed anyway for the fracture test and the next step):
@@ -69,9 +68,8 @@ step (fracture test, ABM history, RKC error estimate) and starts the next.
 
 The per-step vector work (the RKC stage combinations, ABM4's predictor and corrector, the RKC
 error norm) runs in fused numba loops on the run's threads, each element computed by the same
-operations in the same order as the numpy expression it replaces, so the results are
-bit-identical; as numpy temporaries it was serial work between the parallel pair passes, 6 % of
-a step (issue 28: it bounds what two threads can gain).
+operations in the same order as the numpy expression, so the results are bit-identical to it;
+as numpy temporaries it would be serial work between the parallel pair passes.
 """
 
 from __future__ import annotations
@@ -246,7 +244,10 @@ def rkc2_error_norm(y0: np.ndarray, y1: np.ndarray, f0: np.ndarray, f1: np.ndarr
 
 
 class StepController:
-    """Error-controlled step size of ``rkc2`` (elementary + PI control as in RKC).
+    """Step control of ``rkc2``: the error-controlled step size (elementary + PI control as in
+    RKC) and what the engine's rkc2 step keeps between steps (the scene's
+    ``numerics.step_control`` and ``adapt_dt``, the viscous spectral radius, the removal-event
+    limit ``dt_event``, the per-row error scale).
 
     ``propose(err, dt)`` is called once per attempted step with the scaled error norm; it
     returns True if the step is accepted and sets ``dt_next``.
@@ -262,6 +263,21 @@ class StepController:
         self.rejected_last = False
         self.accepted = 0
         self.rejected = 0
+        self.spectral_radius = 0.0
+        self.dt_event = math.inf
+        self.error_scale = np.ones(1)
+
+    @classmethod
+    def from_scene(cls, scene, dt: float) -> StepController:
+        """The controller of a scene's rkc2 run, starting at ``dt``."""
+        control = scene.get("numerics.step_control")
+        ctrl = cls(dt, float(control["dt_max"]))
+        ctrl.adapt = bool(scene.get("numerics.adapt_dt"))
+        ctrl.tolerance = float(control["tolerance"])
+        ctrl.removal_tolerance = float(control["removal_tolerance"])
+        ctrl.spectral_every = int(control["spectral_radius_every"])
+        ctrl.dt_floor = float(control["dt_min"])
+        return ctrl
 
     def propose(self, err: float, dt: float) -> bool:
         if not math.isfinite(err) or err > 1.0:

@@ -10,7 +10,7 @@ sigma_e xx, yy, xy. Two pair passes per evaluation:
    the Jaumann rate of :math:`\sigma_e`, :math:`\dot\rho = -\rho\,\mathrm{tr} L`,
    :math:`\dot{\mathbf r} = \mathbf v + \epsilon\,\text{XSPH}`;
 2. momentum :math:`\dot v^I_a = \sum_J m_J (\sigma^I_{ab}/\rho_I^2 + \sigma^J_{ab}/\rho_J^2)\,
-   \partial_b W_{IJ} - \mu u^I_a/(H^2\rho^I)`.
+   \partial_b W_{IJ} - \mu u^I_a/(H^2\rho^I) + g_a`.
 
 Pairs come from a CSR Verlet list (radius h + skin); pairs beyond h contribute exactly 0.
 Removed particles (``alive == 0``) have zero mass and zero rates.
@@ -40,9 +40,11 @@ from craquelure.drying.effects.substrate import substrate_acceleration
 from craquelure.drying.effects.viscosity import viscous_stress
 from craquelure.drying.effects.xsph import xsph_pair
 from craquelure.periodic import minimum_image_inv
+from craquelure.registry import parameter_names
 from craquelure.sph.kernels import kernel_w_g
 
 # BEGIN FLAGS
+BODY_FORCE = False
 CONTINUITY = True
 DRYING = True
 ELASTICITY = True
@@ -60,12 +62,11 @@ PAIR_FASTMATH = {"reassoc", "contract", "nsz"}
 
 X, Y, VX, VY, RHO, SXX, SYY, SXY = 0, 1, 2, 3, 4, 5, 6, 7
 NVAR = 8
-# the parameter vector: names in order, declared once (the engine packs by name)
-PARAMS = ("lame_lambda", "lame_mu", "eta", "drying_rate", "thickness", "xsph_epsilon", "support",
-          "box_length", "drying_stress_cap")
-P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP = param_indices(
+# the parameter vector, as the effects declare it (craquelure.registry); the engine packs it
+PARAMS = parameter_names("drying")
+P_LAMBDA, P_MU, P_ETA, P_VR, P_THICK, P_EPS, P_SUPPORT, P_BOX, P_DRYCAP, P_BODY = param_indices(
     PARAMS, "lame_lambda", "lame_mu", "eta", "drying_rate", "thickness", "xsph_epsilon", "support",
-    "box_length", "drying_stress_cap")
+    "box_length", "drying_stress_cap", "body_force")
 
 
 PAIR_OPTIONS = dict(parallel=True, cache=True, fastmath=PAIR_FASTMATH, error_model="numpy")
@@ -196,7 +197,8 @@ def gradient_pass(state, t, mass, alive, offsets, index, p, out, stress, scaled)
 
 @njit(**PAIR_OPTIONS)
 def momentum_pass(state, mass, alive, x0, y0, offsets, index, p, scaled, out):
-    """Pass 2: the velocity rate (pairwise antisymmetric momentum sum + substrate)."""
+    """Pass 2: the velocity rate (pairwise antisymmetric momentum sum, substrate, body
+    force)."""
     n = state.shape[1]
     s = p[P_SUPPORT]
     inv_s = 1.0 / s
@@ -233,5 +235,8 @@ def momentum_pass(state, mass, alive, x0, y0, offsets, index, p, scaled, out):
             bx, by = substrate_acceleration(xi - x0[i], yi - y0[i], rhoi, p[P_MU], p[P_THICK])
             ax += bx
             ay += by
+        if BODY_FORCE:
+            ax += p[P_BODY]
+            ay += p[P_BODY + 1]
         out[VX, i] = ax
         out[VY, i] = ay

@@ -45,6 +45,8 @@ METADATA = ModelMetadata(
         "fragment_scaled_area": ("X = S/<S>_t", "1"),
         "fragment_time": ("snapshot time of the fragment", _TIME_DRYING),
         "fragment_time_index": ("index of the snapshot on dim time", "1"),
+        "fragment_time_index_open": ("index of the snapshot on dim time (open-image "
+                                     "labelling)", "1"),
         "fragment_seed": ("random seed of the fragment's sample", "1"),
         "n_alive": ("particles not removed", "1"),
         "integrator": ("time integrator", None),

@@ -1,4 +1,4 @@
-r"""The onset in numbers (spec open doubt 7; issue 32, item 1): kappa_max at a fixed drying
+r"""The onset in numbers (spec open doubt 7): kappa_max at a fixed drying
 stress against the disorder of the initial particles.
 
 Before any removal each particle's mean stress is :math:`\bar\sigma_I = \kappa_I F` (F the

@@ -6,7 +6,7 @@ The dimensionless drying speed is :math:`\Pi = \tau/t^*` with the Voigt shear re
 0.022`; the laptop profiles 0.66). Each speed is a campaign of the same scene with
 :math:`v_r = \Pi\sigma_Y/\tau`, snapshots at fixed fractions of :math:`t^*`. Per speed, in units
 of :math:`t^*` and each with its 95 % bootstrap interval over seeds
-(:func:`craquelure.drying.statistics.check_onset`, :func:`craquelure.drying.statistics.
+(:func:`craquelure.drying.ensemble.check_onset`, :func:`craquelure.drying.ensemble.
 check_inverse_area`):
 
 - onset: earliest and median first removal, first / half / all samples broken (>= 2 fragments);
@@ -27,11 +27,12 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from craquelure.drying import statistics
+from craquelure.drying import ensemble
 from craquelure.drying.campaign import build_campaign, per_sample_totals
 from craquelure.drying.time_scales import drying_number
 from craquelure.errors import CraquelureError
 from craquelure.scene import Scene
+from craquelure.validation import bootstrap_interval
 
 ONSET_ITEMS = ("first_removal_earliest", "first_removal_median", "first_sample_broken",
                "half_samples_broken", "all_samples_broken")
@@ -77,7 +78,7 @@ def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
     out: dict[str, float] = {"pi": pi["pi"], "t_star": tstar,
                              "drying_rate": float(a["drying_rate"]),
                              "n_seeds": campaign.sizes["seed"]}
-    onset = statistics.check_onset(times, campaign["n_fragments"].values,
+    onset = ensemble.check_onset(times, campaign["n_fragments"].values,
                                campaign["first_removal_time"].values, tstar, pi["pi"], n_boot)
     for item in ONSET_ITEMS:
         v = onset[item]
@@ -91,7 +92,7 @@ def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
     seeds = campaign["seed"].values
     total, count = per_sample_totals(campaign)
     window = _broken_window(campaign)
-    fit = statistics.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
+    fit = ensemble.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
                                     b_star, n_boot, n_power=200)
     for key, value, ci, scale in (("t0_over_t_star", "x_intercept_t0", "t0_ci95", tstar),
                                   ("b_over_b_star", "slope_b", "slope_b_ci95", b_star)):
@@ -108,7 +109,7 @@ def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
             continue  # no snapshot near this t/t*
         per_seed = count[:, k] / area_box
         boot = per_seed[picks].mean(axis=1)
-        density[:, j] = per_seed.mean(), *np.percentile(boot, [2.5, 97.5])
+        density[:, j] = per_seed.mean(), *bootstrap_interval(boot)
     out["fragments_per_area"], out["fragments_per_area_lo"], out["fragments_per_area_hi"] = (
         density[0], density[1], density[2])
     return out

@@ -8,10 +8,11 @@ Quantities (all from data):
   :math:`\log t` over the window (after the initial stage); 95 % bootstrap interval over seeds
   (resample whole samples with replacement, recompute the pooled mean, refit; percentile
   interval, fixed generator seed so the summary is reproducible).
-- Linear fit :math:`1/\langle S\rangle_t = a + b t` over the window: :math:`R^2`, slope b (with
-  its bootstrap interval), x-intercept :math:`t_0 = -a/b`; a quadratic fit's largest departure
-  from the linear one over the window, relative to the linear rise :math:`b (t_{end} -
-  t_{start})`; the order-of-magnitude slope :math:`b^* = \mu v_r / ((\lambda+2\mu) H^2 \sigma_Y)`.
+- The line :math:`1/\langle S\rangle_t = a + b t` is fitted once, by check 14
+  (:func:`craquelure.drying.ensemble.check_inverse_area`, weighted by the bootstrap errors):
+  its slope b over the order-of-magnitude slope
+  :math:`b^* = \mu v_r / ((\lambda+2\mu) H^2 \sigma_Y)` and its x-intercept :math:`t_0 = -a/b`
+  are quoted here and drawn in Fig. 3.
 - Onset of the scaling regime, each also divided by :math:`t^*`: median time of the first
   removal, first snapshot with every sample broken (>= 2 fragments), x-intercept :math:`t_0`,
   and the collapse onset (earliest snapshot from which on every scaled distribution is within
@@ -24,12 +25,12 @@ Quantities (all from data):
   between the scaled distributions of different snapshots before and after the window start.
   The KS part only counts as a pass if the test could have failed (critical value < 1 at
   every :math:`t_k`, i.e. enough fragments) [D].
-- Sensitivity to a minimum fragment size :math:`S_{min} = \pi h^2` (fits redone without the
-  smaller fragments).
+- Sensitivity to a minimum fragment size :math:`S_{min} = \pi h^2` (:math:`\alpha` refitted
+  without the smaller fragments).
 
 Checks 14-16 as revised (statistic, bootstrap interval, power against a named alternative by
 simulation at the run's noise and counts, and a verdict that is "inconclusive" when the sample
-cannot decide) are in :mod:`craquelure.drying.statistics`; the fits above are descriptive. The
+cannot decide) are in :mod:`craquelure.drying.ensemble`; :math:`\alpha` is descriptive. The
 spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at N = 1e4) is
 reported as well, since a pass or miss on a smaller campaign is indicative only.
 """
@@ -47,7 +48,7 @@ import xarray as xr
 from scipy import stats
 
 import craquelure
-from craquelure.drying import statistics
+from craquelure.drying import ensemble
 from craquelure.drying.campaign import per_sample_totals
 from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
 from craquelure.drying.time_scales import (
@@ -60,6 +61,7 @@ from craquelure.drying.time_scales import (
 )
 from craquelure.io import open_dataset, write_text_atomic
 from craquelure.provenance import git_commit
+from craquelure.validation import bootstrap_interval
 
 KS_ALPHA = 0.01
 N_BOOTSTRAP = 2000
@@ -69,15 +71,6 @@ BOOTSTRAP_SEED = 20120926
 def ks_critical(n: int, m: int, alpha: float = KS_ALPHA) -> float:
     """Asymptotic two-sample KS critical value at level ``alpha``."""
     return math.sqrt(-0.5 * math.log(alpha / 2.0)) * math.sqrt((n + m) / (n * m))
-
-
-def _linear_fit(t: np.ndarray, y: np.ndarray) -> tuple[float, float, float]:
-    """Least squares y = a + b t; returns (a, b, R^2)."""
-    b, a = np.polyfit(t, y, 1)
-    resid = y - (a + b * t)
-    ss_tot = np.sum((y - y.mean()) ** 2)
-    r2 = 1.0 - np.sum(resid**2) / ss_tot if ss_tot > 0 else float("nan")
-    return float(a), float(b), float(r2)
 
 
 def _slopes(t: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -96,31 +89,16 @@ def _fits(times: np.ndarray, total: np.ndarray, count: np.ndarray, window: np.nd
         out["error"] = "fewer than 3 usable snapshots in the window"
         return out
     alpha = -_slopes(np.log(t), np.log(m))
-    inv = 1.0 / m
-    a, b, r2 = _linear_fit(t, inv)
-    quad = np.polyfit(t, inv, 2)
-    departure = np.max(np.abs(np.polyval(quad, t) - (a + b * t)))
-    rise = b * (t[-1] - t[0])
     # Bootstrap over seeds: weights = how often each seed is drawn.
-    weights = statistics.bootstrap_weights(total.shape[0], n_boot,
+    weights = ensemble.bootstrap_weights(total.shape[0], n_boot,
                                        np.random.default_rng(BOOTSTRAP_SEED))
     with np.errstate(invalid="ignore", divide="ignore"):
         boot_mean = (weights @ total[:, window]) / (weights @ count[:, window])
     ok = np.all(np.isfinite(boot_mean) & (boot_mean > 0), axis=1)
     boot_alpha = -_slopes(np.log(t), np.log(boot_mean[ok]))
-    boot_b = _slopes(t, 1.0 / boot_mean[ok])
     out.update({
         "alpha": float(alpha),
-        "alpha_ci95": [float(np.percentile(boot_alpha, 2.5)),
-                       float(np.percentile(boot_alpha, 97.5))] if ok.any() else None,
-        "slope_b": b,
-        "slope_b_ci95": [float(np.percentile(boot_b, 2.5)),
-                         float(np.percentile(boot_b, 97.5))] if ok.any() else None,
-        "intercept_a": a,
-        "r2": r2,
-        "x_intercept": float(-a / b) if b != 0 else float("nan"),
-        "quadratic_departure_fraction": float(departure / abs(rise)) if rise != 0
-        else float("inf"),
+        "alpha_ci95": bootstrap_interval(boot_alpha) if ok.any() else None,
         "n_bootstrap": int(ok.sum()),
     })
     return out
@@ -239,9 +217,79 @@ def _onset(campaign: xr.Dataset, tstar: float, x_intercept: float | None,
     }
 
 
+def checks_of(campaign: xr.Dataset, n_boot: int = N_BOOTSTRAP,
+              n_power: int = ensemble.N_POWER,
+              n_power_collapse: int = ensemble.N_POWER_COLLAPSE) -> dict[str, Any]:
+    """Checks 14-16 (:mod:`craquelure.drying.ensemble`) of one campaign (one labelling), with
+    whether its sample meets the spec's size."""
+    attrs = campaign.attrs
+    tstar = t_star(attrs)
+    window = window_of(campaign)["mask"]
+    times = campaign["time"].values.astype(float)
+    total, count = per_sample_totals(campaign)
+    n_particles, n_seeds = int(attrs["n_particles"]), int(campaign.sizes["seed"])
+    c14 = ensemble.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
+                                        b_star_of(attrs), n_boot, n_power)
+    k_window = np.flatnonzero(window)
+    f_index = campaign["fragment_time_index"].values
+    in_window = np.isin(f_index, k_window)
+    c15 = ensemble.check_collapse(
+        campaign["fragment_area"].values[in_window],
+        np.searchsorted(campaign["seed"].values, campaign["fragment_seed"].values[in_window]),
+        np.searchsorted(k_window, f_index[in_window]), n_seeds, k_window.size, n_boot,
+        n_power_collapse)
+    c16 = ensemble.check_onset(times, campaign["n_fragments"].values,
+                                 campaign["first_removal_time"].values, tstar,
+                                 drying_number(attrs)["pi"], n_boot)
+    for check in (c14, c15):
+        if "error" in check:
+            # Too short a window or too few fragments: the sample cannot decide the claim.
+            check.update(verdict="inconclusive", note=f"no test: {check['error']}",
+                         conditions={}, undecided={check["error"]: "a longer or larger run"})
+    for check in (c14, c15, c16):
+        check["pass"] = check["verdict"] == "reproduced"
+    enough = (n_particles >= 40000 and n_seeds >= 100) or (n_particles >= 10000
+                                                           and n_seeds >= 300)
+    return {
+        "labelling": str(attrs.get("labelling", "periodic")),
+        "sample_size_meets_spec": bool(enough),
+        "check14_inverse_mean_area_linear": c14,
+        "check15_scaling_collapse": c15,
+        "check16_onset": c16,
+    }
+
+
+def b_star_of(attrs) -> float:
+    """The order-of-magnitude slope b* = mu v_r / ((lambda + 2 mu) H^2 sigma_Y) of 1/<S>_t."""
+    lam, mu = float(attrs["lame_lambda"]), float(attrs["lame_mu"])
+    return (mu * float(attrs["drying_rate"])
+            / ((lam + 2 * mu) * float(attrs["thickness"]) ** 2 * float(attrs["yield_stress"])))
+
+
+def campaign_sizing(checks: dict[str, dict[str, Any]], minimum: int = 40,
+                    maximum: int = 100) -> dict[str, Any]:
+    """Seeds for power >= 0.8 on checks 14 and 15 against their named alternatives, per
+    labelling (``{labelling: checks}``; a check whose rates already reach 0.8 needs the seeds
+    it has), and the campaign size they call for within [``minimum``, ``maximum``] (the
+    maximum where a check is not decided even at the end of its seed grid)."""
+    needed: dict[str, dict[str, int | None]] = {}
+    for name, c in checks.items():
+        n_s = int(c["check14_inverse_mean_area_linear"].get("n_samples", 0))
+        per = {}
+        for key in ("check14_inverse_mean_area_linear", "check15_scaling_collapse"):
+            rates = [c[key].get("power", 0.0), c[key].get("confirmation_rate", 1.0)]
+            decided = all(r is not None and r >= ensemble.POWER_NEEDED for r in rates)
+            per[key] = n_s if decided else c[key].get("seeds_needed")
+        needed[name] = per
+    values = [v for per in needed.values() for v in per.values()]
+    size = maximum if None in values else min(maximum, max([minimum, *values]))
+    return {"seeds_needed": needed, "seeds_to_run": int(size), "minimum": minimum,
+            "maximum": maximum}
+
+
 def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
-              n_boot: int = N_BOOTSTRAP, n_power: int = statistics.N_POWER,
-              n_power_collapse: int = statistics.N_POWER_COLLAPSE) -> dict[str, Any]:
+              n_boot: int = N_BOOTSTRAP, n_power: int = ensemble.N_POWER,
+              n_power_collapse: int = ensemble.N_POWER_COLLAPSE) -> dict[str, Any]:
     """Every number of the machine-readable summary (see module docstring); ``n_power`` and
     ``n_power_collapse`` are the simulated draws of the power of checks 14 and 15."""
     attrs = campaign.attrs
@@ -256,36 +304,15 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
     h = float(attrs["h"])
     s_min = math.pi * h * h
     fits_smin = _fits(times, *per_sample_totals(campaign, s_min), window, n_boot)
-    lam, mu = float(attrs["lame_lambda"]), float(attrs["lame_mu"])
-    b_star = (mu * float(attrs["drying_rate"])
-              / ((lam + 2 * mu) * float(attrs["thickness"]) ** 2 * float(attrs["yield_stress"])))
+    b_star = b_star_of(attrs)
+    # Checks 14-16 (craquelure.drying.ensemble); check 14's weighted fit is the 1/<S>_t line
+    # of the summary and the figure.
+    checks = checks_of(campaign, n_boot, n_power, n_power_collapse)
+    c14 = checks["check14_inverse_mean_area_linear"]
     collapse = _collapse(campaign, win)
-    onset = _onset(campaign, tstar, fits.get("x_intercept"), collapse["collapse_onset_time"])
+    onset = _onset(campaign, tstar, c14.get("x_intercept_t0"), collapse["collapse_onset_time"])
     n_particles, n_seeds = int(attrs["n_particles"]), int(campaign.sizes["seed"])
-
-    # Checks 14-16 as revised (craquelure.drying.statistics).
-    c14 = statistics.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
-                                    b_star, n_boot, n_power)
-    k_window = np.flatnonzero(window)
-    f_index = campaign["fragment_time_index"].values
-    in_window = np.isin(f_index, k_window)
-    c15 = statistics.check_collapse(
-        campaign["fragment_area"].values[in_window],
-        np.searchsorted(campaign["seed"].values, campaign["fragment_seed"].values[in_window]),
-        np.searchsorted(k_window, f_index[in_window]), n_seeds, k_window.size, n_boot,
-        n_power_collapse)
     pi = drying_number(attrs)
-    c16 = statistics.check_onset(times, campaign["n_fragments"].values,
-                             campaign["first_removal_time"].values, tstar, pi["pi"], n_boot)
-    for check in (c14, c15):
-        if "error" in check:
-            # Too short a window or too few fragments: the sample cannot decide the claim.
-            check.update(verdict="inconclusive", note=f"no test: {check['error']}",
-                         conditions={}, undecided={check["error"]: "a longer or larger run"})
-    for check in (c14, c15, c16):
-        check["pass"] = check["verdict"] == "reproduced"
-    enough = (n_particles >= 40000 and n_seeds >= 100) or (n_particles >= 10000
-                                                           and n_seeds >= 300)
     measure = str(attrs.get("fracture_stress_measure", SOURCE_MEASURE))
     return {
         "profile": profile,
@@ -313,17 +340,12 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
         "initial_stage_end": win["initial_stage_end"],
         "fit": fits,
         "b_star": b_star,
-        "slope_over_b_star": (float(fits["slope_b"] / b_star)
-                              if np.isfinite(fits.get("slope_b", np.nan)) else None),
+        "slope_over_b_star": c14.get("slope_over_b_star"),
         "sensitivity_s_min": {"s_min": s_min, "fit": fits_smin},
         "onset": onset,
         "collapse": collapse,
-        "checks": {
-            "sample_size_meets_spec": bool(enough),
-            "check14_inverse_mean_area_linear": c14,
-            "check15_scaling_collapse": c15,
-            "check16_onset": c16,
-        },
+        "labelling": str(attrs.get("labelling", "periodic")),
+        "checks": checks,
     }
 
 def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: bool,
@@ -337,7 +359,7 @@ def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: 
     seeds = campaign["seed"].values
     owner = np.searchsorted(seeds, campaign["fragment_seed"].values[sel])
     rng = np.random.default_rng(seed)
-    weights = statistics.bootstrap_weights(seeds.size, n_boot, rng)
+    weights = ensemble.bootstrap_weights(seeds.size, n_boot, rng)
     out = {"ccdf": np.full(grid.size, np.nan), "lo": np.full(grid.size, np.nan),
            "hi": np.full(grid.size, np.nan), "n": int(area.size)}
     if area.size == 0:
@@ -355,7 +377,7 @@ def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: 
 
     out["ccdf"] = curve(np.ones(seeds.size))
     boot = np.array([curve(w) for w in weights])
-    out["lo"], out["hi"] = np.nanpercentile(boot, [2.5, 97.5], axis=0)
+    out["lo"], out["hi"] = bootstrap_interval(boot, axis=0)
     return out
 
 def json_ready(value: Any) -> Any:
@@ -373,11 +395,27 @@ def json_ready(value: Any) -> Any:
     return value
 
 
+# Which labelling the source most likely used: it binarises a snapshot and clusters it, and
+# never says that its clusters wrap around the periodic box.
+SOURCE_LABELLING = "open"
+SOURCE_LABELLING_NOTE = ("it binarises a snapshot and clusters it, and never says the clusters "
+                         "wrap around the periodic box")
+
+
 def write_summary(campaign_path: str | Path, out: str | Path, profile: str = "",
-                  scene_name: str = "", n_boot: int = N_BOOTSTRAP) -> dict[str, Any]:
-    """Summarise a campaign file into a JSON file (with the provenance of both)."""
+                  scene_name: str = "", n_boot: int = N_BOOTSTRAP,
+                  open_campaign_path: str | Path | None = None) -> dict[str, Any]:
+    """Summarise a campaign file into a JSON file (with the provenance of both); with the
+    campaign of the open-image labelling, its checks 14-16 too (``checks_open_image``) and the
+    seed count both labellings' checks 14 and 15 need (``campaign_sizing``)."""
     campaign = open_dataset(campaign_path)
     summary = summarise(campaign, profile=profile, scene_name=scene_name, n_boot=n_boot)
+    if open_campaign_path is not None:
+        summary["checks_open_image"] = checks_of(open_dataset(open_campaign_path), n_boot)
+        summary["source_labelling"] = {"labelling": SOURCE_LABELLING,
+                                       "why": SOURCE_LABELLING_NOTE}
+        summary["campaign_sizing"] = campaign_sizing({
+            "periodic": summary["checks"], "open": summary["checks_open_image"]})
     summary["provenance"] = {
         "campaign": str(campaign_path),
         "campaign_git_commit": str(campaign.attrs.get("git_commit", "")),

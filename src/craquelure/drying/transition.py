@@ -1,4 +1,4 @@
-r"""The damage-to-fragmentation transition (beyond the source; issue 32, item 6), after
+r"""The damage-to-fragmentation transition (beyond the source), after
 Szatmari, Nakahara, Kitsunezaki & Kun, arXiv:2503.06177 (2025): in a discrete-element model of
 shrinking layers on a substrate a dominant piece persists up to a critical damage
 :math:`d_c` (damage phase), beyond which the layer breaks into many pieces (fragmentation
@@ -45,6 +45,8 @@ from typing import Any
 
 import numpy as np
 import xarray as xr
+
+from craquelure.validation import bootstrap_interval
 
 N_BINS = 12
 N_BOOT = 200
@@ -192,9 +194,8 @@ def transition(fragments: Mapping[str, Sequence[xr.Dataset]], variant: str = "",
         values = np.array([b[key] for b in boot])
         values = values[np.isfinite(values)]
         ds.attrs[key] = value
-        ds.attrs[f"{key}_ci95"] = ([float(np.percentile(values, 2.5)),
-                                    float(np.percentile(values, 97.5))]
-                                   if values.size >= 10 else [math.nan, math.nan])
+        ds.attrs[f"{key}_ci95"] = (bootstrap_interval(values) if values.size >= 10
+                                   else [math.nan, math.nan])
         ds.attrs[f"{key}_n_bootstrap"] = int(values.size)
     first = groups[0][3][0]
     ds.attrs.update({

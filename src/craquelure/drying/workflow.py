@@ -11,8 +11,10 @@ turn a point's h/Delta into its particle count.
 
 from __future__ import annotations
 
+import csv
 import re
 import shlex
+from pathlib import Path
 
 from craquelure.scene import load_scene
 
@@ -21,6 +23,17 @@ SCENE_DIR = "config/scenes/drying"
 # wildcard of results/drying/<scene>_C<measure>/.
 CRITERION_MEASURES = ("trace", "max_principal")
 CRITERION_PATTERN = "|".join(CRITERION_MEASURES)
+
+
+def published_seeds(name: str | None, root: str = "results/published") -> set[int]:
+    """Seeds whose tables the archived ensemble ``root/name`` holds (none without a name)."""
+    if not name:
+        return set()
+    path = Path(root) / name / "tables" / "seeds.csv"
+    if not path.is_file():
+        return set()
+    with open(path, newline="") as fh:
+        return {int(float(row["seed"])) for row in csv.DictReader(fh)}
 
 
 def label(value: float) -> str:
@@ -50,8 +63,12 @@ class Jobs:
         return f"{SCENE_DIR}/{wildcards.scene}.yaml"
 
     def seeds(self) -> list[int]:
+        """The campaign's seeds (``seeds``, else ``first_seed`` on), less those its archived
+        ensemble (``published``) holds."""
         first = self.section["first_seed"]
-        return list(range(first, first + self.section["n_seeds"]))
+        seeds = self.section.get("seeds") or range(first, first + self.section["n_seeds"])
+        done = published_seeds(self.section.get("published"))
+        return [s for s in seeds if s not in done]
 
     def campaign_fragments(self, wildcards) -> list[str]:
         """Fragment datasets of the campaign of ``wildcards.scene``: every seed, or the first

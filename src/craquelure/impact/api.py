@@ -27,19 +27,17 @@ from craquelure.impact.effects.contact_mass import DEFAULT_SCALE
 from craquelure.impact.effects.damage import crack_band_width
 from craquelure.impact.engine import Engine, Settings, State
 from craquelure.impact.initial_state import Specimen, build_specimen, initial_smoothing_length
-from craquelure.impact.material import MATERIAL_CONSTANTS, NEUTRAL, Concrete
+from craquelure.impact.material import MATERIAL_CONSTANTS, Concrete
 from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.registry import scene_values
 from craquelure.scene import Scene, load_scene_text
 from craquelure.throughput import prediction_lines
 
 
 def concrete(scene: Scene) -> Concrete:
-    """The concrete of a scene: each constant from the scene when an effect that requires it is
-    on, else :data:`~craquelure.impact.material.NEUTRAL` (the effect is compiled out)."""
-    values = dict(NEUTRAL)
-    for name, key, effects in MATERIAL_CONSTANTS:
-        if any(scene.has(e) for e in effects):
-            values[name] = scene.get(key)
+    """The concrete of a scene: each constant from the scene when an effect that declares it is
+    on, else its neutral value (the effect is compiled out; :mod:`craquelure.impact.effects`)."""
+    values = scene_values("impact", scene, MATERIAL_CONSTANTS)
     band = scene.get("material.crack_band_width")
     if band is None:  # null: the spec's max(2 Delta, 5 h(0)/3)
         band = crack_band_width(scene.get("particles.spacing"), initial_smoothing_length(scene))

@@ -1,4 +1,4 @@
-"""Check 12 as revised (impact spec section 10, 2026-12): the source's findings, per seed and per
+"""Check 12 (impact spec section 10): the source's findings, per seed and per
 dimension.
 
 The source shows single images, so a criterion on a heterogeneous case applies to the median
@@ -24,7 +24,7 @@ against κ = 1) pair the specimens by seed (the seed alone draws the masses, so 
 same specimen at both κ) and count the seeds where κ = 0.7's value is the larger. The medians
 with their bootstrap interval and agreement are given beside each fraction.
 
-Defining conditions (2026-12-02): the heterogeneous rows' defining condition is the spec's own
+Defining conditions: the heterogeneous rows' defining condition is the spec's own
 median rule (:func:`median_rule`, decided by the bootstrap of the median), with the binomial
 test above reported beside it; the other conditions stay fractional tests. Verdicts follow
 :func:`verdict`: the defining condition decides "not reproduced" / "inconclusive", the others
@@ -48,6 +48,7 @@ import numpy as np
 from craquelure.impact.workflow import SOURCE_KAPPAS, case_key
 from craquelure.validation import (
     POWER_NEEDED,
+    bootstrap_interval,
     fraction_decision,
     fraction_interval,
     fraction_power,
@@ -83,8 +84,7 @@ def median_with_interval(values, decide, seed: int = 12) -> dict:
     rng = np.random.default_rng(seed)
     boot = np.median(v[rng.integers(0, v.size, (N_BOOT, v.size))], axis=1)
     agree = float(np.mean([decide(b) == decide(med) for b in boot]))
-    lo, hi = np.percentile(boot, [2.5, 97.5])
-    return {"median": med, "ci95": [float(lo), float(hi)], "agreement": agree, "n": int(v.size)}
+    return {"median": med, "ci95": bootstrap_interval(boot), "agreement": agree, "n": int(v.size)}
 
 
 def fraction_test(flags, deterministic: bool = False, seed: int = 12) -> dict:
@@ -100,10 +100,10 @@ def fraction_test(flags, deterministic: bool = False, seed: int = 12) -> dict:
         return out
     decided, needs = fraction_decision(k, n, MEDIAN_SPECIMEN)
     boot = np.asarray(flags, float)[np.random.default_rng(seed).integers(0, n, (N_BOOT, n))]
-    lo, hi = np.percentile(boot.mean(axis=1), [2.5, 97.5])
     out.update({
         "decided": decided, "needs": needs,
-        "ci95_bootstrap": [float(lo), float(hi)], "ci95_exact": list(fraction_interval(k, n)),
+        "ci95_bootstrap": bootstrap_interval(boot.mean(axis=1)),
+        "ci95_exact": list(fraction_interval(k, n)),
         "power": {name: fraction_power(n, p, MEDIAN_SPECIMEN)
                   for name, p in ALTERNATIVES.items()},
         "seeds_for_power": {name: samples_for_power(n, p, MEDIAN_SPECIMEN)
@@ -157,7 +157,7 @@ def undecided_note(test: dict) -> str:
 def verdict(conditions: dict[str, bool | None], enough: bool,
             defining: tuple[str, ...] = ()) -> str:
     """reproduced / partly / not reproduced / inconclusive, by the finding's defining
-    condition (``defining``: the names of its parts; spec check 12 as revised 2026-12-02):
+    condition (``defining``: the names of its parts; spec check 12):
     a defining part that fails makes the row "not reproduced" whatever else holds; a defining
     part that cannot be decided (or too few seeds, ``enough`` False, for a heterogeneous
     case) makes it "inconclusive"; with the defining condition met, any other condition that
@@ -247,7 +247,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
     ``<masses>/<pre-crack>/kappa<k>``). Cracks are counted by opening
     (:func:`craquelure.impact.measure.opening_cracks`: ``n_main_cracks_opening`` etc.); the
     softening-based counts stay in the per-seed values as secondary numbers. Each finding names
-    its defining condition (◆, spec check 12 revised 2026-12-02):
+    its defining condition (◆, spec check 12):
 
     - homogeneous: ◆ one main crack (N_main = 1), carrying most (> 1/2) of the centre row's
       opening, along the vertical diameter (|x| <= 2 Delta at mid-height, |theta| <= 10 deg),

@@ -32,11 +32,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
-from craquelure.codegen import effect_flags, pack_parameters, specialise
+from craquelure.codegen import effect_flags, specialise
 from craquelure.errors import SimulationDiverged
 from craquelure.impact import kernel_template
 from craquelure.impact.effects.contact_bulk import bulk_stiffness
 from craquelure.impact.material import Concrete
+from craquelure.registry import parameter_vector
 from craquelure.runner import Divergence, diverged, non_finite, runaway
 from craquelure.sph.neighbours import Box, neighbour_list, neighbour_list_points
 
@@ -104,15 +105,16 @@ class Settings:
             return math.sqrt(m.young / ((1.0 - m.poisson**2) * self.rho0))
         return math.sqrt((m.bulk + 4.0 * m.shear / 3.0) / self.rho0)
 
-    def params(self, module) -> np.ndarray:
+    def params(self) -> np.ndarray:
+        """The kernel's parameter vector (:func:`craquelure.registry.parameter_vector`)."""
         m = self.material
         alpha, k = m.dp
         lx, ly, lz = (tuple(self.periodic_box) + (0.0,))[:3] if self.periodic_box is not None \
             else (0.0, 0.0, 0.0)
         cap = (m.cap_vector() if any(e in self.effects for e in ("cap_plasticity",
                                                                    "rate_effects"))
-               else np.zeros(len(module.CAP_PARAMS)))
-        return pack_parameters(module.PARAMS, dict(
+               else 0.0)
+        return parameter_vector("impact", values=dict(
             bulk=m.bulk, shear=m.shear, young=m.young, alpha_dp=alpha, k_dp=k,
             eps_0=m.eps_0, eps_f=m.eps_f, wave_speed=self.wave_speed,
             av_alpha=self.av_alpha, av_beta=self.av_beta, as_epsilon=self.as_epsilon,
@@ -121,8 +123,7 @@ class Settings:
             contact_a=self.contact_a,
             k_bulk=bulk_stiffness(self.contact_a, m.bulk, self.spacing, self.dim),
             kinematic_ratio=self.kinematic_ratio, lx=lx, ly=ly, lz=lz,
-            flush_below=self.flush_below,
-            **dict(zip(module.CAP_PARAMS, cap, strict=True))))
+            flush_below=self.flush_below, cap=cap))
 
 
 @dataclass
@@ -187,7 +188,7 @@ class Engine:
             raise ValueError(f"state of dimension {state.dim} given to a {settings.dim}D engine")
         self.k = kernels_for(settings.effects, settings.periodic_box is not None,
                              settings.plane_stress, settings.dim)
-        self.prm = self.s.params(self.k)
+        self.prm = self.s.params()
         n = state.x.size
         self.ax = np.zeros(n)
         self.ay = np.zeros(n)

@@ -132,7 +132,7 @@ def figure_accuracy(rows: list[dict], floors: dict, out: Path, label: str) -> No
     save(fig, out)
 
 
-# --- pictures of the judged runs (issue 29 item 6): opening maps, time sequence, energy
+# --- pictures of the judged runs: opening maps, time sequence, energy
 # partition, fragment sizes; from the run datasets only ---------------------------------------
 
 def _layer(ds):

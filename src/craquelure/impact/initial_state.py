@@ -16,8 +16,8 @@ r"""Specimen: regular grid geometry, random particle masses, pre-crack layouts (
   the geometry stays the homogeneous grid and only the "virtual volume" :math:`m_i/\rho_0` varies.
 - Pre-cracks: a layout is data in the scene (``precracks``: name → segments in units of R from
   the disc centre); the particles of a line one particle column wide get m = 0 (spec check 12:
-  "one particle column of zero mass"; revised 2026-12 from "within Δ/2 of the segment", which
-  on the cell-centred grid took the two columns at x = ±Δ/2 for PF#1): for a segment steeper
+  "one particle column of zero mass"; "within Δ/2 of the segment" would take the two columns
+  at x = ±Δ/2 of the cell-centred grid for PF#1): for a segment steeper
   than 45° one particle per grid row, the one with −Δ/2 ≤ x − x_line(y) < Δ/2, over the rows
   the segment spans (one per column, in y, for flatter segments); in 3D the same (x, y) in every
   layer, so the line is a zero-mass plane one column wide through the thickness. The others keep

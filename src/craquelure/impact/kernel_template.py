@@ -40,6 +40,7 @@ from craquelure.impact.effects.rate_effects import (
 )
 from craquelure.impact.effects.variable_smoothing_length import benz_update
 from craquelure.periodic import minimum_image
+from craquelure.registry import parameter_names
 from craquelure.sph.kernels import CUBIC, kernel_dwdr, kernel_w
 
 # BEGIN FLAGS
@@ -61,17 +62,8 @@ DIM = 2
 KIND = CUBIC
 NCOMP = 4 if DIM == 2 else 6  # stored stress components
 
-# the parameter vector: names in order, declared once (the engine packs by name)
-PARAMS = ("bulk", "shear", "young", "alpha_dp", "k_dp", "eps_0", "eps_f", "wave_speed",
-          "av_alpha", "av_beta", "as_epsilon", "as_n", "spacing", "h_min", "h_max", "base_y",
-          "contact_radius", "contact_a", "k_bulk", "kinematic_ratio", "lx", "ly", "lz",
-          "flush_below",
-          # cap model (Concrete.cap_vector order; contiguous from P_CAP)
-          "cap_alpha", "cap_lambda", "cap_beta", "cap_theta", "cap_e", "cap_x0", "cap_w",
-          "cap_d1", "cap_d2", "eps_fc",
-          # rate effects (rate_effects.RATE_PARAMS)
-          "eta0_t", "n_t", "eta0_c", "n_c", "overt", "overc", "srate", "repow",
-          "f_t", "f_c", "cap_kappa0", "cap_r")
+# the parameter vector, as the effects declare it (craquelure.registry); the engine packs it
+PARAMS = parameter_names("impact")
 N_PARAMS = len(PARAMS)
 P_BULK, P_SHEAR, P_YOUNG, P_ALPHA_DP, P_K_DP, P_EPS_0, P_EPS_F = param_indices(
     PARAMS, "bulk", "shear", "young", "alpha_dp", "k_dp", "eps_0", "eps_f")
@@ -80,9 +72,8 @@ P_C, P_AV_ALPHA, P_AV_BETA, P_AS_EPS, P_AS_N, P_SPACING = param_indices(
 P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = param_indices(
     PARAMS, "h_min", "h_max", "base_y", "contact_radius", "contact_a", "k_bulk", "kinematic_ratio")
 P_LX, P_LY, P_LZ = param_indices(PARAMS, "lx", "ly", "lz")
-P_CAP = PARAMS.index("cap_alpha")
-CAP_PARAMS = PARAMS[P_CAP:P_CAP + 22]
-P_RATE = PARAMS.index("eta0_t")
+P_CAP = PARAMS.index("cap")  # Concrete.cap_vector(), contiguous from P_CAP
+P_RATE = P_CAP + 10  # its rate constants (rate_effects.RATE_PARAMS), then f_t, f_c, κ0, R
 P_FLUSH = PARAMS.index("flush_below")
 
 

@@ -36,20 +36,9 @@ from craquelure.impact.effects.rate_effects import (
 # Plasticity variants of the material point (the SPH kernels select them by effect flags).
 NO_PLASTICITY, DRUCKER_PRAGER, CAP = 0, 1, 2
 
-# (Concrete field, scene key, the effects that require it): a scene sets the constant when one
-# of them is on (registry ``requires=``), and :func:`.api.concrete` reads it only then.
-MATERIAL_CONSTANTS = (
-    ("bulk", "material.bulk_modulus", ("contact_bulk", "elasticity")),
-    ("shear", "material.shear_modulus", ("contact_bulk", "elasticity")),
-    ("f_c", "material.f_c", ("cap_plasticity", "compressive_damage", "plasticity",
-                             "rate_effects")),
-    ("f_t", "material.f_t", ("damage", "rate_effects")),
-    ("G_F", "material.G_F", ("compressive_damage", "damage")),
-)
-# A constant whose effects are all off: strengths and a fracture energy never reached (no yield,
-# no softening); unit moduli keep E, nu and the wave speed finite. The branches that would read
-# them are compiled out.
-NEUTRAL = {"bulk": 1.0, "shear": 1.0, "f_c": 1e30, "f_t": 1e30, "G_F": 1e30}
+# The constants a scene gives the concrete (declared by the effects that read them,
+# :mod:`craquelure.impact.effects`; neutral when those are all off).
+MATERIAL_CONSTANTS = ("bulk", "shear", "f_c", "f_t", "G_F")
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@
 - Main cracks: clusters of cracked, not crushed particles, adjacent if their reference distance
   is ≤ 1.5Δ; a cluster counts if its reference extent along its principal axis is ≥ R. Angle θ to
   the vertical in (−90°, 90°], length = extent along the axis + Δ.
-- Crack crossings of the centre line [D, added 2026-11-22]: the number of separate runs of
+- Crack crossings of the centre line [D]: the number of separate runs of
   cracked, not crushed particles along the grid row nearest the disc centre height (reference
   positions). The cluster rule above merges radial cracks that a later transverse crack or a
   branch joins (N_mc = 1 for a fan of five radial cracks); the crossings count them: the
@@ -21,7 +21,7 @@
   touch the base); area A_cr = count·Δ² (per metre), height h_cr = reference y-extent + Δ.
 - Contact: peak force, impulse ∫F dt, duration (first to last sample with F > 1 % of the peak),
   rebound = final centre-of-mass v_y.
-- 3D [D, 2026-12-01]: the crack and crushed-zone geometry (main cracks, centre-row crossings,
+- 3D [D]: the crack and crushed-zone geometry (main cracks, centre-row crossings,
   crushed area and height, pre-crack following) is measured on the mid-thickness slab, the
   layer of particles nearest the disc's mid-plane z = 0 (the lower one when the mid-plane falls
   between two layers, as for the centre row): the section the source's crack maps show. The
@@ -173,7 +173,7 @@ def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
     return out
 
 
-# --- check 12 as revised (spec section 10, 2026-12) -----------------------------------------
+# --- check 12 (spec section 10) -------------------------------------------------------------
 # "Main crack": a connected cracked cluster reaching from the contact zone at least 0.5 D
 # towards the far rim. Decisions [D]: cracked = cracked and not crushed (as above); the contact
 # zone is the crushed zone plus the two lowest grid rows; a cluster starts at the contact zone
@@ -301,7 +301,7 @@ def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, crac
             "main_cracks_elsewhere": int(elsewhere)}
 
 
-# --- cracks measured by their opening (spec section 6, revised 2026-12-02) -----------------
+# --- cracks measured by their opening (spec section 6) -------------------------------------
 # A crack is what opened. Neighbour pairs of the plane (2D) or the mid-thickness layer (3D):
 # massive particles whose reference distance is <= 1.5 Delta, plus "bridges" across a
 # zero-mass particle (massive i, j at reference distance <= 2.5 Delta whose midpoint lies

@@ -1,4 +1,4 @@
-"""Regime map of the homogeneous disc (issue 16 item 5): where does it split once and where does
+"""Regime map of the homogeneous disc: where does it split once and where does
 it fan out, over tensile strength f_t, contact stiffness (penalty scale a) and impact speed, in
 2D and in 3D?
 
@@ -10,11 +10,10 @@ cracks counted by opening, as check 12 counts them
 opened beyond w_c, separated by closed material), measured as for every run
 (:func:`craquelure.impact.analysis.run_metrics`; a 3D run on its mid-thickness layer):
 ``splits once`` (one main crack), ``fans out`` (two or more) or ``no main crack``. The
-softening clusters' count of before 2026-12-03 (cracked clusters from the contact zone
-reaching >= 0.5 D, :func:`craquelure.impact.measure.revised_cracks`) stays as a secondary
-number. The class is also taken at each field snapshot before the end (from the snapshot's
-positions), so that a row says from when on its class no longer changed (is the run long
-enough to classify?).
+softening clusters' count (cracked clusters from the contact zone reaching >= 0.5 D,
+:func:`craquelure.impact.measure.revised_cracks`) is a secondary number. The class is also
+taken at each field snapshot before the end (from the snapshot's positions), so that a row
+says from when on its class no longer changed (is the run long enough to classify?).
 """
 
 from __future__ import annotations

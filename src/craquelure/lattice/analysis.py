@@ -101,7 +101,7 @@ def calving_summary(ds, out_json) -> dict:
     summary.update({
         "labelled_particles": int(sz.sum()),
         "body_particles": int((ds.body.values == 0).sum()),
-        # exponent in [1.2, 1.9] (the band used before for the binned slope) from the
+        # exponent in [1.2, 1.9] (the spec's band for the slope) from the
         # maximum-likelihood fit of s^-tau exp(-s/s*) (the spec's form); the log-binned
         # straight-line slope and its verdict are reported next to it
         "check11_slope_pass": bool(1.2 <= summary["ml_exponent"] <= 1.9

@@ -19,10 +19,11 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from craquelure.codegen import effect_flags, pack_parameters, specialise
+from craquelure.codegen import effect_flags, specialise
 from craquelure.lattice.geometry import INTACT, find_bonds
 from craquelure.lattice.kernel_template import PARAMS
 from craquelure.periodic import minimum_image
+from craquelure.registry import kernel_parameters, parameter_vector
 from craquelure.runner import Divergence, diverged, heartbeat, non_finite
 from craquelure.sph.neighbours import Box, neighbour_list
 
@@ -179,24 +180,28 @@ def stable_step_estimate(system: LatticeState) -> float:
 
 
 def default_params(**values) -> np.ndarray:
-    """The kernel's parameter vector. A parameter the caller leaves unset is neutral (an effect
-    that is off, a unit block for a probe), except the ones whose value the schema owns
-    (:data:`.initial_state.SCHEMA_OWNED`): those are NaN, so a caller that forgets them stops
-    at :func:`require_schema_owned` instead of running on a second copy of the default."""
-    p = dict.fromkeys(PARAMS, 0.0)
-    p.update(energy_floor=1e-300, area=1.0, inertia=1.0 / 12,
-             width=1.0, sigma0=1.0, tau0=1.0, E_b=1.0, block=1.0, rho=1.0,
-             cell_area=math.sqrt(3) / 2, water_level=-math.inf,
-             bed_level=-math.inf, mass_damping_until=math.inf,
-             energy_tolerance=math.nan, skin=math.nan, friction_viscosity=math.nan)
-    return pack_parameters(PARAMS, values, defaults=p)
+    """The kernel's parameter vector: ``values`` over the neutral values the effects declare
+    (an effect that is off, a unit block for a probe). The parameters whose value the schema
+    owns (neutral NaN, :func:`schema_owned`) stay NaN unless given, so a caller that forgets
+    them stops at :func:`require_schema_owned` instead of running on a second copy of the
+    default."""
+    return parameter_vector("lattice", values=values)
 
 
-def require_schema_owned(p: np.ndarray, contact: bool) -> None:
-    """The energy check's tolerance always, and contact's skin and friction regularisation
-    when contact is on, must come from the scene (or the schema for a probe)."""
-    names = ("energy_tolerance",) + (("skin", "friction_viscosity") if contact else ())
-    missing = [n for n in names if math.isnan(p[PARAMS.index(n)])]
+def schema_owned() -> dict[str, str]:
+    """``{parameter: scene path}`` of the kernel parameters whose default the schema holds
+    (declared with a NaN neutral value)."""
+    return {name: p.path for name, (p, _) in kernel_parameters("lattice").items()
+            if math.isnan(p.neutral)}
+
+
+def require_schema_owned(p: np.ndarray, effects) -> None:
+    """The schema-owned parameters the effect set reads (contact's skin and friction
+    regularisation with contact, the energy check's tolerance always) must come from the scene
+    (or the schema for a probe)."""
+    missing = [name for name, (prm, owners) in kernel_parameters("lattice").items()
+               if math.isnan(prm.neutral) and math.isnan(p[PARAMS.index(name)])
+               and (not owners or owners & set(effects))]
     if missing:
         raise ValueError(f"lattice engine: parameter(s) {', '.join(missing)} not given; they "
                          "come from the resolved scene (engine_params) or, for a system that "
@@ -230,8 +235,8 @@ class Engine:
                                   self.bending, parallel)
         self.kernel = specialise(KERNEL_TEMPLATE, self.flags, "lattice")
         self.p = default_params(**{**self.params, "period_x": s.period_x})
-        require_schema_owned(self.p, self.flags["CONTACT"])
-        self.dt = float(self.p[0])
+        require_schema_owned(self.p, self.effects)
+        self.dt = float(self.p[PARAMS.index("dt")])
         self.q = np.ascontiguousarray(np.vstack([s.x, s.y, s.theta]))
         self.qm = self.q.copy()
         self.qref = self.q[:2].copy()

@@ -21,8 +21,16 @@ import numpy as np
 
 from craquelure.errors import SceneError
 from craquelure.lattice import beam
-from craquelure.lattice.engine import Engine, LatticeState, lattice_system, stable_step_estimate
+from craquelure.lattice.engine import (
+    PARAMS,
+    Engine,
+    LatticeState,
+    lattice_system,
+    schema_owned,
+    stable_step_estimate,
+)
 from craquelure.lattice.geometry import REMOVED, ROW, half_disc, remove_fraction, triangular_block
+from craquelure.registry import parameter_vector
 from craquelure.scene import Scene, load_scene_text, schema_default
 
 
@@ -100,52 +108,22 @@ def time_step(scene: Scene, system: LatticeState) -> float:
 
 
 def engine_params(scene: Scene, system: LatticeState) -> dict[str, float]:
+    """The kernel parameters of a scene by name: the scene paths the effects declare
+    (:func:`craquelure.registry.parameter_vector`) and the values computed here (beam constants,
+    the stable step, damping times)."""
     c = beam_constants(scene)
     m = float(system.mass[0])
     g = scene.get
-    p = dict(
+    computed = dict(
         dt=time_step(scene, system),
         beta=2.0 * g("numerics.bond_damping") * math.sqrt(m / c.kn),
-        gamma=g("numerics.mass_damping"),
         area=c.area, inertia=c.inertia, width=c.width, E_b=c.E_b, block=system.L,
         cell_area=beam.cell_area(system.L),
-        load_ramp=g("loads.ramp_time"),
-        energy_tolerance=g("numerics.energy_tolerance"),
         energy_floor=1e-12 * system.n * c.kn * system.L**2,
     )
-    until = scene.optional("numerics.mass_damping_until")
-    if until is not None:  # absent: mass damping to the end (default_params: no end)
-        p["mass_damping_until"] = until
-    if scene.has("fracture"):
-        p.update(sigma0=g("material.sigma0"), tau0=g("material.tau0"),
-                 fracture_start=g("fracture.start_time"))
-    if scene.has("melting"):
-        p.update(melt_rate_factor=g("melting.rate_factor"), frozen_rate=g("melting.frozen_rate"))
-    if scene.has("contact"):
-        p.update(contact_stiffness=g("contact.stiffness"), friction=g("contact.friction"),
-                 friction_viscosity=g("contact.friction_viscosity"), skin=g("contact.skin"))
-    if scene.has("gravity") or scene.has("buoyancy"):
-        p.update(g=g("material.g"), slope_angle=math.radians(g("material.slope_angle")))
-    if scene.has("buoyancy") or scene.has("drag"):
-        # drag alone may have no water line (drag.everywhere): default_params' -inf, nothing
-        # is below it
-        water = scene.optional("domain.water_level")
-        if water is not None:
-            p.update(water_level=water)
-    if scene.has("buoyancy"):
-        p.update(rho_w=g("material.rho_w"), rho=g("material.rho"))
-    if scene.has("drag"):
-        p.update(drag_rate=g("drag.rate"), drag_everywhere=float(g("drag.everywhere")))
     if scene.has("bed"):
-        kb = g("bed.stiffness")
-        p.update(bed_level=g("domain.bed_level"), bed_stiffness=kb,
-                 bed_damping=g("bed.damping_ratio") * 2.0 * math.sqrt(kb / m),
-                 bed_friction=g("bed.friction_rate"))
-    pad = scene.optional("domain.pad")
-    if pad is not None:
-        p.update(drive_amplitude=pad["amplitude"], drive_period=pad["period"],
-                 drive_start=pad["press_time"])
-    return p
+        computed["bed_damping"] = g("bed.damping_ratio") * 2.0 * math.sqrt(g("bed.stiffness") / m)
+    return dict(zip(PARAMS, parameter_vector("lattice", scene, computed).tolist(), strict=True))
 
 
 def make_engine(scene: Scene, seed: int) -> tuple[Engine, dict[str, np.ndarray]]:
@@ -171,18 +149,13 @@ PROBE_SCENE = """{model: lattice, domain: {nx: 2, ny: 2}, particles: {}, numeric
 material: {bond_model: shear_beam}, outputs: {t_end: 1.0}, effects: [beams]}"""
 
 
-# Kernel parameters that a probe may leave unset and whose default the schema holds: the
-# schema path each one is read from (engine_params reads the same paths from a scene).
-SCHEMA_OWNED = {"energy_tolerance": "numerics.energy_tolerance", "skin": "contact.skin",
-                "friction_viscosity": "contact.friction_viscosity"}
-
-
 def probe_engine(system: LatticeState, effects, params: dict, **options) -> Engine:
     """An engine for a system that is not a scene's (a column, a test block): the options of
     the smallest scene, :data:`PROBE_SCENE` (the schema's defaults), with ``options`` set, and
-    the :data:`SCHEMA_OWNED` parameters from the schema unless ``params`` sets them."""
+    the parameters whose default the schema owns (:func:`.engine.schema_owned`) from the schema
+    unless ``params`` sets them."""
     probe = engine_options(load_scene_text(PROBE_SCENE, "probe"))
-    owned = {name: schema_default("lattice", path) for name, path in SCHEMA_OWNED.items()}
+    owned = {name: schema_default("lattice", path) for name, path in schema_owned().items()}
     return Engine(system, tuple(effects), {**owned, **params}, **{**probe, **options})
 
 

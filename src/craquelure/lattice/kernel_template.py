@@ -56,6 +56,7 @@ from craquelure.lattice.effects.fracture import beam_ratio_scaled, node_ratio
 from craquelure.lattice.effects.gravity import gravity
 from craquelure.lattice.effects.melting import melt_rate, uniform01
 from craquelure.periodic import minimum_image
+from craquelure.registry import parameter_names
 
 # BEGIN FLAGS
 BEAMS = True
@@ -72,15 +73,8 @@ BENDING = True
 PARALLEL = True
 # END FLAGS
 
-# the parameter vector: names in order, declared once (the engine packs by name)
-PARAMS = (
-    "dt", "beta", "gamma", "area", "inertia", "width", "sigma0", "tau0", "fracture_start",
-    "melt_rate_factor", "E_b", "block", "frozen_rate", "contact_stiffness", "friction",
-    "friction_viscosity", "skin", "g", "rho", "rho_w", "water_level", "drag_rate",
-    "drag_everywhere", "bed_level", "bed_stiffness", "bed_damping", "bed_friction", "period_x",
-    "drive_vx", "drive_vy", "drive_amplitude", "drive_period", "drive_start", "load_ramp",
-    "energy_tolerance", "energy_floor", "cell_area", "mass_damping_until", "slope_angle",
-)
+# the parameter vector, as the effects declare it (craquelure.registry); the engine packs it
+PARAMS = parameter_names("lattice")
 N_PARAMS = len(PARAMS)
 DT, BETA, GAMMA, AREA, INERTIA, WIDTH, SIGMA0, TAU0, T_FRACTURE = param_indices(
     PARAMS, "dt", "beta", "gamma", "area", "inertia", "width", "sigma0", "tau0", "fracture_start")

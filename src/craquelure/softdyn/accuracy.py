@@ -21,12 +21,13 @@ import numpy as np
 import xarray as xr
 
 from craquelure.errors import SceneError, SimulationDiverged
+from craquelure.softdyn.engine import run
 from craquelure.softdyn.initial_state import build
 
 
 def _run(scene, overrides: list[str], probe_tau: float):
     setup = build(scene.with_overrides(["outputs.run_past_stop=false", *overrides]))
-    res = setup.run(sample_times_tau=np.array([probe_tau]), desc="accuracy")
+    res = run(setup, sample_times_tau=np.array([probe_tau]), desc="accuracy")
     k = int(np.argmin(np.abs(res.t / setup.tau - probe_tau)))
     if not res.stopped:
         raise SceneError("accuracy study: the T1 did not end by outputs.t_end")

@@ -20,7 +20,7 @@ from craquelure import runner
 from craquelure.errors import CraquelureError
 from craquelure.provenance import WallClock
 from craquelure.scene import Scene
-from craquelure.softdyn import studies, theory
+from craquelure.softdyn import engine, studies, theory
 from craquelure.softdyn.accuracy import run_accuracy
 from craquelure.softdyn.initial_state import (
     build,
@@ -157,7 +157,7 @@ def study(scene: Scene, batch: list[tuple[int, int]] | None = None) -> StudyRun:
     if kind == "single":
         def single():
             setup = build(scene)
-            return series_dataset(setup, setup.run(desc=scene.name))
+            return series_dataset(setup, engine.run(setup, desc=scene.name))
         return StudyRun([single], lambda results: results[0])
     if kind == "sweep":
         return StudyRun([partial(studies.run_sweep_point, scene, i, j)

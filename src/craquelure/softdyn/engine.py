@@ -20,9 +20,11 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from craquelure.codegen import effect_flags, pack_parameters, specialise
+from craquelure.codegen import effect_flags, specialise
 from craquelure.errors import SceneError
+from craquelure.registry import parameter_vector
 from craquelure.softdyn import kernel_template as template
+from craquelure.softdyn.integrate import Result, integrate
 
 # benchmarks/softdyn_cost.py: at N = 64 (128 unknowns) a RHS takes 0.17 ms dense, 0.59 ms sparse;
 # at N = 256, 11 ms dense, 2.3 ms sparse
@@ -31,15 +33,22 @@ DENSE_MAX_UNKNOWNS = 128
 
 @dataclass(frozen=True)
 class Flags:
-    """What the right-hand side is compiled for: the optional effects and the deflection rule."""
+    """What the right-hand side is compiled for: the scene's effects (their kernel flags from
+    the registry) and the deflection rule (scene rules: :mod:`craquelure.softdyn.rules`)."""
 
-    tangential: bool = True
-    hertz: bool = True
+    effects: tuple[str, ...]
     literal: bool = False
 
+    @property
+    def hertz(self) -> bool:
+        return "hertz" in self.effects
+
+    @property
+    def tangential(self) -> bool:
+        return "lubrication_tangential" in self.effects
+
     def template_flags(self) -> dict[str, bool]:
-        return {"LUBRICATION_TANGENTIAL": self.tangential, "HERTZ": self.hertz,
-                "LITERAL_DEFLECTION": self.literal}
+        return {**effect_flags("softdyn", self.effects), "LITERAL_DEFLECTION": self.literal}
 
 
 def kernels(flags: Flags):
@@ -48,17 +57,33 @@ def kernels(flags: Flags):
 
 
 def flags_for(scene) -> Flags:
-    if not scene.has("lubrication_normal"):
-        raise SceneError(
-            "effects: softdyn needs 'lubrication_normal' (the film carries the normal force in "
-            "series with the elastic response; without it a pair has no normal coupling)")
-    rule = scene.get("numerics.deflection_rule")
-    literal = rule == "literal"
-    if literal and not (scene.has("hertz") and scene.has("lubrication_tangential")):
-        raise SceneError("numerics.deflection_rule: 'literal' only differs from 'corotating' "
-                         "with both 'hertz' and 'lubrication_tangential'")
-    flags = effect_flags("softdyn", scene.effects)
-    return Flags(tangential=flags["LUBRICATION_TANGENTIAL"], hertz=flags["HERTZ"], literal=literal)
+    return Flags(scene.effects, scene.get("numerics.deflection_rule") == "literal")
+
+
+def sample_times(scene) -> np.ndarray:
+    """Log-spaced sample times (units of tau) from t_r/10 (or 1e-3) to t_end."""
+    t_end = scene.get("outputs.t_end")
+    t_r = scene.get("loads.ramp_time")
+    first = min(t_r / 10.0 if t_r > 0 else 1e-3, t_end / 10.0)
+    return np.geomspace(first, t_end, scene.get("outputs.n_samples") - 1)
+
+
+def run(setup, sample_times_tau: np.ndarray | None = None, desc: str = "softdyn") -> Result:
+    """The run of a scenario (:class:`craquelure.softdyn.initial_state.Setup`): its system
+    integrated to ``outputs.t_end`` tau with the scene's integrator, stop rule and guards,
+    sampled at ``sample_times_tau`` (default :func:`sample_times`)."""
+    sc = setup.scene
+    if sample_times_tau is None:
+        sample_times_tau = sample_times(sc)
+    dt = sc.optional("numerics.dt")  # heun's step; absent: adaptive steps (heun refuses)
+    return integrate(
+        setup.system, sc.get("outputs.t_end") * setup.tau, method=sc.get("numerics.integrator"),
+        rtol=sc.get("numerics.rtol"), atol=sc.get("numerics.atol"),
+        dt=None if dt is None else dt * setup.tau, stop=setup.stop_function(),
+        sample_times=np.asarray(sample_times_tau) * setup.tau, force_scale=setup.f_v,
+        drift_tolerance=sc.get("numerics.drift_tolerance"), time_unit=setup.tau,
+        max_steps=sc.get("numerics.max_steps"), desc=desc,
+        terminal=not sc.get("outputs.run_past_stop"))
 
 
 @dataclass
@@ -95,7 +120,7 @@ class Engine:
         if net > 1e-12 * max(np.abs(self.F0).max(), 1e-300):
             raise SceneError(f"loads: the external forces must sum to zero (overdamped, no drag "
                              f"on the particles), net force {self.F0.sum(axis=0)}")
-        self.p = pack_parameters(template.PARAMS, {
+        self.p = parameter_vector("softdyn", values={
             "R": self.radius, "eta": self.viscosity, "E": self.young, "k_n": self.k_n,
             "k_t": self.k_t, "c_n": self.c_n, "c_t": self.c_t,
             "inv_tau_B": 1.0 / self.tau_baumgarte, "t_r": self.ramp_time})

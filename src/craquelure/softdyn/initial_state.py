@@ -29,35 +29,25 @@ import numpy as np
 import xarray as xr
 
 from craquelure.errors import SceneError
+from craquelure.registry import parameter_vector
 from craquelure.softdyn import theory
+from craquelure.softdyn.effects.hertz import interaction_radius2
 from craquelure.softdyn.engine import Engine, flags_for
-from craquelure.softdyn.integrate import Result, integrate
+from craquelure.softdyn.integrate import Result
+from craquelure.softdyn.kernel_template import PARAMS
 
 SQRT3 = math.sqrt(3.0)
 T1_PARTICLES = ("A", "B", "C", "D")
 T1_PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
 T1_PAIR_NAMES = ("AB", "AC", "AD", "BC", "BD", "CD")
 
-# Constants of an effect that is off: the Hertz stiffnesses (rigid spheres) and the Couette
-# prefactor (no sliding film). Their kernel branches are compiled out, so they contribute
-# nothing; the unit k_n is also the one the Hertz theory's h* of a rigid scene is quoted at.
-NEUTRAL = {"k_n": 1.0, "k_t": 1.0, "c_t": math.pi}
-# E of a scene that gives none (only without hertz, which requires it): forces in units of R^2
-RIGID_YOUNG = 1.0
-
-
 def material_constants(scene) -> dict[str, float]:
-    """E, k_n, k_t and c_t of a scene: each effect's own when it is on (its ``requires=``),
-    :data:`NEUTRAL` when it is off; E, the force unit F = F~ E R^2, whenever the scene gives
-    it."""
-    out = dict(NEUTRAL)
-    if scene.has("hertz"):
-        out.update(k_n=scene.get("material.k_n"), k_t=scene.get("material.k_t"))
-    if scene.has("lubrication_tangential"):
-        out["c_t"] = scene.get("material.c_t")
-    young = scene.optional("material.young")
-    out["young"] = RIGID_YOUNG if young is None else young
-    return out
+    """E, k_n, k_t and c_t of a scene as the kernel reads them: each effect's own when it is on,
+    the neutral value its declaration gives when it is off; E, the force unit F = F~ E R^2,
+    whenever the scene gives it (:func:`craquelure.registry.parameter_vector`)."""
+    p = dict(zip(PARAMS, parameter_vector("softdyn", scene, {"inv_tau_B": 0.0, "t_r": 0.0}),
+                 strict=True))
+    return {"young": p["E"], "k_n": p["k_n"], "k_t": p["k_t"], "c_t": p["c_t"]}
 
 
 @dataclass
@@ -103,32 +93,9 @@ class Setup:
             i, j = sysm.pairs[k]
             r = float(np.linalg.norm(x[i] - x[j]))
             h = r - 2.0 * sysm.radius + s[k]
-            a = math.sqrt(sysm.radius * (h + abs(s[k])))
+            a = math.sqrt(interaction_radius2(sysm.radius, h, float(s[k])))
             return sysm.young * a * sysm.k_n * float(s[k])
         return float(sysm.evaluate(t, y)["f_n"][k])
-
-    def run(self, sample_times_tau: np.ndarray | None = None, desc: str = "softdyn") -> Result:
-        sc = self.scene
-        if sample_times_tau is None:
-            sample_times_tau = sample_times(sc)
-        method = sc.get("numerics.integrator")
-        dt = sc.optional("numerics.dt")  # heun's step; absent: adaptive steps (heun refuses)
-        return integrate(
-            self.system, sc.get("outputs.t_end") * self.tau, method=method,
-            rtol=sc.get("numerics.rtol"), atol=sc.get("numerics.atol"),
-            dt=None if dt is None else dt * self.tau, stop=self.stop_function(),
-            sample_times=np.asarray(sample_times_tau) * self.tau, force_scale=self.f_v,
-            drift_tolerance=sc.get("numerics.drift_tolerance"), time_unit=self.tau,
-            max_steps=sc.get("numerics.max_steps"), desc=desc,
-            terminal=not sc.get("outputs.run_past_stop"))
-
-
-def sample_times(scene) -> np.ndarray:
-    """Log-spaced sample times (units of tau) from t_r/10 (or 1e-3) to t_end."""
-    t_end = scene.get("outputs.t_end")
-    t_r = scene.get("loads.ramp_time")
-    first = min(t_r / 10.0 if t_r > 0 else 1e-3, t_end / 10.0)
-    return np.geomspace(first, t_end, scene.get("outputs.n_samples") - 1)
 
 
 def t1_angle(x: np.ndarray) -> float:

@@ -30,6 +30,7 @@ import numpy as np
 from numba import njit
 
 from craquelure.codegen import param_indices
+from craquelure.registry import parameter_names
 from craquelure.softdyn.effects.hertz import interaction_radius2, sign
 from craquelure.softdyn.effects.lubrication_normal import zeta_normal
 from craquelure.softdyn.effects.lubrication_tangential import zeta_tangential
@@ -40,8 +41,8 @@ HERTZ = True
 LITERAL_DEFLECTION = False
 # END FLAGS
 
-# the parameter vector: names in order, declared once (the engine packs by name)
-PARAMS = ("R", "eta", "E", "k_n", "k_t", "c_n", "c_t", "inv_tau_B", "t_r")
+# the parameter vector, as the effects declare it (craquelure.registry); the engine packs it
+PARAMS = parameter_names("softdyn")
 R_, ETA, E_, K_N, K_T, C_N, C_T, INV_TAU_B, T_R = param_indices(
     PARAMS, "R", "eta", "E", "k_n", "k_t", "c_n", "c_t", "inv_tau_B", "t_r")
 

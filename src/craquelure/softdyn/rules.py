@@ -9,6 +9,15 @@ from craquelure.softdyn.initial_state import build
 
 def scene_problems(data: dict) -> list[str]:
     out = []
+    view = SceneView(data)
+    if not view.has("lubrication_normal"):
+        out.append("effects: softdyn needs 'lubrication_normal' (the film carries the normal "
+                   "force in series with the elastic response; without it a pair has no normal "
+                   "coupling)")
+    if view.get("numerics.deflection_rule") == "literal" and not (
+            view.has("hertz") and view.has("lubrication_tangential")):
+        out.append("numerics.deflection_rule: 'literal' only differs from 'corotating' with "
+                   "both 'hertz' and 'lubrication_tangential'")
     t_end = float(lookup(data, "outputs.t_end"))
     dt = SceneView(data).optional("numerics.dt")  # heun's step
     if dt is not None and dt > t_end:

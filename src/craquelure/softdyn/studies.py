@@ -21,6 +21,7 @@ import xarray as xr
 
 from craquelure.errors import SceneError
 from craquelure.softdyn import theory
+from craquelure.softdyn.engine import run
 from craquelure.softdyn.initial_state import SQRT3, build, material_constants, t1_angle
 
 
@@ -54,7 +55,7 @@ def run_sweep_point(scene, i: int, j: int) -> xr.Dataset:
                          f"study.window")
     sc = point_scene(scene, float(h0[i]), float(force[j]))
     setup = build(sc)
-    res = setup.run(sample_times_tau=np.array([]), desc=f"T1 h0={h0[i]:g} F~={force[j]:g}")
+    res = run(setup, sample_times_tau=np.array([]), desc=f"T1 h0={h0[i]:g} F~={force[j]:g}")
     k_n, c_n = sc.get("material.k_n"), sc.get("material.c_n")
     x = setup.system.unpack(res.y_stop)[0]
     values = {
@@ -175,7 +176,7 @@ def phase_point(scene, r: float, f: float) -> xr.Dataset:
     sc = point_scene(scene, scene.get("particles.h0"), float(f),
                      (f"loads.fh_over_fv={float(r)!r}", "outputs.stop=angle"))
     setup = build(sc)
-    res = setup.run(sample_times_tau=np.array([]), desc=f"phase r={r:g} F~={f:g}")
+    res = run(setup, sample_times_tau=np.array([]), desc=f"phase r={r:g} F~={f:g}")
     ev = setup.system.evaluate(res.t_stop, res.y_stop)
     young_r2 = setup.system.young * setup.system.radius**2
     return xr.Dataset({

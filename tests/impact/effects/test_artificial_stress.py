@@ -84,7 +84,7 @@ def test_pair_term_weight_and_antisymmetry(h_over_delta, r_over_delta):
                     dim=2)
     prm = probe_settings(material=standard_concrete(), rho0=RHO, spacing=delta,
                          effects=("elasticity", "artificial_stress"), av_alpha=1.0, av_beta=2.0,
-                         as_epsilon=EPS).params(k)
+                         as_epsilon=EPS).params()
     h = h_over_delta * delta
     r = r_over_delta * delta
     x = np.array([0.01, 0.01 + r * math.cos(0.4)])

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from craquelure.scene import load_scene
+from craquelure.softdyn.engine import run
 from craquelure.softdyn.initial_state import build
 
 
@@ -14,7 +15,7 @@ def test_steady_sliding_speed_is_t_over_zeta_t():
     setup = build(load_scene("softdyn/two_sphere_approach", [
         "particles.h0=1.0e-2", "loads.reduced_force=1.0e-3",
         "loads.tangential_over_normal=0.1", "outputs.stop=none", "outputs.t_end=0.3"]))
-    res = setup.run(sample_times_tau=np.array([0.3]))
+    res = run(setup, sample_times_tau=np.array([0.3]))
     ev = setup.system.evaluate(res.t[-1], res.y[-1])
     n = ev["n"][0]
     vrel = ev["v"][0] - ev["v"][1]

@@ -11,11 +11,13 @@ with :math:`L_{ab} = \partial v_a/\partial x_b`, :math:`D = (L + L^T)/2`,
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("drying", "elasticity", "ELASTICITY",
                 "hypo-elastic stress, Jaumann rate (lambda, mu)",
-                requires=("material.lame_lambda", "material.lame_mu"))
+                params=(Param("lame_lambda", "material.lame_lambda", "stress"),
+                        Param("lame_mu", "material.lame_mu", "stress")),
+                diagnostics=("elastic_energy",))
 
 
 @njit(inline="always", cache=True)

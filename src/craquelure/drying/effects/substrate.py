@@ -8,10 +8,12 @@ acceleration is :math:`-\mu\,\mathbf u / (H^2 \rho_I)`."""
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("drying", "substrate", "SUBSTRATE", "thin-layer substrate spring -(mu/H^2) u",
-                requires=("material.lame_mu", "material.thickness"))
+                # H = 1 when off only keeps mu/H^2 finite
+                params=(Param("lame_mu", "material.lame_mu", "stress"),
+                         Param("thickness", "material.thickness", "length", neutral=1.0)))
 
 
 @njit(inline="always", cache=True)

@@ -3,10 +3,10 @@ r"""Voigt viscous stress (drying spec section 2): :math:`\sigma_{vis} = \eta D`
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("drying", "viscosity", "VISCOSITY", "Voigt viscous stress sigma_vis = eta D",
-                requires=("material.eta",))
+                params=(Param("eta", "material.eta", "stress time"),))
 
 
 @njit(inline="always", cache=True)

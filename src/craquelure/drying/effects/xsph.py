@@ -10,11 +10,11 @@ use :math:`\mathbf v` (decision of the spec). Without this effect :math:`\dot{\m
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("drying", "xsph", "XSPH",
                 "XSPH velocity averaging of particle transport (epsilon)",
-                requires=("numerics.xsph_epsilon",))
+                params=(Param("xsph_epsilon", "numerics.xsph_epsilon"),))
 
 
 @njit(inline="always", cache=True)

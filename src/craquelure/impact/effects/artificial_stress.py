@@ -50,11 +50,12 @@ from craquelure.impact.effects.damage import (
     principal,
     principal_bound,
 )
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "artificial_stress", "ARTIFICIAL_STRESS",
                 "Monaghan artificial stress (epsilon_AS, n) against tensile instability",
-                requires=("numerics.as_epsilon",))
+                requires=("numerics.as_epsilon",),
+                params=(Param("as_epsilon"), Param("as_n", "numerics.as_n")))
 
 
 # (h(0)/Delta, eps_AS minimising the linearised tensile growth); see the table above.

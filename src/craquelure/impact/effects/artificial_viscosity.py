@@ -13,11 +13,12 @@ accumulated for the energy balance. :math:`\bar\rho_{ij} = (\rho_i+\rho_j)/2`,
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "artificial_viscosity", "ARTIFICIAL_VISCOSITY",
                 "Monaghan artificial viscosity (alpha_AV, beta_AV)",
-                requires=("numerics.av_alpha", "numerics.av_beta"))
+                params=(Param("av_alpha", "numerics.av_alpha"),
+                        Param("av_beta", "numerics.av_beta")))
 
 
 @njit(inline="always", cache=True)

@@ -32,9 +32,8 @@ and :math:`\kappa_0` (where cap and shear surface meet before hardening) follows
 :math:`L + R F_f(L) = X` (monotone: :math:`1 + R F_f' > 0`). The LS-DYNA keyword takes the fitted
 number as the input ``X0`` of its cap card (``R, X0, W, D1, D2``; e.g. the public keyword
 generator MatCSCM.py of yurynovozhilov/MAT_CSCM_CONCRETE_NOVOZHILOV writes the fit
-8.769178e-3 f'c² − 0.073302306 f'c + 84.85 into ``X0``). [Before 2026-12-02 this module took the
-fit as κ0 and put X0 = κ0 + R F_f(κ0) = 330.6 MPa: hydrostatic yield at p = 110 MPa instead of
-X0/3 = 32.7 MPa.]
+8.769178e-3 f'c² − 0.073302306 f'c + 84.85 into ``X0``). Taking the fit as κ0 instead would put
+X0 = κ0 + R F_f(κ0) = 330.6 MPa: hydrostatic yield at p = 110 MPa instead of X0/3 = 32.7 MPa.
 
 Lode-angle dependence (Willam-Warnke ellipse, in the role of CSCM's Rubin factor):
 :math:`\Re = 1` on TXC, :math:`\Re = e` on the extension meridian (TXE: uniaxial tension,
@@ -65,7 +64,7 @@ left of the cap's top the closest point never lies below the trial's I1' (no pla
 CSCM's associated flow dilates there), and the Lode factor is held at the trial's; no pre-peak
 hardening (CSCM's N_H, C_H); Willam-Warnke with a constant ratio e instead of Rubin's
 pressure-dependent Q_1, Q_2. Consequence measured at a material point
-(tests/impact/effects/test_cap_plasticity.py, 2026-12-02): in triaxial compression the stress
+(tests/impact/effects/test_cap_plasticity.py): in triaxial compression the stress
 settles on the coupled surface with F_c < 1 (at 25 MPa confinement q = 112.6 MPa against the
 uncoupled meridian's √3 F_f = 137.4 MPa, −18 %), not on the meridian.
 
@@ -90,11 +89,14 @@ from dataclasses import dataclass
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.impact.effects import F_C
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "cap_plasticity", "CAP_PLASTICITY", "CSCM-like curved compression "
                 "meridian (Murray 2007 fits), Willam-Warnke Lode dependence, CSCM's elliptical "
-                "compaction cap from X0", requires=("material.f_c",), conflicts=("plasticity",))
+                "compaction cap from X0", conflicts=("plasticity",),
+                # Concrete.cap_vector(): the surface, cap and rate constants
+                params=(F_C, Param("cap", None, size=22)))
 
 MPA = 1e6
 R_CAP = 5.0  # CSCM's cap ellipticity R (revision 1 default, Murray 2007)

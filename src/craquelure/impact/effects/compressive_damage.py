@@ -15,8 +15,8 @@ compression, the plastic work after the peak is :math:`\varepsilon_{fc}\int\sigm
 G_{fc}/\ell_c`: the crushing band ℓ_c (the tensile crack band, :func:`.damage.crack_band_width`)
 dissipates G_fc per unit area. The curved meridian and CSCM's cap make σ_u fall faster than
 1 − D (the strength drops with the pressure), ∫σ_u dD = 0.30 f_c instead of 0.5 f_c, so
-ε_fc = 0.081 at ℓ_c = 8 mm (0.048 for a linear drop; 0.093 before the cap was put at X0,
-2026-12-02). :math:`D_{c,max}` = 0.99 keeps a residual shear strength
+ε_fc = 0.081 at ℓ_c = 8 mm (0.048 for a linear drop; 0.093 with the cap at κ0 = X0).
+:math:`D_{c,max}` = 0.99 keeps a residual shear strength
 of 1 % (a fluid-like crushed zone would let the contact particles interpenetrate).
 
 Differences from CSCM [D]: CSCM's ductile damage is an exponential function of an energy norm
@@ -29,11 +29,12 @@ import math
 import numpy as np
 from numba import njit
 
+from craquelure.impact.effects import F_C, G_F
 from craquelure.registry import Effect
 
 EFFECT = Effect("impact", "compressive_damage", "COMPRESSIVE_DAMAGE", "ductile damage: shear "
                 "surface x (1 - D_c), D_c linear in plastic strain, G_fc = 100 G_F (needs "
-                "cap_plasticity)", requires=("material.f_c", "material.G_F"))
+                "cap_plasticity)", params=(F_C, G_F))
 
 DC_MAX = 0.99
 

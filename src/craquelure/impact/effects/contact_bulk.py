@@ -19,7 +19,7 @@ needed.
 The base receives :math:`-F^c_i`; :math:`F(t) = \sum_i F^c_i` (per metre of thickness in 2D).
 Penalty energy :math:`\tfrac12 k g_i^2` enters the energy balance.
 
-Decision on a (``numerics.contact_a: auto``; spec check 9, measured 2026-11-22,
+Decision on a (``numerics.contact_a: auto``; spec check 9,
 ``tests/impact/effects/test_contact_bulk.py``). The spec writes formula (2) with LS-DYNA's
 default scale factor 0.1, which in 2D gives every particle k = 1.0e9 N/m whatever Δ: a penalty
 layer as compliant as a concrete layer 30Δ thick. The penalty then governs the contact instead
@@ -52,12 +52,13 @@ overrides ``auto``.
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.impact.effects import BULK, SHEAR
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "contact_bulk", "CONTACT_BULK",
                 "rigid-base penalty contact, k = a K A / l_max, kinematic fallback for m -> 0",
-                requires=("numerics.contact_a", "material.bulk_modulus",
-                          "material.shear_modulus"), conflicts=("contact_mass",))
+                requires=("numerics.contact_a",), conflicts=("contact_mass",),
+                params=(BULK, SHEAR, Param("k_bulk", None, "N/m"), Param("kinematic_ratio")))
 
 
 def bulk_stiffness(a: float, bulk: float, spacing: float, dim: int = 2) -> float:

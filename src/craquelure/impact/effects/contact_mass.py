@@ -12,11 +12,12 @@ the tests show failing. ``numerics.contact_a: auto`` gives it the spec's a = 0.1
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "contact_mass", "CONTACT_MASS",
                 "rigid-base penalty contact, k_i = a m_i / dt^2 (fails for zero masses)",
-                requires=("numerics.contact_a",), conflicts=("contact_bulk",))
+                requires=("numerics.contact_a",), conflicts=("contact_bulk",),
+                params=(Param("contact_a"),))
 
 # LS-DYNA's SOFSCL default (spec section 5), the value of ``contact_a: auto`` for this formula
 DEFAULT_SCALE = 0.1

@@ -16,7 +16,7 @@ principal values and axes come from Jacobi rotations (:func:`principal`).
 
 Crack-band width [D, calibrated by spec check 7, ``tests/impact/test_experiments.py``]: the spec's
 first guess ℓ_c = h(0) over-dissipates, because the band the SPH kernel actually produces is wider
-than h(0). Measured on the notched 200 mm bar pulled at 0.05 m/s (2026-11-22): the crack between
+than h(0). Measured on the notched 200 mm bar pulled at 0.05 m/s: the crack between
 two particle columns softens *both* columns (the velocity gradient across the opening is shared
 by the particles on either side), so the band is never narrower than 2Δ; at κ = 0.7 and 1.0 it
 is exactly 2 columns, at κ = 1.5 (h(0) = 1.8Δ) 3 columns. With ℓ_c = h(0) = 1.2Δ the dissipation
@@ -43,11 +43,12 @@ import math
 import numpy as np
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.impact.effects import F_T, G_F
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "damage", "DAMAGE",
                 "Rankine tensile damage, crack band, linear softening (f_t, G_F)",
-                requires=("material.f_t", "material.G_F"))
+                params=(F_T, G_F, Param("eps_0"), Param("eps_f")))
 
 
 def crack_band_width(spacing: float, h0: float) -> float:

@@ -23,11 +23,12 @@ The increment is explicit (forward Euler over the step with the mid-step gradien
 
 from numba import njit
 
+from craquelure.impact.effects import BULK, SHEAR
 from craquelure.registry import Effect
 
 EFFECT = Effect("impact", "elasticity", "ELASTICITY",
                 "hypo-elastic effective stress, Jaumann rate (K, G), plane strain or stress",
-                requires=("material.bulk_modulus", "material.shear_modulus"))
+                params=(BULK, SHEAR))
 
 
 @njit(inline="always", cache=True)

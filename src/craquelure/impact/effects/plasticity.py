@@ -23,11 +23,12 @@ import math
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.impact.effects import F_C
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "plasticity", "PLASTICITY",
                 "Drucker-Prager radial return (f_c, f_bc = 1.16 f_c), zero dilatancy",
-                requires=("material.f_c",))
+                params=(F_C, Param("alpha_dp"), Param("k_dp", None, "Pa")))
 
 
 def dp_constants(f_c: float, f_bc_ratio: float) -> tuple[float, float]:

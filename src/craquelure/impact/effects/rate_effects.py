@@ -76,12 +76,13 @@ import math
 
 from numba import njit
 
+from craquelure.impact.effects import F_C, F_T
 from craquelure.impact.effects.damage import principal
 from craquelure.registry import Effect
 
 EFFECT = Effect("impact", "rate_effects", "RATE_EFFECTS", "CSCM's viscoplastic (Duvaut-Lions) "
                 "rate effects (opt-in; needs cap_plasticity and damage)",
-                requires=("material.f_c", "material.f_t"))
+                params=(F_C, F_T))
 
 # the rate constants in the kernels' parameter vector, in this order (keep together)
 RATE_PARAMS = ("eta0_t", "n_t", "eta0_c", "n_c", "overt", "overc", "srate", "repow")

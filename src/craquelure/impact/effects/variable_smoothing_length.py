@@ -15,11 +15,12 @@ import math
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("impact", "variable_smoothing_length", "VARIABLE_SMOOTHING_LENGTH",
                 "Benz smoothing-length evolution dh/dt = (h/d) tr L, clamped",
-                requires=("numerics.h_min", "numerics.h_max"))
+                params=(Param("h_min", "numerics.h_min", "m"),
+                        Param("h_max", "numerics.h_max", "m")))
 
 
 @njit(inline="always", cache=True)

@@ -7,13 +7,18 @@ friction rate :math:`c_f` on the horizontal velocity; both damping terms are imp
 the update and their work is booked as dissipation.
 """
 
+import math
+
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("lattice", "bed", "BED",
                 "elastic bed below the body: spring + damping vertically, drag friction",
-                requires=("bed.stiffness", "domain.bed_level"))
+                params=(Param("bed_level", "domain.bed_level", "length", neutral=-math.inf),
+                        Param("bed_stiffness", "bed.stiffness", "force/length"),
+                        Param("bed_damping", None, "1/time"),  # from bed.damping_ratio and m
+                        Param("bed_friction", "bed.friction_rate", "1/time")))
 
 
 @njit(inline="always", cache=True)

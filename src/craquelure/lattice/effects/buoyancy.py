@@ -6,13 +6,21 @@ A particle whose centre is below :math:`y_w` gets :math:`F_y = \rho_w g V_p` wit
 centre decides (no partial immersion), so the force jumps at the water line.
 """
 
+import math
+
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("lattice", "buoyancy", "BUOYANCY",
                 "buoyancy rho_w g m/rho_i on particles below the water line",
-                requires=("material.g", "material.rho_w", "material.rho", "domain.water_level"))
+                requires=("domain.water_level",),
+                params=(Param("g", "material.g", "length/time^2"),
+                        Param("slope_angle", "material.slope_angle", "rad", convert=math.radians),
+                        Param("water_level", "domain.water_level", "length", neutral=-math.inf,
+                              optional=True),
+                        Param("rho_w", "material.rho_w", "mass/area"),
+                        Param("rho", "material.rho", "mass/area", neutral=1.0)))
 
 
 @njit(inline="always", cache=True)

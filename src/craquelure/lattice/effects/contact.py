@@ -12,11 +12,16 @@ import math
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("lattice", "contact", "CONTACT",
                 "Hertz-like repulsion k_c (d - r)^1.5 between unbonded particles, with friction",
-                requires=("contact.stiffness",))
+                params=(Param("contact_stiffness", "contact.stiffness", "force/length^1.5"),
+                        Param("friction", "contact.friction"),
+                        # NaN when off: the engine refuses a contact run without them
+                        Param("skin", "contact.skin", "length", neutral=math.nan),
+                        Param("friction_viscosity", "contact.friction_viscosity", "time",
+                              neutral=math.nan)))
 
 
 @njit(inline="always", cache=True)

@@ -20,11 +20,13 @@ import math
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("lattice", "fracture", "FRACTURE",
                 "remove beams on the elliptical (sigma/sigma0)^2 + (tau/tau0)^2 >= 1 criterion",
-                requires=("material.sigma0", "material.tau0"))
+                params=(Param("sigma0", "material.sigma0", "stress", neutral=1.0),
+                        Param("tau0", "material.tau0", "stress", neutral=1.0),
+                        Param("fracture_start", "fracture.start_time", "time")))
 
 
 @njit(inline="always", cache=True)

@@ -6,13 +6,16 @@ simulated in the frame of the bed, x along the slope), energy
 :math:`-F\cdot(r - r_{ref})` with the initial positions as reference.
 """
 
+import math
+
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("lattice", "gravity", "GRAVITY",
                 "uniform gravity m g, vertical or along a slope (material.slope_angle)",
-                requires=("material.g",))
+                params=(Param("g", "material.g", "length/time^2"),
+                        Param("slope_angle", "material.slope_angle", "rad", convert=math.radians)))
 
 
 @njit(inline="always", cache=True)

@@ -17,11 +17,12 @@ reproducible for any number of threads.
 import numpy as np
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("lattice", "melting", "MELTING",
                 "random melting of beams at rate 2 A E_b^2 U/a^2, re-forming stress-free",
-                requires=("melting.rate_factor",))
+                params=(Param("melt_rate_factor", "melting.rate_factor"),
+                        Param("frozen_rate", "melting.frozen_rate", "1/time")))
 
 
 @njit(inline="always", cache=True)

@@ -26,11 +26,15 @@ lubrication force itself, :math:`f_{ij} = -Z(v_i - v_j)`.
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("softdyn", "hertz", "HERTZ",
                 "elastic surfaces f = E a (k_n s n + k_t q), a^2 = R (h + |s|)",
-                requires=("material.young", "material.k_n", "material.k_t"))
+                requires=("material.young",),
+                # rigid spheres when off: unit stiffnesses (compiled out; the Hertz theory's h*
+                # of a rigid scene is quoted at k_n = 1)
+                params=(Param("k_n", "material.k_n", neutral=1.0),
+                        Param("k_t", "material.k_t", neutral=1.0)))
 
 
 @njit(inline="always", cache=True)

@@ -15,12 +15,13 @@ every softdyn scene must list it; :mod:`craquelure.softdyn.engine` says so when 
 
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 # flag None: always compiled in or handled outside the kernel
 EFFECT = Effect("softdyn", "lubrication_normal", None,
                 "Poiseuille squeeze film, zeta_n = c_n eta a^4 / h^3",
-                requires=("material.viscosity", "material.c_n"))
+                params=(Param("eta", "material.viscosity", "viscosity"),
+                        Param("c_n", "material.c_n")))
 
 
 @njit(inline="always", cache=True)

@@ -11,13 +11,17 @@ and the tangential velocity may be undetermined (a pair with no force can slide 
 velocity system is then solved in the minimum-norm least-squares sense [D].
 """
 
+import math
+
 from numba import njit
 
-from craquelure.registry import Effect
+from craquelure.registry import Effect, Param
 
 EFFECT = Effect("softdyn", "lubrication_tangential", "LUBRICATION_TANGENTIAL",
                 "Couette sliding film, zeta_t = c_t eta a^2 / h",
-                requires=("material.viscosity", "material.c_t"))
+                params=(Param("eta", "material.viscosity", "viscosity"),
+                        # no sliding film when off: the Couette prefactor pi (compiled out)
+                        Param("c_t", "material.c_t", neutral=math.pi)))
 
 
 @njit(inline="always", cache=True)

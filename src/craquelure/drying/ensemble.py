@@ -68,7 +68,10 @@ median first removal, first, half and all samples broken. Conditions: first samp
 0.45 t*, all broken by 0.9 t*. These are extreme values of the source's 100 samples: with fewer
 samples a pass of "all broken" and a miss of "first broken" could reverse with more samples
 (the maximum grows, the minimum falls with the count), so those outcomes are undecided below
-100 samples; the opposite outcomes are decided at any count.
+100 samples; the opposite outcomes are decided at any count. Reported beside the verdict, at
+the source's 100 samples drawn from the measured break times: the rate at which both
+conditions hold, and the power, the rate at which they fail when every sample breaks 25 %
+later (the named alternative).
 """
 
 from __future__ import annotations
@@ -79,7 +82,7 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
-from craquelure.validation import POWER_NEEDED, fraction_interval, verdict_of
+from craquelure.validation import POWER_NEEDED, bootstrap_interval, fraction_interval, verdict_of
 
 LEVEL = 0.01  # tests (a) and (b) of check 14
 SEVERAL_FRAGMENTS = 4  # (c): t0 bound where every sample has >= 4 fragments (mean <= L^2/4)
@@ -89,6 +92,7 @@ UPPER_PERCENTILE = 95.0
 WIDTH_DRIFT = 0.25  # check 15's alternative
 FIRST_BROKEN_MAX, ALL_BROKEN_MAX = 0.45, 0.9  # check 16, in t*
 SOURCE_SAMPLES = 100  # the source's sample count (check 16's extremes)
+ONSET_DELAY = 0.25  # check 16's named alternative: every sample breaks 25 % later
 N_POWER = 1000  # power draws, check 14
 N_POWER_COLLAPSE = 100  # power draws, check 15 (each has its own bootstrap)
 N_BOOT_COLLAPSE = 200  # bootstrap replicates inside each collapse power draw
@@ -258,6 +262,7 @@ def check_inverse_area(t: np.ndarray, total: np.ndarray, count: np.ndarray, t_st
         "inverse_mean_area": y.tolist(), "inverse_mean_area_se": se.tolist(),
         "inverse_mean_area_se_bootstrap": se_raw.tolist(), "error_scale_dof": nu,
         "slope_b": b, "slope_b_ci95": _ci(boot["b"]), "slope_over_b_star": b / b_star,
+        "intercept_a": a,
         "x_intercept_t0": t0, "t0_ci95": _ci(t0_boot), "t0_over_t_star": t0 / t_star,
         "t0_bound_applied": bool(math.isfinite(t0_several)),
         "t0_several_fragments": t0_several, "t0_bound_note": t0_note,
@@ -280,7 +285,7 @@ def _ci(values: np.ndarray) -> list[float] | None:
     values = values[np.isfinite(values)]
     if values.size < 2:
         return None
-    return [float(np.percentile(values, 2.5)), float(np.percentile(values, 97.5))]
+    return bootstrap_interval(values)
 
 
 # --- check 15 -----------------------------------------------------------------------------
@@ -558,6 +563,18 @@ def check_onset(times: np.ndarray, n_fragments: np.ndarray, first_removal: np.nd
     else:
         undecided[f"{name_all}: yes with {n_s} samples (more samples break later)"] = need
     verdict, note = verdict_of(conditions, undecided)
+    # At the source's sample size, from the measured break times (samples drawn with
+    # replacement): how often both conditions hold, and how often they fail when every break
+    # comes ONSET_DELAY later (the named alternative).
+    draws = rng.integers(0, n_s, size=(n_boot, SOURCE_SAMPLES))
+
+    def holds(scale: float) -> np.ndarray:
+        b = breaks[draws] * scale / t_star
+        return (b.min(axis=1) <= FIRST_BROKEN_MAX) & (b.max(axis=1) <= ALL_BROKEN_MAX)
+
     out.update({"conditions": conditions, "undecided": undecided, "verdict": verdict,
-                "note": note})
+                "note": note, "alternative": f"every break {ONSET_DELAY:.0%} later",
+                "confirmation_rate": float(holds(1.0).mean()),
+                "power": float(1.0 - holds(1.0 + ONSET_DELAY).mean()),
+                "rates_at_samples": SOURCE_SAMPLES})
     return out

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from craquelure.drying import statistics
+from craquelure.drying import ensemble
 
 TIMES = np.arange(180.0, 301.0, 10.0)
 T_STAR = 5e-3 / 2.2e-5
@@ -55,12 +55,12 @@ def campaign(law, n_seeds, shape=1.0, seed=1, drift=0.0):
 
 
 def check14(data, n_power=400):
-    return statistics.check_inverse_area(TIMES, data[3], data[4], T_STAR, B_STAR, n_boot=200,
+    return ensemble.check_inverse_area(TIMES, data[3], data[4], T_STAR, B_STAR, n_boot=200,
                                      n_power=n_power)
 
 
 def check15(data, n_seeds, n_draws=20):
-    return statistics.check_collapse(data[0], data[1], data[2], n_seeds, TIMES.size, n_boot=200,
+    return ensemble.check_collapse(data[0], data[1], data[2], n_seeds, TIMES.size, n_boot=200,
                                  n_draws=n_draws, n_boot_power=60)
 
 
@@ -127,7 +127,7 @@ def test_margins_are_half_what_the_named_drift_does():
     that a 25 % width drift produces on the first snapshot's distribution. Exponential X:
     Var X = 1, so <X^2>_t = 1 + w_t^2 with w_t from 1 to 0.75 over the 13 snapshots."""
     x = np.random.default_rng(3).exponential(1.0, 200_000)
-    m = statistics.drift_margins(x, TIMES.size)
+    m = ensemble.drift_margins(x, TIMES.size)
     w = 1.0 - 0.25 * np.arange(TIMES.size) / (TIMES.size - 1)
     x2 = 1.0 + w**2
     assert m["cv_drift"] == pytest.approx(np.std(x2, ddof=1) / np.mean(x2), rel=0.01)
@@ -172,23 +172,23 @@ def test_collapse_of_few_samples_names_the_sample_it_needs():
 def test_onset_verdicts_respect_what_the_sample_size_can_decide():
     times = np.arange(10.0, 101.0, 10.0)  # t* = 100
     early = np.tile((times >= 30.0) + 1, (5, 1))  # every sample broken at 0.3 t*
-    out = statistics.check_onset(times, early, np.full(5, 25.0), 100.0, 0.05, n_boot=100)
+    out = ensemble.check_onset(times, early, np.full(5, 25.0), 100.0, 0.05, n_boot=100)
     assert out["first_sample_broken"]["over_t_star"] == pytest.approx(0.3)
     # First broken by 0.45 t* decides; "all broken by 0.9 t*" on 5 samples does not.
     assert out["verdict"] == "inconclusive" and "100 samples" in out["note"]
     late = np.tile((times >= 95.0) + 1, (5, 1))  # all break at 1.0 t*
-    out = statistics.check_onset(times, late, np.full(5, 80.0), 100.0, 0.05, n_boot=100)
+    out = ensemble.check_onset(times, late, np.full(5, 80.0), 100.0, 0.05, n_boot=100)
     # All broken later than 0.9 t* decides (more samples only break later).
     assert out["verdict"] in ("partly", "not reproduced")
     assert not out["conditions"]["all samples broken by 0.9 t*"]
     many = np.tile((times >= 30.0) + 1, (100, 1))
-    out = statistics.check_onset(times, many, np.full(100, 25.0), 100.0, 0.05, n_boot=100)
+    out = ensemble.check_onset(times, many, np.full(100, 25.0), 100.0, 0.05, n_boot=100)
     assert out["verdict"] == "reproduced"
     assert out["all_samples_broken"]["ci95_over_t_star"] == [pytest.approx(0.3)] * 2
     assert out["unbroken_at_end"] == 0 and out["unbroken_at_end_ci95"][0] == 0.0
     assert out["unbroken_at_end_ci95"][1] == pytest.approx(1 - 0.025 ** (1 / 100))
     never = np.ones((8, times.size), int)  # 8 samples, one fragment throughout
-    out = statistics.check_onset(times, never, np.full(8, 25.0), 100.0, 0.05, n_boot=100)
+    out = ensemble.check_onset(times, never, np.full(8, 25.0), 100.0, 0.05, n_boot=100)
     assert out["unbroken_at_end_fraction"] == 1.0
     assert out["unbroken_at_end_ci95"] == [pytest.approx(0.025 ** (1 / 8)), 1.0]
 
@@ -199,3 +199,21 @@ def test_claim_recomputed_from_a_three_seed_collapse_check_stays_inconclusive():
     c15 = check15(campaign(offset_inverse_law, 3), 3)
     assert not all(c15["equivalence"].values())  # the bounds fail on 3 seeds ...
     assert _verdict(c15)[0] == c15["verdict"] == "inconclusive"  # ... and that decides nothing
+
+
+def test_check16_rates_at_the_source_sample_size():
+    """Break times spread over 0.3-0.8 t*: at 100 samples both conditions hold nearly always,
+    and 25 % later breaks (0.375-1.0 t*) pass 0.9 t* for the last sample: the power is high.
+    Breaks over 0.1-0.5 t* stay within both bounds 25 % later: no power."""
+    t_star = 100.0
+    times = np.arange(5.0, 121.0, 5.0)
+
+    def counts(break_over_t_star):
+        return np.array([np.where(times >= b * t_star, 3, 1) for b in break_over_t_star])
+
+    spread = np.linspace(0.3, 0.8, 20)
+    c16 = ensemble.check_onset(times, counts(spread), spread * t_star - 5, t_star, 0.02, 400)
+    assert c16["confirmation_rate"] > 0.95 and c16["power"] > 0.95
+    early = np.linspace(0.1, 0.5, 20)
+    c16 = ensemble.check_onset(times, counts(early), early * t_star - 5, t_star, 0.02, 400)
+    assert c16["confirmation_rate"] > 0.95 and c16["power"] < 0.05

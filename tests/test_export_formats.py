@@ -14,7 +14,7 @@ import pytest
 import xarray as xr
 
 from craquelure import cli
-from craquelure.export import export, frames_from_dataset
+from craquelure.export_formats import export, frames_from_dataset
 
 RNG = np.random.default_rng(17)
 T, N = 3, 11
