@@ -48,6 +48,13 @@ def test_run_dataset_is_complete_and_deterministic(tmp_path):
     assert not [k for k in a.attrs if k.startswith("metric_")]  # a run computes no analysis
     c = open_dataset(run(scene, tmp_path / "c.nc", seed=4))
     assert not np.array_equal(a["mass"].values, c["mass"].values)
+    # the strength-to-load ratio: peak contact force over pi D t f_t / 2, 2D per metre (t = 1)
+    load = np.pi * 2.0 * a.attrs["radius"] * scene.get("material.f_t") / 2.0
+    assert float(a["static_splitting_load"]) == pytest.approx(load, rel=1e-12)
+    assert a["static_splitting_load"].attrs["units"] in ("N/m", "N m-1")
+    assert float(a["strength_to_load"]) == pytest.approx(
+        a["series_contact_force"].values.max() / load, rel=1e-12)
+    assert a["strength_to_load"].attrs["long_name"].startswith("peak contact force over")
 
 
 @pytest.mark.parametrize("overrides,expected", [

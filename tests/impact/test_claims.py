@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from craquelure.impact import claims
 
 SUMMARY = {
@@ -26,16 +28,18 @@ SUMMARY = {
     ],
 }
 
+NO = "without rate effects"
+
 
 def test_findings_keep_their_computed_status(tmp_path):
     path = tmp_path / "summary.json"
     path.write_text(json.dumps(SUMMARY))
-    out = [c for c in claims.claims([path]) if not c.claim.startswith("[3D]")]
+    out = [c for c in claims.claims([path]) if not c.claim.startswith("[3D, ")]
     assert [c.verdict for c in out[:2]] == ["reproduced", "not reproduced"]
     assert out[0].measured == "fraction = 0.963; angles = [41, 29.6]"
     assert out[1].measured.startswith("coverage = median 0.2 [95 % 0.2, 0.2], n = 1")
     assert "3 heterogeneous specimens" in out[1].note and "fails: covers" in out[1].note
-    assert out[0].claim.startswith("[2D]")
+    assert out[0].claim.startswith(f"[2D, {NO}]")
     # too few seeds: inconclusive, never reproduced
     assert out[2].verdict == "inconclusive" and out[2].note.startswith("inconclusive: 3 seeds")
 
@@ -66,14 +70,14 @@ def test_3d_and_2d_verdicts_side_by_side(tmp_path):
     out = claims.claims([path])
     rows = [(c.claim, c.verdict) for c in out][:6]
     assert "8 heterogeneous specimens" in out[0].note and "3 heterogeneous" in out[1].note
-    assert rows[0] == ("[3D] pf2: failure follows the zero-mass line", "reproduced")
-    assert rows[1] == ("[2D] pf2: failure follows the zero-mass line", "reproduced")
-    assert rows[2] == ("[3D] pf1: failure follows the zero-mass line", "reproduced")
-    assert rows[3] == ("[2D] pf1: failure follows the zero-mass line", "not reproduced")
-    assert rows[4] == ("[3D] kappa = 1: several main cracks", "inconclusive")
+    assert rows[0] == (f"[3D, {NO}] pf2: failure follows the zero-mass line", "reproduced")
+    assert rows[1] == (f"[2D, {NO}] pf2: failure follows the zero-mass line", "reproduced")
+    assert rows[2] == (f"[3D, {NO}] pf1: failure follows the zero-mass line", "reproduced")
+    assert rows[3] == (f"[2D, {NO}] pf1: failure follows the zero-mass line", "not reproduced")
+    assert rows[4] == (f"[3D, {NO}] kappa = 1: several main cracks", "inconclusive")
     missing = claims.claims([path])[4]
     assert missing.note == "not run: profile default has no 3D runs of this case"
-    assert rows[5] == ("[2D] kappa = 1: several main cracks", "inconclusive")
+    assert rows[5] == (f"[2D, {NO}] kappa = 1: several main cracks", "inconclusive")
 
 
 def test_fractional_condition_shows_statistic_intervals_and_power():
@@ -103,3 +107,19 @@ def test_rows_off_the_source_configuration_say_they_are_sensitivities():
     summary["material_model_by_dim"]["3D"] = ["drucker_prager"]
     three = caveat_of(summary, "3D")
     assert "sensitivity" in three and "slice" not in three
+
+
+def test_rows_with_rate_effects_say_so_and_show_their_pictures(tmp_path):
+    """summary_rate.json (runs with CSCM's rate effects): every row says 'with rate effects',
+    its 3D rows point at the rate campaign's judged-run pictures."""
+    three = [dict(f, dim="3D") for f in SUMMARY["findings"]]
+    path = tmp_path / "summary_rate.json"
+    path.write_text(json.dumps(dict(SUMMARY, findings=three, material_model_by_dim={
+        "3D": ["cap+compressive_damage+rate_effects"]})))
+    out = claims.claims([path])
+    assert all(c.claim.startswith(("[3D, with rate effects]", "[2D, with rate effects]",
+                                   "[with rate effects]")) for c in out)
+    assert {c.figure for c in out if c.claim.startswith("[3D")} <= {
+        "impact_judged_rate_opening_maps.png", "impact_judged_rate_time_sequence.png"}
+    with pytest.raises(ValueError, match="unexpected source"):
+        claims.claims([tmp_path / "other.json"])

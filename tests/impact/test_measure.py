@@ -198,11 +198,21 @@ def test_two_adjacent_opened_gaps_are_one_crack_three_are_two():
     assert measure(x0, y0, two, y0.copy())["row_runs_cracks"] == "2"
 
 
-def test_crushed_pairs_are_not_cracks():
-    x0, y0, _ = opening_disc()
+def test_a_crack_through_a_crushed_block_is_one_main_crack():
+    """A crushed column 48 mm wide from the contact to 12 mm above the centre row (the
+    issue's crushed block), split rigidly through its middle at x = 0 (halves 1 mm apart):
+    the pairs across the split are crushed on both sides and count, so the split is one main
+    crack crossing the centre row at x = 0; the same block unsplit opens nothing."""
+    x0, y0, yc = opening_disc()
+    block = (np.abs(x0) <= 0.024) & (y0 <= yc + 0.012)
+    plastic = np.where(block, 0.02, 0.0)
     x = x0 + np.where(x0 > 0, 0.5e-3, -0.5e-3)
-    plastic = np.full(x0.size, 0.01)
-    assert measure(x0, y0, x, y0.copy(), plastic=plastic)["n_cracks_opening"] == 0
+    out = measure(x0, y0, x, y0.copy(), plastic=plastic)
+    assert out["n_main_cracks_opening"] == 1
+    assert out["row_runs_x_mm"] == "0"
+    assert out["row_runs_opening_mm"] == "1.000"
+    assert out["main_run_share"] == pytest.approx(1.0)
+    assert measure(x0, y0, x0.copy(), y0.copy(), plastic=plastic)["n_cracks_opening"] == 0
 
 
 def test_a_crack_away_from_the_line_counts_elsewhere():

@@ -181,7 +181,7 @@ def test_class_settles_from_the_last_change():
 def _row(dim, a, f_t, v, n):
     return {"dim": dim, "scene": "s" + dim, "contact_a": a, "f_t": f_t, "impact_velocity": v,
             "t_end": 3e-4 if dim == "3D" else 5e-4, "n_main_cracks": n, "centre_crossings": n,
-            "n_main_cracks_softening": n,
+            "n_main_cracks_softening": n, "strength_to_load": 5.0 / (1 + n),
             "class": regime.classify(n), "class_settled_from": 2e-4}
 
 
@@ -194,9 +194,10 @@ def test_figure_has_a_row_of_panels_per_dimension(tmp_path):
     assert maps["2D"]["classes"] == {"no main crack": 1, "splits once": 1, "fans out": 1}
     assert maps["2D"]["n_changed_at_end"] == 0
     titles = regime.figure_regime(rows, tmp_path / "map.png", "test")
+    ratio = "class against peak contact force / static splitting load"
     assert titles == ["2D, s2D, 500 us: penalty scale a = 0.1",
-                      "2D, s2D, 500 us: penalty scale a = 6.27",
-                      "3D, s3D, 300 us: penalty scale a = 6.27"]
+                      "2D, s2D, 500 us: penalty scale a = 6.27", f"2D: {ratio}",
+                      "3D, s3D, 300 us: penalty scale a = 6.27", f"3D: {ratio}"]
     assert (tmp_path / "map.png").read_bytes()[:4] == b"\x89PNG"
 
 

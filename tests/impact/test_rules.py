@@ -3,12 +3,14 @@ values) and the memory estimate, whose particle count is the specimen's."""
 
 import re
 
+import numpy as np
 import pytest
 
+from craquelure import cli
 from craquelure.errors import SceneError
 from craquelure.impact import rules
 from craquelure.impact.initial_state import build_specimen
-from craquelure.scene import load_scene
+from craquelure.scene import list_scenes, load_scene
 
 
 @pytest.mark.parametrize("scene, overrides, message", [
@@ -53,3 +55,28 @@ def test_memory_estimate_counts_the_specimens_particles(scene, overrides):
     bigger = load_scene(scene, [*overrides, f"particles.diameter_cells={2 * d}"])
     more = build_specimen(bigger, 0).x.size
     assert rules.memory_estimate(bigger.data)[0] - need >= (more - built) * 8 * 80
+
+
+@pytest.mark.parametrize("case", range(4))
+def test_fuzzed_scene_with_a_snapshot_after_the_end_is_refused(case, capsys):
+    """Four fuzzed impact scenes (scene, end time, snapshot times drawn from seed 39 + case),
+    one snapshot time after outputs.t_end: `craquelure check` refuses each with one line
+    naming outputs.snapshot_times and the allowed range [0, t_end]; the same scene with that
+    time moved to t_end passes."""
+    rng = np.random.default_rng(39 + case)
+    names = sorted(n for n, _ in list_scenes() if n.startswith("impact/"))
+    name = names[rng.integers(len(names))]
+    t_end = float(rng.uniform(5e-5, 1e-3))
+    late = t_end * float(rng.uniform(1.01, 3.0))
+    early = sorted(float(v) for v in rng.uniform(0.0, t_end, size=rng.integers(0, 3)))
+    times = [*early, late]
+    sets = ["--set", f"outputs.t_end={t_end!r}"]
+    assert cli.main(["check", name, *sets, "--set",
+                     f"outputs.snapshot_times=[{', '.join(map(repr, times))}]"]) != 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert f"outputs.snapshot_times: {late!r} is after outputs.t_end = {t_end!r}" in err[0]
+    assert "[0, t_end]" in err[0]
+    ok = [*early, t_end]
+    assert cli.main(["check", name, *sets, "--set",
+                     f"outputs.snapshot_times=[{', '.join(map(repr, ok))}]"]) == 0

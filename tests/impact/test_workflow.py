@@ -125,3 +125,36 @@ def test_regime_runs_and_their_overrides_are_valid_scenes():
     assert scene.get("particles.impact_velocity") == 15
     assert scene.get("outputs.t_end") == pytest.approx(5e-4)
     assert standard_concrete().f_t == pytest.approx(3.216e6, rel=1e-3)
+
+
+def test_paper_profile_runs_check_12_with_and_without_rate_effects():
+    """impact.rate: the same campaign with the rate scenes, 3D runs under cscm3d_rate with the
+    3D campaign's resources and overrides; the rate-free campaign is unchanged."""
+    sec = section("paper.yaml")
+    rate = workflow.with_rate_effects(sec)
+    plain_3d, rate_3d = workflow.campaign_runs_3d(sec), workflow.campaign_runs_3d(rate)
+    assert len(rate_3d) == len(plain_3d) >= 10
+    assert all("/cscm3d/" in p for p in plain_3d) and all("/cscm3d_rate/" in p for p in rate_3d)
+    assert all("/cscm_rate/" in p for p in workflow.campaign_runs(rate))
+    assert [p.replace("cscm3d_rate", "cscm3d") for p in rate_3d] == plain_3d
+    three = SimpleNamespace(scene="cscm3d_rate")
+    assert workflow.run_resource(sec, "threads")(three) == sec["three_d"]["threads"]
+    assert workflow.run_resource(sec, "threads")(SimpleNamespace(scene="cscm_rate")) == \
+        sec["threads"]
+    assert workflow.with_rate_effects(section("ci.yaml")) is None
+
+
+def test_strength_sweep_runs_and_overrides():
+    """impact.strength_sweep: 5 factors x (homogeneous + 3 seeds) = 20 3D runs; f_t is the
+    factor times the scene's, G_F untouched."""
+    sec = section("paper.yaml")
+    runs = workflow.strength_runs(sec)
+    assert len(runs) == 20 and len(set(runs)) == 20
+    assert "results/impact/strength/cscm3d/x2.5/homogeneous/seed0.nc" in runs
+    assert "results/impact/strength/cscm3d/x1.5/uniform/seed3.nc" in runs
+    args = shlex.split(workflow.strength_overrides(sec)(SimpleNamespace(
+        scene="cscm3d", factor="2.5", masses="uniform")))
+    f_t = float(args[args.index("--set") + 1].split("=")[1])
+    assert f_t == pytest.approx(2.5 * load_scene("impact/cscm3d").get("material.f_t"))
+    assert "material.G_F" not in " ".join(args)
+    assert workflow.strength_runs(section("ci.yaml")) == []

@@ -371,4 +371,19 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
         "run_max_penetration": eng.max_penetration, "run_kinematic_impulse": eng.impulse_kin,
         "run_contact_force_peak_step": eng.force_peak,  # steps: the runner's run_steps
     })
+    load, unit = splitting_load(scene, sp)
+    ds["static_splitting_load"] = ((), load, {
+        "units": unit, "long_name": "static splitting load pi D t f_t / 2 of the disc"
+        + (" per metre of thickness (t = 1 m)" if sp.dim == 2 else "")})
+    ds["strength_to_load"] = ((), float(np.max(series["contact_force"], initial=0.0)) / load, {
+        "units": "1", "long_name": "peak contact force over the static splitting load"})
     return ds
+
+
+def splitting_load(scene: Scene, sp) -> tuple[float, str]:
+    """The disc's static splitting (Brazilian) load pi D t f_t / 2 with the scene's f_t: 3D t =
+    thickness_cells x spacing [N]; 2D per metre of thickness, t = 1 m [N/m], the unit of the 2D
+    contact force."""
+    thick = scene.get("particles.thickness_cells") * sp.spacing if sp.dim == 3 else 1.0
+    load = math.pi * 2.0 * sp.radius * thick * scene.get("material.f_t") / 2.0
+    return load, "N" if sp.dim == 3 else "N/m"

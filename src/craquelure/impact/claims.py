@@ -91,9 +91,10 @@ FIGURES = (("homogeneous:", "impact_damage_homogeneous.png"),
 FIGURES_3D = (("pf", "impact_judged_time_sequence.png"), ("", "impact_judged_opening_maps.png"))
 
 
-def figure_of(finding: dict) -> str:
+def figure_of(finding: dict, rate: bool = False) -> str:
     if finding.get("dim", "2D") != "2D":
-        return next(name for prefix, name in FIGURES_3D if finding["finding"].startswith(prefix))
+        name = next(name for prefix, name in FIGURES_3D if finding["finding"].startswith(prefix))
+        return name.replace("judged_", "judged_rate_") if rate else name
     return next((name for prefix, name in FIGURES if finding["finding"].startswith(prefix)), "")
 
 
@@ -117,7 +118,7 @@ def deciding_number(finding: dict) -> str:
     return ""
 
 
-def finding_claim(finding: dict, caveat: str) -> Claim:
+def finding_claim(finding: dict, caveat: str, rate: bool = False) -> Claim:
     """A check-12 finding of :mod:`.check12` (status computed there), with every seed's values
     (all of them are in summary.json too), and each fractional condition's statistic,
     intervals and power."""
@@ -142,14 +143,27 @@ def finding_claim(finding: dict, caveat: str) -> Claim:
     elif status not in VERDICTS:  # a finding whose case did not run
         status = "inconclusive"
         notes.insert(0, "not run")
-    return Claim(MODEL, f"[{dim}] {finding['finding']}", "impact spec section 7; check 12 "
-                 "(revised 2026-12)", finding["criterion"], measured, status, "; ".join(notes),
-                 deciding=deciding_number(finding), figure=figure_of(finding))
+    return Claim(MODEL, f"[{dim}, {rate_label(rate)}] {finding['finding']}", "impact spec "
+                 "section 7; check 12 (revised 2026-12)", finding["criterion"], measured, status,
+                 "; ".join(notes), deciding=deciding_number(finding),
+                 figure=figure_of(finding, rate))
 
 
-def not_run_claim(finding: dict, dim: str, profile: str) -> Claim:
+def rate_label(rate: bool) -> str:
+    return "with rate effects" if rate else "without rate effects"
+
+
+def with_rate(summary: dict) -> bool:
+    """Did the summary's runs use CSCM's rate effects (their material model says so)?"""
+    models = [m for ms in summary.get("material_model_by_dim", {}).values() for m in ms]
+    models += summary.get("material_model", [])
+    return any("rate_effects" in m.split("+") for m in models)
+
+
+def not_run_claim(finding: dict, dim: str, profile: str, rate: bool = False) -> Claim:
     """The row of a dimension the profile did not run, beside the other dimension's."""
-    return Claim(MODEL, f"[{dim}] {finding['finding']}", "impact spec section 7; check 12 "
+    return Claim(MODEL, f"[{dim}, {rate_label(rate)}] {finding['finding']}", "impact spec "
+                 "section 7; check 12 "
                  "(revised 2026-12)", finding["criterion"], f"no {dim} runs", "inconclusive",
                  f"not run: profile {profile} has no {dim} runs of this case",
                  deciding=f"no {dim} runs")
@@ -177,7 +191,9 @@ def caveat_of(summary: dict, dim: str) -> str:
 
 def check12_claims(summary: dict) -> list[Claim]:
     """Check 12's findings with each finding's 3D and 2D rows side by side (3D first, the
-    source's runs); a dimension the profile did not run gets a 'not run' row."""
+    source's runs); a dimension the profile did not run gets a 'not run' row. Each row says
+    whether its runs had CSCM's rate effects."""
+    rate = with_rate(summary)
     names: dict[str, dict] = {}
     for f in summary["findings"]:
         names.setdefault(f["finding"], {})[f.get("dim", "2D")] = f
@@ -185,16 +201,18 @@ def check12_claims(summary: dict) -> list[Claim]:
     for by_dim in names.values():
         for dim in DIMENSIONS:
             if dim in by_dim:
-                out.append(finding_claim(by_dim[dim], caveat_of(summary, dim)))
+                out.append(finding_claim(by_dim[dim], caveat_of(summary, dim), rate))
             else:
-                out.append(not_run_claim(next(iter(by_dim.values())), dim, summary["profile"]))
+                out.append(not_run_claim(next(iter(by_dim.values())), dim, summary["profile"],
+                                         rate))
     return out
 
 
 def robustness_claim(summary: dict) -> Claim:
     err = float(summary["max_energy_balance_error"])
-    return Claim.judged(MODEL, "every variant (zero-mass pre-cracks and kappa = 0.7 included) "
-                        "runs to the end time with no NaN and a closed energy balance",
+    return Claim.judged(MODEL, f"[{rate_label(with_rate(summary))}] every variant (zero-mass "
+                        "pre-cracks and kappa = 0.7 included) runs to the end time with no NaN "
+                        "and a closed energy balance",
                         "issue #5 acceptance; impact spec check 9 tolerance",
                         f"all runs finished; max energy-balance error < {ENERGY_BALANCE_MAX:.0%}",
                         f"{summary['n_runs']} runs, all finished: {summary['all_runs_finished']};"
@@ -209,8 +227,9 @@ def robustness_claim(summary: dict) -> Claim:
 def claims(sources: list[Path]) -> list[Claim]:
     out: list[Claim] = []
     for path in sources:
-        if path.name != "summary.json":
-            raise ValueError(f"impact claims: unexpected source {path} (summary.json)")
+        if path.name not in ("summary.json", "summary_rate.json"):
+            raise ValueError(f"impact claims: unexpected source {path} (summary.json, "
+                             "summary_rate.json)")
         summary = json.loads(path.read_text())
         out += check12_claims(summary)
         out.append(robustness_claim(summary))

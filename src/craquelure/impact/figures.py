@@ -313,3 +313,4 @@ def figure_fragments(runs_by_kappa: dict, out: Path, label: str) -> None:
     ax.set_title(f"fragments (closed pairs, w <= 2 G_F/f_t), {', '.join(sorted(dims))}\n"
                  f"{label}", fontsize=7)
     save(fig, out)
+

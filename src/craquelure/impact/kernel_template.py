@@ -32,7 +32,12 @@ from craquelure.impact.effects.contact_mass import mass_penalty
 from craquelure.impact.effects.damage import damage_update
 from craquelure.impact.effects.elasticity import jaumann_trial, secant_energy_density
 from craquelure.impact.effects.plasticity import dp_return
-from craquelure.impact.effects.rate_effects import increase_factor, principal_rates
+from craquelure.impact.effects.rate_effects import (
+    increase_factor,
+    softening_left,
+    strain_rate,
+    viscoplastic,
+)
 from craquelure.impact.effects.variable_smoothing_length import benz_update
 from craquelure.periodic import minimum_image
 from craquelure.registry import parameter_names
@@ -68,6 +73,7 @@ P_H_MIN, P_H_MAX, P_BASE, P_RC, P_CONTACT_A, P_K_BULK, P_KIN_RATIO = param_indic
     PARAMS, "h_min", "h_max", "base_y", "contact_radius", "contact_a", "k_bulk", "kinematic_ratio")
 P_LX, P_LY, P_LZ = param_indices(PARAMS, "lx", "ly", "lz")
 P_CAP = PARAMS.index("cap")  # Concrete.cap_vector(), contiguous from P_CAP
+P_RATE = P_CAP + 10  # its rate constants (rate_effects.RATE_PARAMS), then f_t, f_c, κ0, R
 P_FLUSH = PARAMS.index("flush_below")
 
 
@@ -154,20 +160,15 @@ def _returned_szz(dzz, sxx, syy, sxy, szz, epsv, epsp, dxx, dyy, dxy, w, dt, prm
 
 @njit(inline="always", cache=True)
 def plastic_return(s, epsv, epsp, d, prm):
-    """Cap model return (CAP_PLASTICITY) of the trial stress s for the strain rate d, with the
-    compressive damage and the compressive rate factor when those effects are on; returns
-    (stress, d_eps_v, d_eps_p, work)."""
+    """Cap model return (CAP_PLASTICITY) of the trial stress s, with the compressive damage
+    when that effect is on; returns (stress, d_eps_v, d_eps_p, work)."""
     c = P_CAP
     strength = 1.0
     if COMPRESSIVE_DAMAGE:
         strength = 1.0 - ductile_damage(epsp, prm[c + 9])
-    dif = 1.0
-    if RATE_EFFECTS:
-        dif = increase_factor(-principal_rates(d)[1], prm[P_YOUNG],
-                              prm[c + 12], prm[c + 13], prm[c + 15], prm[c + 17])
     return cap_return(s, epsv, prm[c], prm[c + 1], prm[c + 2], prm[c + 3],
                       prm[c + 4], prm[c + 5], prm[c + 6], prm[c + 7], prm[c + 8],
-                      prm[c + 18], prm[c + 19], prm[P_BULK], prm[P_SHEAR], strength, dif)
+                      prm[c + 20], prm[c + 21], prm[P_BULK], prm[P_SHEAR], strength)
 
 
 @njit(parallel=True, cache=True)
@@ -251,13 +252,21 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, eps_max, dmg, ep
         tiny = prm[P_FLUSH]
         store_stress(sig, i, s, tiny)
         s = stress_of(sig, i)
+        nominal = s
+        rate = strain_rate(d) if RATE_EFFECTS else 0.0
+        eps_f = prm[P_EPS_F]
+        dif_t = 1.0
+        if RATE_EFFECTS:
+            q = P_RATE
+            dif_t = increase_factor(rate, prm[P_YOUNG], prm[q], prm[q + 1], prm[q + 4],
+                                     prm[q + 8])
         if DAMAGE:
-            young = prm[P_YOUNG]
+            d_min = 0.0
             if RATE_EFFECTS:
-                young *= increase_factor(principal_rates(d)[0], young,
-                                         prm[P_CAP + 10], prm[P_CAP + 11], prm[P_CAP + 14],
-                                         prm[P_CAP + 16])
-            k, dmg_i, nominal = damage_update(s, eps_max[i], young, prm[P_EPS_0], prm[P_EPS_F])
+                eps_f *= dif_t ** (prm[q + 7] - 1.0)  # G_F DIF_t^REPOW with the overstress
+                d_min = dmg[i]
+            k, dmg_i, nominal = damage_update(s, eps_max[i], prm[P_YOUNG], prm[P_EPS_0], eps_f,
+                                              d_min)
             eps_max[i] = k
             if dmg_i > dmg[i]:
                 grow = (dmg_i - dmg[i]) / dmg_i
@@ -266,9 +275,14 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, eps_max, dmg, ep
                 wd[i] += grow * secant_energy_density(tensile, s, prm[P_BULK],
                                                       prm[P_SHEAR]) / rho[i]
             dmg[i] = dmg_i
-            store_stress(nom, i, nominal, tiny)
-        else:
-            store_stress(nom, i, s, 0.0)
+        if RATE_EFFECTS:
+            q = P_RATE
+            intact = softening_left(eps_max[i], prm[P_EPS_0], eps_f, dif_t) if DAMAGE else 1.0
+            nominal = viscoplastic(jaumann_trial(old, d, w, prm[P_BULK], prm[P_SHEAR], dt),
+                                   nominal, rate, dt, prm[q], prm[q + 1], prm[q + 2],
+                                   prm[q + 3], prm[q + 4], prm[q + 5], prm[q + 6],
+                                   prm[P_YOUNG], intact)
+        store_stress(nom, i, nominal, tiny if DAMAGE or RATE_EFFECTS else 0.0)
         new = stress_of(nom, i)
         power = ((old[0] + new[0]) * lxx + (old[1] + new[1]) * lyy
                  + 2.0 * (old[2] + new[2]) * dxy)

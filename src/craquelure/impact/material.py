@@ -3,8 +3,9 @@ r"""Material point model of the concrete (spec section 2), composed from the eff
 Update order per particle and step (spec section 3): Jaumann trial effective stress
 (:mod:`.effects.elasticity`) → Drucker-Prager return (:mod:`.effects.plasticity`) or the
 CSCM-like cap return (:mod:`.effects.cap_plasticity`, shear strength scaled by the compressive
-damage of :mod:`.effects.compressive_damage` and the rate factor of :mod:`.effects.rate_effects`)
-→ Rankine damage and nominal stress (:mod:`.effects.damage`). :class:`Concrete` holds the derived
+damage of :mod:`.effects.compressive_damage`) → Rankine damage and nominal stress
+(:mod:`.effects.damage`) → with :mod:`.effects.rate_effects` the viscoplastic blend of the
+trial and that inviscid stress. :class:`Concrete` holds the derived
 constants.
 :func:`drive` is a strain-driven single-point driver (no SPH) with stress-free lateral directions,
 used by check 6: the prescribed strain-rate components are imposed, the free ones are found by a
@@ -24,9 +25,12 @@ from craquelure.impact.effects.damage import damage_update
 from craquelure.impact.effects.elasticity import jaumann_trial
 from craquelure.impact.effects.plasticity import dp_constants, dp_return
 from craquelure.impact.effects.rate_effects import (
+    RATE_PARAMS,
     increase_factor,
-    principal_rates,
     rate_constants,
+    softening_left,
+    strain_rate,
+    viscoplastic,
 )
 
 # Plasticity variants of the material point (the SPH kernels select them by effect flags).
@@ -77,11 +81,12 @@ class Concrete:
         return rate_constants(self.f_c)
 
     def cap_vector(self) -> np.ndarray:
-        """Constants of :func:`point_update`'s cap/rate branches, in its order."""
+        """Constants of :func:`point_update`'s cap/rate branches, in its order (the kernels'
+        ``CAP_PARAMS``)."""
         c, r = self.cap, self.rates
         return np.array([c.alpha, c.lam, c.beta, c.theta, c.e, c.X0, c.W, c.D1, c.D2,
-                         self.eps_fc, r["eta0_t"], r["n_t"], r["eta0_c"], r["n_c"], r["overt"],
-                         r["overc"], self.f_t, self.f_c, c.kappa0, c.R])
+                         self.eps_fc, *(r[k] for k in RATE_PARAMS), self.f_t, self.f_c,
+                         c.kappa0, c.R])
 
     @property
     def eps_0(self) -> float:
@@ -111,16 +116,13 @@ class Concrete:
 def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young, eps_0,
                  eps_f, plastic, damage, cap, compressive, rate):
     """Advance one point with strain rate D (xx, yy, xy, zz), spin w over ``dt``.
-    ``state`` = [sxx, syy, sxy, szz (effective), kappa, D_t, eps_p, wp, eps_v^p]; ``plastic``:
-    NO_PLASTICITY, DRUCKER_PRAGER or CAP (constants ``cap`` = Concrete.cap_vector());
-    returns the nominal stress (xx, yy, xy, zz)."""
+    ``state`` = [sxx, syy, sxy, szz (effective, inviscid), kappa, D_t, eps_p, wp, eps_v^p,
+    nominal xx, yy, xy, zz]; ``plastic``: NO_PLASTICITY, DRUCKER_PRAGER or CAP (constants
+    ``cap`` = Concrete.cap_vector()); returns the nominal stress (xx, yy, xy, zz), with ``rate``
+    the viscoplastic one."""
     d = (dxx, dyy, dxy, dzz, 0.0, 0.0)
     s = jaumann_trial((state[0], state[1], state[2], state[3], 0.0, 0.0), d, (w, 0.0, 0.0),
                       bulk, shear, dt)
-    dif_t = 1.0
-    if rate:
-        r1, r3 = principal_rates(d)
-        dif_t = increase_factor(r1, young, cap[10], cap[11], cap[14], cap[16])
     if plastic == DRUCKER_PRAGER:
         s, deps, work = dp_return(s, alpha, k, shear)
         state[6] += deps
@@ -129,23 +131,31 @@ def point_update(state, dxx, dyy, dxy, dzz, w, dt, bulk, shear, alpha, k, young,
         strength = 1.0
         if compressive:
             strength = 1.0 - ductile_damage(state[6], cap[9])
-        dif_c = 1.0
-        if rate:
-            dif_c = increase_factor(-r3, young, cap[12], cap[13], cap[15], cap[17])
         s, dv, deps, work = cap_return(
             s, state[8], cap[0], cap[1], cap[2], cap[3], cap[4], cap[5],
-            cap[6], cap[7], cap[8], cap[18], cap[19], bulk, shear, strength, dif_c)
+            cap[6], cap[7], cap[8], cap[20], cap[21], bulk, shear, strength)
         state[6] += deps
         state[7] += work
         state[8] += dv
     state[0], state[1], state[2], state[3] = s[0], s[1], s[2], s[3]
-    nom = np.empty(4)
+    n = s
+    ed = strain_rate(d)
+    intact = 1.0
+    dif_t = increase_factor(ed, young, cap[10], cap[11], cap[14], cap[18]) if rate else 1.0
     if damage:
-        eps_max, dt_, n = damage_update(s, state[4], young * dif_t, eps_0, eps_f)
+        eps_f *= dif_t ** (cap[17] - 1.0)  # G_F DIF_t^REPOW with the overstress
+        eps_max, dt_, n = damage_update(s, state[4], young, eps_0, eps_f,
+                                        state[5] if rate else 0.0)
         state[4], state[5] = eps_max, dt_
-        nom[0], nom[1], nom[2], nom[3] = n[0], n[1], n[2], n[3]
-    else:
-        nom[0], nom[1], nom[2], nom[3] = s[0], s[1], s[2], s[3]
+        intact = softening_left(eps_max, eps_0, eps_f, dif_t)
+    if rate:
+        old = (state[9], state[10], state[11], state[12], 0.0, 0.0)
+        n = viscoplastic(jaumann_trial(old, d, (w, 0.0, 0.0), bulk, shear, dt), n, ed, dt,
+                         cap[10], cap[11], cap[12], cap[13], cap[14], cap[15], cap[16], young,
+                         intact)
+    state[9], state[10], state[11], state[12] = n[0], n[1], n[2], n[3]
+    nom = np.empty(4)
+    nom[0], nom[1], nom[2], nom[3] = n[0], n[1], n[2], n[3]
     return nom
 
 
@@ -168,10 +178,10 @@ def drive(mat: Concrete, strain_path: np.ndarray, free: tuple[str, ...],
     """
     alpha, k = mat.dp
     variant = {True: DRUCKER_PRAGER, False: NO_PLASTICITY, "cap": CAP}[plastic]
-    cap = mat.cap_vector() if variant == CAP or rate else np.zeros(20)
+    cap = mat.cap_vector() if variant == CAP or rate else np.zeros(22)
     free_idx = [COMPONENTS.index(c) for c in free]
     goal = np.zeros((strain_path.shape[0], len(free_idx))) if targets is None else targets
-    state = np.zeros(9)
+    state = np.zeros(13)
     eps = np.zeros(4)
     out_eps = np.zeros_like(strain_path)
     out_sig = np.zeros_like(strain_path)

@@ -312,8 +312,10 @@ def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, crac
 # pair normal to the crack measures the normal opening). A pair is opened if w > w_c, with
 # w_c = 2 G_F / f_t (0.052 mm for the spec's concrete): the crack band's full-softening
 # opening, l_c eps_f = 2 G_F/f_t, where linear softening leaves no tensile strength (a
-# stress-free crack); a band still softening has w < w_c. Pairs with both particles crushed
-# are the crushed zone, not a crack. A crack is a connected set of opened pairs (two opened
+# stress-free crack); a band still softening has w < w_c. Pairs whose two particles are crushed
+# count like any other pair: a crack through the crushed column is a crack (dropping them
+# missed every central crack that runs up through it). A crack is a connected set of opened
+# pairs (two opened
 # pairs are adjacent if their midpoints are within 1.5 Delta). Along the centre row, the
 # opened gaps between consecutive row particles form runs separated by closed gaps; the crack
 # band softens two particle columns (:mod:`.effects.damage`), so a crack's opening may split
@@ -394,17 +396,13 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
     pairs = neighbour_pairs(x0, y0, mass, spacing)
     w = pair_openings(pairs, x0, y0, x, y) if len(pairs) else np.zeros(0)
     crushed_p = plastic >= crushed
-    in_crush = crushed_p[pairs[:, 0]] & crushed_p[pairs[:, 1]] if len(pairs) else np.zeros(0, bool)
-    opened = (w > w_c) & ~in_crush
+    opened = w > w_c
     mid = (0.5 * (np.column_stack([x0, y0])[pairs[:, 0]] + np.column_stack([x0, y0])[pairs[:, 1]])
            if len(pairs) else np.zeros((0, 2)))
     zone_pts = contact_zone(x0, y0, crushed_p, spacing)
     # centre row gaps and their runs
     gpairs, gx, gw = _row_gaps(x0, y0, x, y, mass, spacing, centre_y)
-    g_open = gw > w_c
-    if len(gpairs):
-        g_open &= ~(crushed_p[gpairs[:, 0]] & crushed_p[gpairs[:, 1]])
-    runs = _runs_of(g_open)
+    runs = _runs_of(gw > w_c)
     total_row = float(np.clip(gw, 0.0, None).sum())
     cracks = []
     oidx = np.flatnonzero(opened)
@@ -456,11 +454,10 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
         "main_crack_max_opening": main["max_opening"] if main else 0.0,
         "second_crack_length_opening": max((c["length"] for c in cracks if c is not main),
                                            default=0.0),
-        "max_opening": float(w[~in_crush].max()) if (len(w) and (~in_crush).any()) else 0.0,
+        "max_opening": float(w.max()) if len(w) else 0.0,
     }
     if precrack is not None and np.asarray(precrack).any():
-        out.update(_line_opening(x0, y0, pairs, w, w_c, in_crush, np.asarray(precrack, bool),
-                                 spacing))
+        out.update(_line_opening(x0, y0, pairs, w, w_c, np.asarray(precrack, bool), spacing))
         line = np.asarray(precrack, bool)
         _, angle, _ = principal_axis(x0[line], y0[line])
         u0, u1 = math.sin(math.radians(angle)), math.cos(math.radians(angle))
@@ -473,7 +470,7 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
     return out
 
 
-def _line_opening(x0, y0, pairs, w, w_c, in_crush, precrack, spacing) -> dict:
+def _line_opening(x0, y0, pairs, w, w_c, precrack, spacing) -> dict:
     """Coverage of a zero-mass line by opened pairs across it (samples every Delta along the
     line; a sample is covered if a pair crossing the line within Delta/2 of it along the line
     opened), and whether the largest opening of the layer is one of the line's pairs."""
@@ -486,8 +483,7 @@ def _line_opening(x0, y0, pairs, w, w_c, in_crush, precrack, spacing) -> dict:
     opened = crossing & (w > w_c)
     covered = [bool(np.any(opened & (np.abs(s_mid - s) <= 0.5 * spacing * (1 + 1e-9))))
                for s in samples]
-    valid = ~in_crush
-    on_line = bool(valid.any() and crossing[valid][np.argmax(w[valid])]) if len(w) else False
+    on_line = bool(crossing[np.argmax(w)]) if len(w) else False
     return {"precrack_coverage_opening": float(np.mean(covered)) if covered else float("nan"),
             "precrack_largest_opening_on_line": on_line,
             "precrack_line_max_opening": float(w[crossing].max()) if crossing.any() else 0.0}

@@ -85,6 +85,8 @@ def regime_row(path: Path) -> dict:
             "crushed_area": float(m["crushed_area"]),
             "energy_balance_error_max": float(m["energy_balance_error_max"]),
             "material_model": str(m.get("material_model") or ""),
+            "strength_to_load": (float(ds["strength_to_load"]) if "strength_to_load" in ds
+                                 else None),
             "class": classify(n_main), "class_history": history,
             "class_settled_from": settled_from(history),
             "wall_time_s": ds.attrs.get("wall_time_s"), "path": str(path)}
@@ -112,14 +114,15 @@ def _limits(values: list[float], below: float, above: float) -> tuple[float, flo
 def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     """One row of panels per dimension (2D above 3D), one panel per contact scale a: f_t (x)
     against impact speed (y), marker = class, number = main cracks by opening (the softening
-    clusters' count in brackets; * if the class changed after the last snapshot). Returns the
-    panels' titles."""
+    clusters' count in brackets; * if the class changed after the last snapshot); a last panel
+    per row puts every run of the row on the strength-to-load axis (peak contact force over
+    the static splitting load, the runs' ``strength_to_load``). Returns the panels' titles."""
     from craquelure.plotting import plt, save
 
     maps = regime_maps(rows)
     dims = list(maps)
     scales = {d: sorted({r["contact_a"] for r in rows if r["dim"] == d}) for d in dims}
-    ncols = max(len(s) for s in scales.values())
+    ncols = max(len(s) for s in scales.values()) + 1
     fig, axes = plt.subplots(len(dims), ncols, figsize=(4.6 * ncols, 4.2 * len(dims)),
                              squeeze=False)
     style = {"no main crack": ("s", "0.75"), "splits once": ("o", "C2"),
@@ -129,7 +132,7 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     ylim = _limits([r["impact_velocity"] for r in rows], 0.2, 0.5)  # room for the legend
     for row_axes, dim in zip(axes, dims, strict=True):
         info = maps[dim]
-        for ax in row_axes[len(scales[dim]):]:
+        for ax in row_axes[len(scales[dim]):-1]:
             ax.set_visible(False)
         for ax, a in zip(row_axes, scales[dim], strict=False):
             seen = set()
@@ -150,9 +153,32 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
             ax.set_xlim(*xlim)  # the same axes in every panel: 2D and 3D compare point by point
             ax.set_ylim(*ylim)
             ax.legend(fontsize=7, loc="upper center", ncol=3)
+        ratio_panel(row_axes[-1], [r for r in rows if r["dim"] == dim], style)
+        titles.append(f"{dim}: class against peak contact force / static splitting load")
+        row_axes[-1].set_title(titles[-1], fontsize=9)
     fig.suptitle("homogeneous disc: main cracks by opening (softening clusters' count in "
                  "brackets; * class changed after the last snapshot); 3D on its mid-thickness "
                  "layer\n"
                  f"{label}", fontsize=8)
     save(fig, out)
     return titles
+
+
+def ratio_panel(ax, rows: list[dict], style: dict) -> None:
+    """Class of each run against its strength-to-load ratio (x, log) and speed (y); the
+    number is the main-crack count, the marker's edge the penalty scale a."""
+    rows = [r for r in rows if r.get("strength_to_load")]
+    seen = set()
+    for r in rows:
+        marker, color = style[r["class"]]
+        ax.scatter(r["strength_to_load"], r["impact_velocity"], marker=marker, color=color,
+                   s=90, label=r["class"] if r["class"] not in seen else None)
+        seen.add(r["class"])
+        ax.annotate(str(r["n_main_cracks"]), (r["strength_to_load"], r["impact_velocity"]),
+                    textcoords="offset points", xytext=(6, 4), fontsize=7)
+    if rows:
+        ax.set_xscale("log")
+        ax.legend(fontsize=7, loc="upper left")
+    ax.set_xlabel("peak contact force / static splitting load pi D t f_t / 2")
+    ax.set_ylabel("impact speed [m/s]")
+

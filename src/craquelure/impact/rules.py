@@ -11,7 +11,10 @@ from craquelure.scene_rules import MAX_STEPS, SceneView, lookup
 def scene_problems(data: dict) -> list[str]:
     out = []
     t_end = float(lookup(data, "outputs.t_end"))
-    # snapshot_times after t_end are documented as dropped (the end time is always stored)
+    late = [s for s in lookup(data, "outputs.snapshot_times") if s > t_end * (1 + 1e-12)]
+    if late:
+        out.append(f"outputs.snapshot_times: {late[0]!r} is after outputs.t_end = {t_end!r}; "
+                   f"snapshot times must lie in [0, t_end] (the end time is always stored)")
     h_min, h_max = lookup(data, "numerics.h_min"), lookup(data, "numerics.h_max")
     if h_min >= h_max:
         out.append(f"numerics.h_min: {h_min!r} must be below numerics.h_max = {h_max!r}")

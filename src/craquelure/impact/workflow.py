@@ -69,32 +69,43 @@ def campaign_runs_3d(section: dict) -> list[str]:
     return campaign_runs(cfg) if cfg is not None else []
 
 
+def with_rate_effects(section: dict) -> dict | None:
+    """The campaign again with CSCM's rate effects (config ``impact.rate``: the 2D ``scene``
+    and ``three_d.scene`` to use instead, e.g. cscm_rate and cscm3d_rate; every other key is
+    the campaign's), or None without ``impact.rate``."""
+    rate = section.get("rate")
+    if not rate:
+        return None
+    return {**section, "scene": rate["scene"],
+            "three_d": {**section.get("three_d", {}), **rate.get("three_d", {})}}
+
+
+def _three_d_scenes(section: dict) -> set[str]:
+    """The 3D campaign's scene and, with ``impact.rate``, its rate-effects twin."""
+    cfgs = (three_d(section), three_d(with_rate_effects(section) or {"dims": []}))
+    return {cfg["scene"] for cfg in cfgs if cfg is not None}
+
+
 def three_d_overrides(section: dict):
     """`--set` arguments of the 3D campaign's own scene overrides (``three_d.set``, e.g. a
-    shorter ``outputs.t_end`` in a small profile) for runs of its scene; none otherwise."""
-    cfg = three_d(section)
+    shorter ``outputs.t_end`` in a small profile) for runs of its scenes; none otherwise."""
+    cfg, scenes = three_d(section), _three_d_scenes(section)
 
     def overrides(wildcards) -> str:
-        if cfg is None or wildcards.scene != cfg["scene"]:
+        if wildcards.scene not in scenes:
             return ""
         return " ".join(f"--set {shlex.quote(item)}" for item in cfg.get("set", []))
     return overrides
 
 
-def _by_scene(section: dict, cfg: dict | None, key: str):
-    """``cfg[key]`` for runs of ``cfg``'s 3D scene, ``section[key]`` otherwise (a function of
-    the wildcards)."""
-    def value(wildcards) -> int:
-        if cfg is not None and wildcards.scene == cfg["scene"]:
-            return cfg[key]
-        return section[key]
-    return value
-
-
 def run_resource(section: dict, key: str):
     """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_run: the 3D campaign's
-    value for runs of its scene, the 2D section's otherwise."""
-    return _by_scene(section, three_d(section), key)
+    value for runs of its scenes, the 2D section's otherwise (a function of the wildcards)."""
+    cfg, scenes = three_d(section), _three_d_scenes(section)
+
+    def value(wildcards) -> int:
+        return cfg[key] if wildcards.scene in scenes else section[key]
+    return value
 
 
 def figure_runs(section: dict) -> dict:
@@ -222,4 +233,40 @@ def regime_resource(section: dict, key: str):
     """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_regime_run: the 3D
     grid's value for runs of the 3D scene, the 2D section's otherwise (a function of the
     wildcards)."""
-    return _by_scene(section, regime_three_d(section), key)
+    cfg = regime_three_d(section)
+
+    def value(wildcards) -> int:
+        return cfg[key] if cfg is not None and wildcards.scene == cfg["scene"] else section[key]
+    return value
+
+
+def strength_runs(section: dict) -> list[str]:
+    """Runs of the static-strength sensitivity (config ``impact.strength_sweep``: its 3D
+    ``scene``, ``kappa``, f_t ``factors`` and heterogeneous ``seeds``): the homogeneous disc
+    (seed 0) and each seed's ``distribution`` masses at each factor x the scene's f_t (G_F
+    unchanged); none without the section."""
+    sweep = section.get("strength_sweep")
+    if not sweep:
+        return []
+    scene = sweep["scene"]
+    return [f"results/impact/strength/{scene}/x{factor:g}/{masses}/seed{seed}.nc"
+            for factor in sweep["factors"]
+            for masses, seeds_ in (("homogeneous", [0]), (section["distribution"],
+                                                          sweep["seeds"]))
+            for seed in seeds_]
+
+
+def strength_overrides(section: dict):
+    """`--set` arguments of one strength-sweep run from its wildcards (scene, factor, masses):
+    f_t = factor x the scene's f_t, the sweep's kappa, no pre-crack."""
+    from craquelure.scene import load_scene
+
+    sweep = section["strength_sweep"]
+
+    def overrides(wildcards) -> str:
+        f_t = float(wildcards.factor) * load_scene(f"impact/{wildcards.scene}").get(
+            "material.f_t")
+        return (f"--set material.f_t={f_t!r} --set numerics.kappa={sweep['kappa']!r} "
+                f"--set particles.masses.distribution={wildcards.masses} "
+                f"--set particles.precrack=none")
+    return overrides

@@ -27,8 +27,8 @@ def test_plastic_returns_are_objective(seed):
     assert deps_b == pytest.approx(deps_a, rel=1e-9, abs=1e-15)
     assert np.allclose(matrix(b), q @ matrix(a) @ q.T, atol=1e-9 * np.abs(s).max())
     c = MAT.cap_vector()
-    args = (0.0, c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[18], c[19], MAT.bulk,
-            MAT.shear, 1.0, 1.0)
+    args = (0.0, c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[20], c[21], MAT.bulk,
+            MAT.shear, 1.0)
     a, dv_a, deps_a, _ = cap_return(s, *args)
     b, dv_b, deps_b, _ = cap_return(rotate(s, q), *args)
     assert dv_b == pytest.approx(dv_a, rel=1e-9, abs=1e-15)

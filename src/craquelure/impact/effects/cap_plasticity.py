@@ -55,8 +55,7 @@ pressure drop being the compaction :math:`\Delta\varepsilon_v^p = (I_1'^{tr} - I
 the cap hardened by it within the same step (implicit: Illinois regula falsi on the scalar
 compaction, :func:`_compaction`); on the hydrostatic axis this is the cap's hardening law
 exactly. :math:`\Delta\bar\varepsilon_p = (1-r)\sqrt{J_2^{tr}}/(\sqrt3 G)`. :math:`\phi = 1 - D_c`
-carries the compressive damage (:mod:`.compressive_damage`); with :mod:`.rate_effects` the
-whole surface (shear surface and cap) is enlarged homothetically by DIF_c. Plastic work density:
+carries the compressive damage (:mod:`.compressive_damage`). Plastic work density:
 :math:`r(1-r)J_2^{tr}/G + p\,\Delta\varepsilon_v^p` (:math:`p = I_1'/3`). As with the cone, the
 return acts only for :math:`I_1' > 0`: tension is the Rankine damage model's domain.
 
@@ -97,7 +96,7 @@ EFFECT = Effect("impact", "cap_plasticity", "CAP_PLASTICITY", "CSCM-like curved 
                 "meridian (Murray 2007 fits), Willam-Warnke Lode dependence, CSCM's elliptical "
                 "compaction cap from X0", conflicts=("plasticity",),
                 # Concrete.cap_vector(): the surface, cap and rate constants
-                params=(F_C, Param("cap", None, size=20)))
+                params=(F_C, Param("cap", None, size=22)))
 
 MPA = 1e6
 R_CAP = 5.0  # CSCM's cap ellipticity R (revision 1 default, Murray 2007)
@@ -217,24 +216,21 @@ def cap_position(epsv, x0, w, d1, d2):
 
 
 @njit(inline="always", cache=True)
-def _limit(y, left, x, alpha, lam, beta, theta, scale, dif):
-    """√J2 limit at I1' = y: scale dif F_f(y/dif) √F_c (scale = (1 - D_c) ℜ); ``left`` and
-    ``x`` are the cap's L and X already enlarged by dif (the whole surface is enlarged
-    homothetically)."""
+def _limit(y, left, x, alpha, lam, beta, theta, scale):
+    """√J2 limit at I1' = y: scale F_f(y) √F_c (scale = (1 - D_c) ℜ), cap from L = ``left``
+    to X = ``x``."""
     cap = 1.0
     if y > left:
         ratio = (y - left) / (x - left)
         cap = max(1.0 - ratio * ratio, 0.0)
-    ys = y / dif
-    return scale * dif * (alpha - lam * math.exp(-beta * ys) + theta * ys) * math.sqrt(cap)
+    return scale * (alpha - lam * math.exp(-beta * y) + theta * y) * math.sqrt(cap)
 
 
 @njit(inline="always", cache=True)
-def _distance_slope(y, i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear):
+def _distance_slope(y, i1, sq, left, x, alpha, lam, beta, theta, scale, bulk, shear):
     """d/dy of (y - I1')²/(9K) + (g(y) - √J2)²/G, g the coupled limit of :func:`_limit`."""
-    ys = y / dif
-    ff = alpha - lam * math.exp(-beta * ys) + theta * ys
-    dff = lam * beta * math.exp(-beta * ys) + theta  # d F_f / d ys
+    ff = alpha - lam * math.exp(-beta * y) + theta * y
+    dff = lam * beta * math.exp(-beta * y) + theta  # d F_f / d y
     cap, dcap = 1.0, 0.0
     if y > left:
         span = x - left
@@ -242,13 +238,13 @@ def _distance_slope(y, i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bul
         cap = max(1.0 - ratio * ratio, 1e-300)
         dcap = -2.0 * ratio / span
     root = math.sqrt(cap)
-    g = scale * dif * ff * root
-    dg = scale * (dff * root + dif * ff * dcap / (2.0 * root))
+    g = scale * ff * root
+    dg = scale * (dff * root + ff * dcap / (2.0 * root))
     return 2.0 * (y - i1) / (9.0 * bulk) + 2.0 * (g - sq) * dg / shear
 
 
 @njit(cache=True)
-def _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear):
+def _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, bulk, shear):
     """I1' of the closest point of the coupled surface with the cap at X (left end L) to the
     trial (I1', √J2) in the elastic metric (ΔI1')²/(9K) + (Δ√J2)²/G over [L, min(I1'_trial,
     X)] (the return compacts, never dilates): the zero of the distance's slope, by bisection
@@ -258,17 +254,17 @@ def _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear):
     if hi <= left or sq == 0.0:
         return hi
     lo = left
-    if _distance_slope(lo, i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk,
+    if _distance_slope(lo, i1, sq, left, x, alpha, lam, beta, theta, scale, bulk,
                        shear) >= 0.0:
         return lo
-    if _distance_slope(hi, i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk,
+    if _distance_slope(hi, i1, sq, left, x, alpha, lam, beta, theta, scale, bulk,
                        shear) <= 0.0:
         return hi
     for _ in range(200):
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
-        if _distance_slope(mid, i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk,
+        if _distance_slope(mid, i1, sq, left, x, alpha, lam, beta, theta, scale, bulk,
                            shear) > 0.0:
             hi = mid
         else:
@@ -278,32 +274,31 @@ def _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear):
 
 @njit(cache=True)
 def _compaction(i1, sq, epsv, alpha, lam, beta, theta, x0, w, d1, d2, kappa0, r_cap,
-                scale, dif, bulk, shear):
+                scale, bulk, shear):
     """(Δε_v^p, I1', X, L) of the cap return with implicit hardening: the root of
     h(Δ) = Δ − (I1'_trial − y(X(ε_v^p + Δ)))/(3K), y the closest point with the cap hardened by
-    Δ (h increases; Illinois regula falsi on [0, (I1'_trial − κ0 dif)/(3K)]); X and L are
-    returned enlarged by dif."""
+    Δ (h increases; Illinois regula falsi on [0, (I1'_trial − κ0)/(3K)])."""
     def position(dv):
         x = cap_position(epsv + dv, x0, w, d1, d2) if epsv + dv > 0.0 else x0
         left = kappa0 if x <= x0 else cap_left(x, r_cap, alpha, lam, beta, theta)
-        return x * dif, left * dif
+        return x, left
 
     x, left = position(0.0)
-    y = _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear)
+    y = _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, bulk, shear)
     h_lo = -(i1 - y) / (3.0 * bulk)
     if h_lo >= 0.0:
         return 0.0, y, x, left
     a, fa = 0.0, h_lo
-    b = (i1 - kappa0 * dif) / (3.0 * bulk)
+    b = (i1 - kappa0) / (3.0 * bulk)
     x, left = position(b)
-    y = _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear)
+    y = _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, bulk, shear)
     fb = b - (i1 - y) / (3.0 * bulk)
     side = 0
     c = b
     for _ in range(80):
         c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
         x, left = position(c)
-        y = _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, dif, bulk, shear)
+        y = _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, bulk, shear)
         fc = c - (i1 - y) / (3.0 * bulk)
         if abs(fc) <= 1e-13 * (b + 1e-30) or abs(b - a) <= 1e-14:
             break
@@ -322,11 +317,11 @@ def _compaction(i1, sq, epsv, alpha, lam, beta, theta, x0, w, d1, d2, kappa0, r_
 
 @njit(inline="always", cache=True)
 def cap_return(s, epsv, alpha, lam, beta, theta, e, x0, w, d1, d2, kappa0, r_cap, bulk,
-               shear, strength, dif):
+               shear, strength):
     """Returns (stress, d_eps_v^p, d_eps_p, plastic work density) for the trial stress ``s``,
     both (xx, yy, xy, zz, xz, yz) (xz = yz = 0 in 2D). ``x0``: the cap's initial I1 intercept
     X0, ``kappa0`` its κ0 (X0 = κ0 + R F_f(κ0)), ``r_cap`` R. ``strength`` = 1 - D_c scales
-    the shear surface, ``dif`` = DIF_c enlarges it homothetically (:mod:`.rate_effects`).
+    the shear surface.
 
     Left of L (I1' <= L): radial return of the deviator at fixed I1'. On the cap (I1' > L and
     outside): closest point on the coupled surface in the elastic metric ((ΔI1')²/(9K) +
@@ -337,8 +332,7 @@ def cap_return(s, epsv, alpha, lam, beta, theta, e, x0, w, d1, d2, kappa0, r_cap
     if i1 <= 0.0:
         return (sxx, syy, sxy, szz, sxz, syz), 0.0, 0.0, 0.0
     x = cap_position(epsv, x0, w, d1, d2) if epsv > 0.0 else x0
-    left = (kappa0 if x <= x0 else cap_left(x, r_cap, alpha, lam, beta, theta)) * dif
-    x *= dif
+    left = kappa0 if x <= x0 else cap_left(x, r_cap, alpha, lam, beta, theta)
     m = -i1 / 3.0
     dxx, dyy, dzz = sxx - m, syy - m, szz - m
     j2 = 0.5 * (dxx * dxx + dyy * dyy + dzz * dzz) + sxy * sxy + sxz * sxz + syz * syz
@@ -351,13 +345,13 @@ def cap_return(s, epsv, alpha, lam, beta, theta, e, x0, w, d1, d2, kappa0, r_cap
         c3 = 1.5 * math.sqrt(3.0) * j3 / (j2 * sq)
         c3 = min(1.0, max(-1.0, c3))
         scale = strength * willam_warnke(math.cos(math.acos(c3) / 3.0), e)
-    if i1 < x and sq <= _limit(i1, left, x, alpha, lam, beta, theta, scale, dif):
+    if i1 < x and sq <= _limit(i1, left, x, alpha, lam, beta, theta, scale):
         return (sxx, syy, sxy, szz, sxz, syz), 0.0, 0.0, 0.0
     dv, y = 0.0, i1
     if i1 > left:
         dv, y, x, left = _compaction(i1, sq, epsv, alpha, lam, beta, theta, x0, w, d1, d2,
-                                     kappa0, r_cap, scale, dif, bulk, shear)
-    limit = _limit(y, left, x, alpha, lam, beta, theta, scale, dif)
+                                     kappa0, r_cap, scale, bulk, shear)
+    limit = _limit(y, left, x, alpha, lam, beta, theta, scale)
     r = min(max(limit, 0.0) / sq, 1.0) if sq > 0.0 else 1.0
     mn = -y / 3.0
     work = y / 3.0 * dv

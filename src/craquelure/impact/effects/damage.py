@@ -150,15 +150,16 @@ def from_principal(r, v):
 
 
 @njit(inline="always", cache=True)
-def damage_update(s, eps_max, young, eps_0, eps_f):
+def damage_update(s, eps_max, young, eps_0, eps_f, d_min=0.0):
     """Returns (kappa, D_t, nominal stress) for the effective stress s, both (xx, yy, xy, zz,
-    xz, yz). With xz = yz = 0 (2D, or a 3D state with z principal) the in-plane block is
-    diagonalised in closed form; otherwise by :func:`principal`."""
+    xz, yz); D_t is at least ``d_min`` (rate effects: the softening strain grows with the
+    rate, the damage stays). With xz = yz = 0 (2D, or a 3D state with z principal) the
+    in-plane block is diagonalised in closed form; otherwise by :func:`principal`."""
     sxx, syy, sxy, szz, sxz, syz = s
     if sxz == 0.0 and syz == 0.0:
         s1, s2, c2, s2t = in_plane_principal(sxx, syy, sxy)
         eps_max = max(eps_max, max(max(s1, szz), 0.0) / young)
-        d = damage_from_strain(eps_max, eps_0, eps_f)
+        d = max(damage_from_strain(eps_max, eps_0, eps_f), d_min)
         if d == 0.0:
             return eps_max, d, s
         n1 = s1 - d * max(s1, 0.0)
@@ -171,12 +172,12 @@ def damage_update(s, eps_max, young, eps_0, eps_f):
     if bound <= 0.0 or bound <= eps_max * young:
         # no principal value above the history: kappa unchanged; no tensile part to soften
         # when all are <= 0, nothing to soften when D = 0
-        d = damage_from_strain(eps_max, eps_0, eps_f)
+        d = max(damage_from_strain(eps_max, eps_0, eps_f), d_min)
         if bound <= 0.0 or d == 0.0:
             return eps_max, d, s
     lam, vec = principal(s)
     eps_max = max(eps_max, max(lam.max(), 0.0) / young)
-    d = damage_from_strain(eps_max, eps_0, eps_f)
+    d = max(damage_from_strain(eps_max, eps_0, eps_f), d_min)
     if d == 0.0:
         return eps_max, d, s
     # σ − D Σ_a <σ_a>+ n_a n_aᵀ

@@ -1,43 +1,75 @@
-r"""Strain-rate enhancement of strength in CSCM's form (impact spec section 2 item 5; Murray,
-FHWA-HRT-05-062, 2007): an opt-in effect, off in the source-faithful scenes (LS-DYNA's
-default IRATE = 0, and the source does not mention rate effects).
+r"""CSCM's rate effects (Murray, FHWA-HRT-05-062, 2007, chapter 2 "Rate effects"): a
+viscoplastic (Duvaut-Lions) update of the stress, an opt-in effect (LS-DYNA's default is
+IRATE = 0; the source does not say whether it ran with it).
 
-CSCM's viscoplastic overstress (Duvaut-Lions) with fluidity :math:`\eta = \eta_0/\dot\varepsilon^n`
-gives, at a steady strain rate, a strength raised by the overstress :math:`E\dot\varepsilon\eta`,
-capped by OVERT/OVERC; the dynamic increase factors are
+Each step the trial stress :math:`\sigma^T` (the step's elastic increment added to the
+viscoplastic stress of the step's start) and the inviscid stress :math:`\sigma^P` (the
+rate-independent model of the same strain history: cap return, compressive and tensile damage)
+are blended,
 
 .. math::
-    \mathrm{DIF}_t = 1 + \frac{\min(E\,\eta_{0t}\,\dot\varepsilon_t^{1-n_t},\ \mathrm{OVERT})}{f_t},
-    \qquad
-    \mathrm{DIF}_c = 1 + \frac{\min(E\,\eta_{0c}\,\dot\varepsilon_c^{1-n_c},\ \mathrm{OVERC})}{f_c},
+    \sigma^{vp} = (1-\gamma)\,\sigma^T + \gamma\,\sigma^P,\qquad
+    \gamma = \frac{\Delta t/\eta}{1 + \Delta t/\eta},\qquad
+    \eta_t = \frac{\eta_{0t}}{\dot\varepsilon^{\,n_t}},\quad
+    \eta_c = \frac{\eta_{0c}}{\dot\varepsilon^{\,n_c}},\quad \eta_s = \mathrm{SRATE}\,\eta_t,
 
-with :math:`\dot\varepsilon_t = \langle D_1\rangle_+` (largest principal strain rate) and
-:math:`\dot\varepsilon_c = \langle -D_3\rangle_+` (most compressive). Murray's fits at
-f'_c = 43.1 MPa (:func:`rate_constants`): η_0t = 5.07e-5 s^(1-n), n_t = 0.48, η_0c = 3.16e-4,
-n_c = 0.78, OVERT = OVERC = 28.85 MPa: DIF_t = 1.47 / 2.55 / 6.14 at 1 / 10 / 100 1/s,
-DIF_c = 1.22 / 1.36 / 1.60.
+interpolated by the stress state as CSCM does, linearly in the ratio
+:math:`r = J_1'/(\sqrt3\sqrt{J_2})` of the trial (:math:`J_1' = -I_1`, compression positive):
+:math:`r = -1` uniaxial tension, 0 pure shear, 1 uniaxial compression,
 
-Units of the fits [not verified against the manual's text]: OVERT/OVERC's
-polynomial only makes sense with f'_c in MPa (28.85 MPa; in psi it would give 5.1e5). The η_0
-polynomials read differently: with f'_c in MPa their quadratic and linear terms are 0.003 % and
-2 % of the constant (η_0t) and 0.01 % and 1.4 % (η_0c), implausible for fitted terms; with f'_c
-in psi (6251 psi) the three terms are of one size, which suggests the fits were made in psi
-(η_0t = 7.61e-5, η_0c = 1.57e-4 s^(1-n) instead of 5.07e-5 and 3.16e-4; one public
-implementation, MatCSCM.py of yurynovozhilov/MAT_CSCM_CONCRETE_NOVOZHILOV, computes f'_c in psi
-beside these fits but evaluates them in MPa). This module keeps MPa; the effect is opt-in and
-off in every judged scene.
+.. math::
+    \eta = \eta_s + r(\eta_c - \eta_s)\ (r \ge 0),\qquad
+    \eta = \eta_s - r(\eta_t - \eta_s)\ (r < 0),
 
-Applied as rate-dependent strengths, the steady-state limit of the overstress (without its
-relaxation time). Compression: the shear surface of :mod:`.cap_plasticity` is enlarged
-homothetically in the meridian plane, :math:`\sqrt{J_2} \le \mathrm{DIF}_c\,\Re\,F_f(I_1'/
-\mathrm{DIF}_c)`, which puts the uniaxial strength at DIF_c f_c exactly. (Blending the trial and
-the inviscid return as CSCM's Duvaut-Lions update does was tried: with the pressure-dependent
-meridian and a return at fixed pressure the overstress raises the pressure and with it the
-strength, and the uniaxial increase came out 1.93 at 1 1/s instead of 1.22.) Tension: the driver
-of :mod:`.damage` becomes
-:math:`\langle\tilde\sigma_1\rangle_+/(E\,\mathrm{DIF}_t)`, so the tensile strength and the
-softening strains scale by DIF_t (G_F by DIF_t²; CSCM's REPOW = 1 scales it by DIF_t). The history
-variable κ keeps the damage irreversible when the rate drops.
+with r clipped to [-1, 1] (decision [D]; beyond, e.g. near the hydrostatic axis, the
+uniaxial values). The overstress :math:`\sigma^{vp} - \sigma^P` is limited in norm
+(:math:`\|\cdot\|` Frobenius, the uniaxial stress difference in a uniaxial state) by OVERT in
+tension and shear and by OVERC in compression (interpolated like η). At a steady uniaxial rate
+the overstress settles at :math:`E\dot\varepsilon\eta` (1D Duvaut-Lions), hence the manual's
+dynamic increase factors
+
+.. math::
+    \mathrm{DIF} = 1 + \frac{\min(E\,\eta_0\,\dot\varepsilon^{1-n},\ \mathrm{OVER})}{f'},
+
+f' = f_t (tension) or f_c (compression). The fracture energy grows with the rate as REPOW
+sets, :math:`G_F^{dyn} = G_F\,\mathrm{DIF}_t^{\mathrm{REPOW}}`: the overstress, carried to
+full softening (below), already dissipates the factor DIF_t, so the softening strain of
+:mod:`.damage` scales by :math:`\mathrm{DIF}_t^{\mathrm{REPOW}-1}` (1 for CSCM's default
+REPOW = 1; the damage never decreases when the rate drops).
+
+Strain rate [D]: :math:`\dot\varepsilon = \max(\dot\varepsilon_1, -\dot\varepsilon_3)`, the
+largest principal strain-rate magnitude (the axial rate of a uniaxial test). Cracked material,
+decision [D]: CSCM applies its damage d to the viscoplastic stress,
+:math:`(1-d)\sigma^{vp}`, so a failed point carries no overstress. Here the Rankine damage
+acts on the inviscid stress, and the overstress is limited to
+:math:`(1 - w)\min(\mathrm{OVER}, E\dot\varepsilon\eta)`, with
+:math:`w = (\kappa - \mathrm{DIF}_t\varepsilon_0)/(\varepsilon_f - \mathrm{DIF}_t\varepsilon_0)`
+clipped to [0, 1] (:func:`softening_left`): the share of the strength lost on the softening
+branch past the dynamic strength, CSCM's d; without it an open crack would stay loaded by
+:math:`E\dot\varepsilon\eta`.
+
+Default fits (Murray's, :func:`rate_constants`), with f'_c in MPa and η_0 in
+s^(1-n) (seconds, 1/s strain rates), OVERT/OVERC in MPa; SRATE = REPOW = 1:
+
+.. math::
+    \eta_{0t} = 8.0614774\times10^{-13} f_c'^2 - 9.77736719\times10^{-10} f_c'
+    + 5.0752351\times10^{-5},\quad n_t = 0.48,\\
+    \eta_{0c} = 1.2772337\times10^{-11} f_c'^2 - 1.0613722\times10^{-7} f_c'
+    + 3.203497\times10^{-4},\quad n_c = 0.78,\\
+    \mathrm{OVERT} = \mathrm{OVERC} = 1.309663\times10^{-2} f_c'^2 - 0.3927659 f_c' + 21.45.
+
+At f'_c = 43.1 MPa (8 mm aggregate; the fits do not depend on the aggregate size):
+η_0t = 5.0711e-5 s^0.52, η_0c = 3.1580e-4 s^0.22, OVERT = OVERC = 28.85 MPa. Units [D, read
+from the fits themselves]: OVERT's fit is a stress in MPa (in psi it would give 5.1e5). The
+η_0 fits give nearly constant values over the fitted range (20-58 MPa), and with E and f_t
+rising with f'_c this keeps the DIF of stronger concrete lower, the trend of the CEB data they
+were fitted to; read in psi they would raise η_0 by 50 % (7.61e-5) and the DIF with f'_c.
+Time in seconds (strain rates in 1/s). With E = 29.72 GPa, f_t = 3.22 MPa, f_c = 43.1 MPa:
+DIF_t = 1.47 / 2.55 / 6.14 and DIF_c = 1.22 / 1.36 / 1.60 at 1 / 10 / 100 1/s (the limits
+are not reached). Measured at a material point (tests/impact/effects/test_rate_effects.py):
+uniaxial tension follows DIF_t; in unconfined compression the overstress
+:math:`\eta\,C:\dot\varepsilon` of the lateral flow confines the inviscid state, whose
+pressure-dependent strength then rises, so the 3D point exceeds the 1D DIF_c.
 """
 
 import math
@@ -48,35 +80,83 @@ from craquelure.impact.effects import F_C, F_T
 from craquelure.impact.effects.damage import principal
 from craquelure.registry import Effect
 
-EFFECT = Effect("impact", "rate_effects", "RATE_EFFECTS", "CSCM-form dynamic increase of "
-                "tensile and compressive strength (opt-in; needs cap_plasticity and damage)",
+EFFECT = Effect("impact", "rate_effects", "RATE_EFFECTS", "CSCM's viscoplastic (Duvaut-Lions) "
+                "rate effects (opt-in; needs cap_plasticity and damage)",
                 params=(F_C, F_T))
+
+# the rate constants in the kernels' parameter vector, in this order (keep together)
+RATE_PARAMS = ("eta0_t", "n_t", "eta0_c", "n_c", "overt", "overc", "srate", "repow")
 
 
 def rate_constants(f_c: float) -> dict[str, float]:
-    """Murray (2007) fits at f'_c = ``f_c`` [Pa] (f'_c in MPa in the polynomials); SI out."""
+    """Murray's default fits at f'_c = ``f_c`` [Pa] (f'_c in MPa in the polynomials); SI out,
+    η_0 in s^(1-n)."""
     f = f_c / 1e6
     over = (1.309663e-2 * f * f - 0.3927659 * f + 21.45) * 1e6
     return {"eta0_t": 8.0614774e-13 * f * f - 9.77736719e-10 * f + 5.0752351e-5, "n_t": 0.48,
             "eta0_c": 1.2772337e-11 * f * f - 1.0613722e-7 * f + 3.203497e-4, "n_c": 0.78,
-            "overt": over, "overc": over}
+            "overt": over, "overc": over, "srate": 1.0, "repow": 1.0}
+
+
+@njit(inline="always", cache=True)
+def strain_rate(d):
+    """max(D_1, -D_3) of d = (xx, yy, xy, zz, xz, yz): the largest principal rate magnitude."""
+    dxx, dyy, dxy, dzz, dxz, dyz = d
+    if dxz == 0.0 and dyz == 0.0:
+        c = 0.5 * (dxx + dyy)
+        rad = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
+        return max(max(c + rad, dzz), -min(c - rad, dzz))
+    lam = principal(d)[0]
+    return max(lam.max(), -lam.min())
 
 
 @njit(inline="always", cache=True)
 def increase_factor(rate, young, eta0, n, over, strength):
-    """1 + min(E eta0 rate^(1-n), over)/strength; 1 at rate <= 0."""
+    """The manual's dynamic increase factor 1 + min(E η_0 rate^(1-n), OVER)/f' (1 at rate 0)."""
     if rate <= 0.0:
         return 1.0
     return 1.0 + min(young * eta0 * rate ** (1.0 - n), over) / strength
 
 
 @njit(inline="always", cache=True)
-def principal_rates(d):
-    """(largest, smallest) principal strain rate of d = (xx, yy, xy, zz, xz, yz)."""
-    dxx, dyy, dxy, dzz, dxz, dyz = d
-    if dxz == 0.0 and dyz == 0.0:
-        c = 0.5 * (dxx + dyy)
-        rad = math.sqrt(0.25 * (dxx - dyy) ** 2 + dxy * dxy)
-        return max(c + rad, dzz), min(c - rad, dzz)
-    lam = principal(d)[0]
-    return lam.max(), lam.min()
+def softening_left(kappa, eps_0, eps_f, dif_t):
+    """1 - w, w = (κ - DIF_t ε_0)/(ε_f - DIF_t ε_0) in [0, 1]: the share of the overstress left
+    on the softening branch past the dynamic strength (CSCM's 1 - d)."""
+    start = dif_t * eps_0
+    return 1.0 - min(1.0, max(0.0, (kappa - start) / max(eps_f - start, 1e-300)))
+
+
+@njit(inline="always", cache=True)
+def viscoplastic(trial, inviscid, rate, dt, eta0_t, n_t, eta0_c, n_c, overt, overc, srate,
+                 young, intact):
+    """σ^vp = (1 - γ) σ^T + γ σ^P with the overstress limit, all (xx, yy, xy, zz, xz, yz)."""
+    sxx, syy, sxy, szz, sxz, syz = trial
+    i1 = sxx + syy + szz
+    m = i1 / 3.0
+    j2 = (0.5 * ((sxx - m) ** 2 + (syy - m) ** 2 + (szz - m) ** 2)
+          + sxy * sxy + sxz * sxz + syz * syz)
+    r = 0.0
+    if j2 > 0.0:
+        r = min(1.0, max(-1.0, -i1 / math.sqrt(3.0 * j2)))
+    elif i1 != 0.0:
+        r = -1.0 if i1 > 0.0 else 1.0
+    keep = 1.0  # 1 - γ; η infinite at rate 0: no relaxation within the step
+    over = overt + max(r, 0.0) * (overc - overt)
+    if rate > 0.0:
+        eta_t = eta0_t / rate ** n_t
+        eta_s = srate * eta_t
+        if r >= 0.0:
+            eta = eta_s + r * (eta0_c / rate ** n_c - eta_s)
+        else:
+            eta = eta_s - r * (eta_t - eta_s)
+        keep = eta / (eta + dt)
+        over = min(over, young * rate * eta)
+    over *= intact
+    qxx, qyy, qxy = trial[0] - inviscid[0], trial[1] - inviscid[1], trial[2] - inviscid[2]
+    qzz, qxz, qyz = trial[3] - inviscid[3], trial[4] - inviscid[4], trial[5] - inviscid[5]
+    norm = keep * math.sqrt(qxx * qxx + qyy * qyy + qzz * qzz
+                            + 2.0 * (qxy * qxy + qxz * qxz + qyz * qyz))
+    if norm > over:
+        keep *= over / norm
+    return (inviscid[0] + keep * qxx, inviscid[1] + keep * qyy, inviscid[2] + keep * qxy,
+            inviscid[3] + keep * qzz, inviscid[4] + keep * qxz, inviscid[5] + keep * qyz)

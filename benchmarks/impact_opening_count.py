@@ -1,0 +1,88 @@
+"""An independent check of the crack count by opening (issue 39): the project's main-crack
+count (craquelure.impact.analysis.run_metrics, ``n_main_cracks_opening``) of a run beside a
+count made here from the dataset alone, without the project's measurement code: on the
+mid-thickness layer (3D; the lower layer nearest z = 0) take the grid row nearest the disc
+centre height (the lower one on a tie), sort its massive particles by reference x, and count
+the runs of consecutive gaps that opened by more than ``--threshold`` (0.2 mm by default;
+crushed pairs included); a run of k opened gaps counts ceil(k/2) cracks, as a crack band
+opening over two gaps is one crack.
+
+    .venv/bin/python benchmarks/impact_opening_count.py RUN.nc [--threshold 2e-4] [--out FILE]
+"""
+
+import argparse
+import math
+from pathlib import Path
+
+import numpy as np
+
+from craquelure.impact.analysis import run_metrics
+from craquelure.io import open_dataset
+
+
+def independent_count(ds, threshold: float) -> tuple[int, list[tuple[float, float]]]:
+    """(cracks, [(x of the run's middle [mm], summed opening [mm])]) along the centre row."""
+    dx = float(ds.attrs["spacing"])
+    keep = ds["mass"].values > 0
+    if "z0" in ds:
+        z0 = ds["z0"].values
+        layers = np.unique(np.round(z0 / dx, 6))
+        mid = layers[np.argmin(np.abs(layers) + 1e-9 * (layers > 0))]
+        keep &= np.isclose(z0 / dx, mid)
+    y0 = ds["y0"].values
+    centre = float(ds.attrs["centre_y"])
+    rows = np.unique(np.round(y0[keep] / dx, 6))
+    row = rows[np.argmin(np.abs(rows - centre / dx) + 1e-9 * (rows > centre / dx))]
+    idx = np.flatnonzero(keep & np.isclose(y0 / dx, row))
+    idx = idx[np.argsort(ds["x0"].values[idx])]
+    x0, x, y = ds["x0"].values, ds["x"].values, ds["y"].values
+    gap = (np.hypot(np.diff(x[idx]), np.diff(y[idx])) - np.diff(x0[idx]))
+    where = 0.5 * (x0[idx][1:] + x0[idx][:-1])
+    opened = gap > threshold
+    runs, cracks, k = [], 0, 0
+    while k < opened.size:
+        if opened[k]:
+            end = k
+            while end + 1 < opened.size and opened[end + 1]:
+                end += 1
+            cracks += math.ceil((end - k + 1) / 2)
+            runs.append((1e3 * where[k:end + 1].mean(), 1e3 * gap[k:end + 1].sum()))
+            k = end + 1
+        else:
+            k += 1
+    return cracks, runs
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("run", type=Path)
+    ap.add_argument("--threshold", type=float, default=2e-4, help="opening threshold [m]")
+    ap.add_argument("--out", type=Path, help="also write the lines to this file")
+    args = ap.parse_args()
+    ds = open_dataset(args.run)
+    m = run_metrics(ds)
+    n, runs = independent_count(ds, args.threshold)
+    lines = [f"run {args.run.name} (scene impact/{ds.attrs.get('scene_name')}, seed "
+             f"{ds.attrs.get('seed')}, kappa {m['kappa']:g}, {ds.attrs.get('material_model')}, "
+             f"commit {str(ds.attrs.get('git_commit', ''))[:7]}, t_end "
+             f"{1e3 * float(ds['time'].values[-1]):g} ms)",
+             f"project: {m['n_main_cracks_opening']} main cracks by opening (w_c = "
+             f"{1e3 * m['opening_w_c']:.4f} mm), centre-row runs at x = {m['row_runs_x_mm']} mm, "
+             f"openings {m['row_runs_opening_mm']} mm",
+             f"independent: {n} cracks opened > {1e3 * args.threshold:g} mm along the "
+             f"mid-layer centre row: " + (", ".join(f"x = {xm:.0f} mm ({w:.3f} mm)"
+                                                   for xm, w in runs) or "none"),
+             f"agree: {n == m['n_main_cracks_opening']}"]
+    lines.append(f"largest pair opening of the layer {1e3 * m['max_opening']:.3f} mm, cracked "
+                 f"fraction {m['cracked_fraction']:.3f}, peak contact force "
+                 f"{1e-3 * float(ds['series_contact_force'].values.max()):.1f} kN"
+                 + (f", strength-to-load ratio {float(ds['strength_to_load']):.3f}"
+                    if "strength_to_load" in ds else ""))
+    print("\n".join(lines))
+    if args.out:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        args.out.write_text("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main()
