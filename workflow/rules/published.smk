@@ -23,8 +23,8 @@ rule drying_published:
     output:
         [f"results/drying_published/{{name}}/{path}" for path in PUBLISHED_OUTPUTS],
     params:
-        published="results/published/{name}",
-        outdir="results/drying_published/{name}",
+        published=lambda wildcards, input: Path(input.tables).parents[1],
+        outdir=lambda wildcards, output: Path(output[0]).parent,
     log:
         "logs/drying_published/{name}.log",
     threads: 1

@@ -10,22 +10,28 @@ import sys
 from pathlib import Path
 
 from craquelure import validation
+from craquelure.drying.analysis import run_scene
 from craquelure.drying.campaign import LABELLINGS, build_campaign
 from craquelure.drying.figures import FIGURES, make_figures
 from craquelure.drying.published import read_tables
 from craquelure.drying.summary import write_summary
 from craquelure.io import open_dataset, write_dataset
+from craquelure.provenance import WallClock, provenance_attrs
 
 
 def main(published: str, outdir: str, window: str = "paper") -> None:
     source, out = Path(published), Path(outdir)
     profile = json.loads((source / "provenance.json").read_text()).get("profile", "")
+    clock = WallClock()
     fragments = read_tables(source)
     paths = {}
     for labelling in LABELLINGS:
-        paths[labelling] = write_dataset(
-            build_campaign(fragments, window_mode=window, labelling=labelling),
-            out / f"campaign_{labelling}.nc")
+        campaign = build_campaign(fragments, window_mode=window, labelling=labelling)
+        campaign.attrs.update(provenance_attrs(
+            run_scene(fragments[0]), None, clock,
+            effects=str(fragments[0].attrs.get("effects", "")).split(",")))
+        campaign.attrs["sources"] = str(source / "tables")
+        paths[labelling] = write_dataset(campaign, out / f"campaign_{labelling}.nc")
     summary = write_summary(paths["periodic"], out / "summary.json", profile=profile,
                             open_campaign_path=paths["open"])
     written = make_figures(open_dataset(paths["periodic"]), summary,

@@ -162,9 +162,6 @@ def _rings_specimen(scene: Scene, dx: float) -> Specimen:
     the other at ``particles.rings.speed``."""
     g = scene.get
     inner, outer = g("particles.rings.inner_radius"), g("particles.rings.outer_radius")
-    if inner >= outer:
-        raise SceneError(f"particles.rings.inner_radius: {inner} must be below outer_radius = "
-                         f"{outer}")
     x, y, side = rings(inner, outer, g("particles.rings.half_distance"), dx)
     r_c = g("numerics.contact_radius") * dx
     centre_y = g("domain.base_y") + r_c + g("particles.gap") * dx - y.min()

@@ -25,6 +25,12 @@ def scene_problems(data: dict) -> list[str]:
         if lookup(data, "particles.shape") == "rings":
             out.append("particles.shape: 'rings' is not allowed with domain.dim = 3; allowed "
                        "values: disc, rectangle")
+    if lookup(data, "particles.shape") == "rings":
+        inner = lookup(data, "particles.rings.inner_radius")
+        outer = lookup(data, "particles.rings.outer_radius")
+        if inner >= outer:
+            out.append(f"particles.rings.inner_radius: {inner!r} must be below "
+                       f"particles.rings.outer_radius = {outer!r}")
     precrack = lookup(data, "particles.precrack")
     layouts = lookup(data, "precracks")
     if precrack != "none" and precrack not in layouts:
