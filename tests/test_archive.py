@@ -72,6 +72,8 @@ def test_clean_archive_and_folder_verify(project, capsys):
     folder = unpack(archive, project / "unpacked")
     assert verify(folder) == ([], len(FILES) + 1)
     assert verify(folder.parent)[0] == []  # the folder the archive was unpacked into
+    (folder / ".snakemake_timestamp").write_text("")  # a rule's directory output marker
+    assert verify(folder) == ([], len(FILES) + 1)
     assert cli.main(["verify", str(archive)]) == 0
     assert "OK, 5 files match" in capsys.readouterr().out
 

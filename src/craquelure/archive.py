@@ -25,6 +25,9 @@ from pathlib import Path
 from craquelure.errors import CraquelureError
 
 MANIFEST = "MANIFEST.sha256"
+# Snakemake's marker in a directory() output written after the job (an archived folder made by
+# a rule carries it): no part of the result, never in a manifest.
+SNAKEMAKE_MARKER = ".snakemake_timestamp"
 
 
 def sha256_file(path: str | Path) -> str:
@@ -142,7 +145,8 @@ def verify(path: str | Path) -> tuple[list[str], int]:
         root = _folder_root(path)
         manifest = (root / MANIFEST).read_text()
         actual = {p.relative_to(root).as_posix(): sha256_file(p)
-                  for p in sorted(root.rglob("*")) if p.is_file() and p != root / MANIFEST}
+                  for p in sorted(root.rglob("*")) if p.is_file() and p != root / MANIFEST
+                  and p.name != SNAKEMAKE_MARKER}
     elif path.is_file():
         sidecar = path.with_name(f"{path.name}.sha256")
         if sidecar.is_file():

@@ -176,7 +176,7 @@ def publish(tables_dir: str | Path, rebuilt_dir: str | Path | None, dest: str | 
     checks. Every file is written to a temporary name first."""
     import shutil
 
-    from craquelure.archive import MANIFEST, manifest_text, sha256_file
+    from craquelure.archive import MANIFEST, SNAKEMAKE_MARKER, manifest_text, sha256_file
 
     tables_dir, dest = Path(tables_dir), Path(dest)
     common = tables_dir / "tables" / "common.json"
@@ -191,9 +191,8 @@ def publish(tables_dir: str | Path, rebuilt_dir: str | Path | None, dest: str | 
             json.loads((dest / "provenance.json").read_text()),
             json.loads((tables_dir / "provenance.json").read_text())), indent=1) + "\n"
     keep = {"snapshots.nc"} if (dest / "snapshots.nc").is_file() else set()
-    # (Snakemake's hidden marker of a directory output is not part of the result)
     sources = [p for p in sorted(tables_dir.rglob("*")) if p.is_file()
-               and not p.name.startswith(".")
+               and p.name != SNAKEMAKE_MARKER
                and p.relative_to(tables_dir).as_posix() not in keep | set(texts)]
     for name in REBUILT if rebuilt_dir is not None else ():
         path = Path(rebuilt_dir) / name
