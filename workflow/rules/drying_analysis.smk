@@ -41,6 +41,9 @@ rule drying_fragments:
         "logs/drying_fragments/{scene}/seed{seed}.log",
     benchmark:
         "benchmarks/results/drying_fragments/{scene}/seed{seed}.tsv"
+    # Above the runs (priority 10): a finished run is labelled at once, so that an ensemble
+    # cut between sessions keeps every seed it ran ready to archive.
+    priority: 15
     threads: config["drying"]["threads"]
     resources:
         mem_mb=config["drying"]["mem_mb"],
