@@ -86,7 +86,10 @@ strength rises, and the point exceeds DIF_c. This belongs to the update, not to 
 (which holds the lateral stresses at zero): with CSCM's associated, dilatant return the lateral
 overstress is larger still. The manual's algorithm and fits are kept; unconfined compression
 is not forced onto the 1D factor (an overstress held along the stress direction would change
-the rate-independent limit of the model).
+the rate-independent limit of the model). Decision [D]: the manual's σ^P is the return of σ^T
+itself; here it is the rate-independent history, which keeps the damage and hardening of the
+inviscid model; without damage, an unconfined compression point peaks at the same stresses
+with either.
 """
 
 import math
