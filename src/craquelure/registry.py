@@ -63,7 +63,7 @@ class Effect:
     switches the effect on (:func:`craquelure.codegen.effect_flags`), the effect's name in
     capitals (``xsph`` -> ``XSPH``); ``None`` for an effect that is always compiled in or acts
     outside the kernel. ``energy(engine)``: the energy the effect can supply over a run, added
-    to the runaway guard's bound.
+    to the runaway guard's bound. ``diagnostics``: the run dataset's variables it adds.
     """
 
     model: str
@@ -74,6 +74,7 @@ class Effect:
     conflicts: tuple[str, ...] = ()
     params: tuple[Param, ...] = ()
     energy: Callable[[Any], float] | None = None
+    diagnostics: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if self.flag not in (None, self.name.upper()):

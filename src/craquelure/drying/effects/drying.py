@@ -13,7 +13,8 @@ EFFECT = Effect("drying", "drying", "DRYING", "isotropic drying stress sigma_dry
                 params=(Param("drying_rate", "material.drying_rate", "stress/time"),
                         # absent: sigma_dry grows without bound
                         Param("drying_stress_cap", "material.drying_stress_cap", "stress",
-                              neutral=math.inf, optional=True)))
+                              neutral=math.inf, optional=True)),
+                diagnostics=("kappa_max", "kappa_criterion_max"))
 
 
 @njit(inline="always", cache=True)

@@ -16,7 +16,8 @@ from craquelure.registry import Effect, Param
 EFFECT = Effect("drying", "elasticity", "ELASTICITY",
                 "hypo-elastic stress, Jaumann rate (lambda, mu)",
                 params=(Param("lame_lambda", "material.lame_lambda", "stress"),
-                        Param("lame_mu", "material.lame_mu", "stress")))
+                        Param("lame_mu", "material.lame_mu", "stress")),
+                diagnostics=("elastic_energy",))
 
 
 @njit(inline="always", cache=True)

@@ -25,7 +25,7 @@ from craquelure.registry import Effect
 # flag None: acts between steps (engine), not in the rate kernel
 EFFECT = Effect("drying", "fracture", None,
                 "remove particles whose criterion stress (default tr(sigma)/2) exceeds sigma_Y",
-                requires=("material.yield_stress",))
+                requires=("material.yield_stress",), diagnostics=("n_removed", "alive"))
 
 MEASURES = ("half_trace", "trace", "max_principal")
 SOURCE_MEASURE = "half_trace"
