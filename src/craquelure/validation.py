@@ -313,6 +313,12 @@ def _figure_data(path: Path) -> tuple[str, float]:
     return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode(), ratio
 
 
+def _figure_div(i: int, name: str, ratio: float) -> str:
+    """The embedded figure ``i`` (class ``cq-f<i>``) at its aspect ratio."""
+    return (f'<div class="cq-figure cq-f{i}" role="img" aria-label="figure {html.escape(name)}" '
+            f'style="aspect-ratio: {1 / ratio:.4f}"></div>')
+
+
 def _badge(verdict: str) -> str:
     return f'<span class="cq-badge {verdict.replace(" ", "-")}">{html.escape(verdict)}</span>'
 
@@ -357,8 +363,7 @@ def render_summary(claims: Sequence[Claim], profile: str,
                 i = used[path]
                 thumb = (f'<span class="cq-thumb cq-f{i}" role="img" '
                          f'aria-label="figure {name}" title="{name}"></span>')
-                large = (f'<div class="cq-figure cq-f{i}" role="img" aria-label="figure {name}" '
-                         f'style="aspect-ratio: {1 / ratios[i]:.4f}"></div>')
+                large = _figure_div(i, path.name, ratios[i])
             items = [("source", c.source), ("criterion", c.criterion), ("measured", c.measured)]
             if c.note:
                 items.append(("note", c.note))
@@ -395,11 +400,9 @@ def render_summary(claims: Sequence[Claim], profile: str,
         if path is not None:
             i = used[path]
             width = min(KEY_FIGURE_SIZE[0], KEY_FIGURE_SIZE[1] / ratios[i])
-            keyfigs.append(f'<figure style="width: {width:.0f}px"><div class="cq-figure cq-f{i}" '
-                           f'role="img" aria-label="figure {html.escape(path.name)}" style='
-                           f'"aspect-ratio: {1 / ratios[i]:.4f}"></div><figcaption>'
-                           f'{html.escape(model)}: '
-                           f'{html.escape(path.name)}</figcaption></figure>')
+            keyfigs.append(f'<figure style="width: {width:.0f}px">'
+                           f'{_figure_div(i, path.name, ratios[i])}<figcaption>'
+                           f'{html.escape(model)}: {html.escape(path.name)}</figcaption></figure>')
     keys = (f'<h3>Key figures</h3><div class="cq-keyfigs">{"".join(keyfigs)}</div>'
             if keyfigs else "")
     timed = "; ".join(f"{html.escape(b['model'])}: {html.escape(b['claim'])}, judged by "

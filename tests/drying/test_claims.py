@@ -26,7 +26,7 @@ C15 = {
     "n_first": 22, "n_last": 169, "ks_scaled_first_last": 0.12,
     "ks_scaled_first_last_upper95": 0.31, "cv_mean_x2": 0.13, "cv_mean_x2_upper95": 0.2,
     "ks_raw_first_last": 0.83, "alternative": "scaled width drifting by 25% across the window",
-    "power": 1.0, "confirmation_rate": 0.9,
+    "power": 1.0, "confirmation_rate": 0.9, "ks_margin": 0.15, "cv_margin": 0.1,
     "conditions": {"KS(S_first, S_last) >= 0.3 (non-trivial)": True,
                    "KS(X_first, X_last) upper 95 % bound <= 0.15": False,
                    "CV of <X^2>_t upper 95 % bound <= 0.1": False},
@@ -34,7 +34,9 @@ C15 = {
 }
 ITEM = {"time": 20.0, "over_t_star": 2.6, "ci95_over_t_star": [2.4, 2.9]}
 C16 = {
-    "n_samples": 8, "unbroken_at_end": 0, **{k: ITEM for k in (
+    "n_samples": 8, "unbroken_at_end": 0, "unbroken_at_end_ci95": [0.0, 0.37],
+    "rates_at_samples": 100, "confirmation_rate": 0.0, "power": 1.0,
+    "alternative": "every break 25% later", **{k: ITEM for k in (
         "first_removal_earliest", "first_removal_median", "first_sample_broken",
         "half_samples_broken", "all_samples_broken")},
     "conditions": {"first sample broken by 0.45 t*": False,

@@ -5,8 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from craquelure.impact.material import MATERIAL_CONSTANTS, drive, standard_concrete
+from craquelure.impact.material import MATERIAL_CONSTANTS, standard_concrete
 from craquelure.registry import kernel_parameters, known_effects
+from tests.impact.material_point import drive
 
 MAT = standard_concrete()
 

@@ -133,20 +133,6 @@ def test_unknown_kernel_lists_allowed_values():
         kernels.kernel_kind("gaussian")
 
 
-@pytest.mark.parametrize("dim", [2, 3])
-@pytest.mark.parametrize("name", KERNELS)
-def test_fused_value_and_derivative_equal_the_separate_ones_bitwise(name, dim):
-    # The drying rate takes W and dW/dr from one call (shared powers of the quintic); the
-    # values must be exactly those of kernel_w and kernel_dwdr, or results would depend on
-    # which effects are on.
-    s = 0.2
-    r = np.concatenate([np.linspace(0.0, 1.1 * s, 4001), [s / 3, 2 * s / 3, s]])
-    kind = kernels.kernel_kind(name)
-    w_fused, d_fused = np.array([kernels.kernel_w_dwdr(kind, x, s, dim) for x in r]).T
-    np.testing.assert_array_equal(w_fused, w(name, r, s, dim))
-    np.testing.assert_array_equal(d_fused, dwdr(name, r, s, dim))
-
-
 @njit
 def _w_g(kind, r2, s):
     w_out = np.empty_like(r2)

@@ -147,9 +147,6 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
         scaled_density[k] = _density(x_all[sel], x_edges)
         if sel.any():
             in_range[k] = np.mean(area[sel] <= s_max)
-    first_removal = np.array([float(ds.attrs.get("first_removal_time", np.nan))
-                              for ds in fragments])
-
     def per_seed(key: str) -> np.ndarray:
         return np.array([float(ds.attrs.get(key, np.nan)) for ds in fragments])
 
@@ -165,7 +162,7 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
             "sample_mean_area": (("seed", "time"), sample_mean),
             "paste_fraction": (("seed", "time"),
                                np.stack([d["paste_fraction"].values for d in fragments])),
-            "first_removal_time": ("seed", first_removal),
+            "first_removal_time": ("seed", per_seed("first_removal_time")),
             "kappa_max": ("seed", per_seed("kappa_max"), {
                 "long_name": "median of max_I sigma_bar_I / F before the first removal",
                 "units": "1"}),

@@ -89,15 +89,14 @@ def _collapse_number(c15: dict, verdict: str) -> str:
     failed = " ".join(_failed(c15))
     if "KS(S_first" in failed:
         return f"KS(S) = {c15['ks_raw_first_last']:.2f} (>= 0.3)"
-    ks_margin, cv_margin = c15.get("ks_margin", 0.15), c15.get("cv_margin", 0.10)
     if "CV" in failed:
-        return f"CV upper 95 % = {c15['cv_mean_x2_upper95']:.3f} (<= {cv_margin:.3f})"
+        return f"CV upper 95 % = {c15['cv_mean_x2_upper95']:.3f} (<= {c15['cv_margin']:.3f})"
     if verdict == "inconclusive":
         rates = {"power": c15["power"], "exact collapse passes": c15["confirmation_rate"]}
         name = min(rates, key=rates.get)
         return f"{name} {rates[name]:.2f} (needs 0.8)"
     return (f"KS(X) upper 95 % = {c15['ks_scaled_first_last_upper95']:.3f} "
-            f"(<= {ks_margin:.3f})")
+            f"(<= {c15['ks_margin']:.3f})")
 
 
 def _onset_number(c16: dict) -> str:
@@ -117,7 +116,7 @@ LABELLING_KEYS = {"checks": "periodic labelling (on the torus)",
 
 def _labelled(summary: dict, key: str, source: str) -> str:
     """The source column of a row of one labelling, and whether the source most likely used it
-    (summaries that judge both labellings say which; older ones judge only the periodic)."""
+    (summaries that judge both labellings say which)."""
     if "checks_open_image" not in summary:
         return source
     likely = summary.get("source_labelling", {})
@@ -165,9 +164,9 @@ def collapse_claim(summary: dict, key: str = "checks") -> Claim:
         measured = (f"{c15['n_first']} and {c15['n_last']} fragments at the window's ends: "
                     f"KS(X_first, X_last) = {c15['ks_scaled_first_last']:.3f} (upper 95 % "
                     f"{c15['ks_scaled_first_last_upper95']:.3f}, margin "
-                    f"{c15.get('ks_margin', float('nan')):.3f}); CV of <X^2>_t = "
+                    f"{c15['ks_margin']:.3f}); CV of <X^2>_t = "
                     f"{c15['cv_mean_x2']:.3f} (upper 95 % {c15['cv_mean_x2_upper95']:.3f}, "
-                    f"margin {c15.get('cv_margin', float('nan')):.3f}); "
+                    f"margin {c15['cv_margin']:.3f}); "
                     f"KS(S_first, S_last) = {c15['ks_raw_first_last']:.2f}; power against "
                     f"{c15['alternative']}: {c15['power']:.2f}; an exact collapse passes in "
                     f"{c15['confirmation_rate']:.0%} of simulated samples")
@@ -181,21 +180,6 @@ def collapse_claim(summary: dict, key: str = "checks") -> Claim:
                  deciding=_collapse_number(c15, verdict), figure="drying_scaled_distribution.png")
 
 
-def _share(c16: dict) -> str:
-    """The unbroken share's exact 95 % interval (summaries made before it was recorded: none)."""
-    ci = c16.get("unbroken_at_end_ci95")
-    return "" if ci is None else f" (exact 95 % interval {ci[0]:.2f}-{ci[1]:.2f})"
-
-
-def _onset_rates(c16: dict) -> str:
-    """Check 16's rates at the source's sample size (summaries made before them: none)."""
-    if "power" not in c16:
-        return ""
-    return (f"; at {c16['rates_at_samples']} samples drawn from these, both conditions hold in "
-            f"{c16['confirmation_rate']:.0%}; power against {c16['alternative']}: "
-            f"{c16['power']:.2f}")
-
-
 def onset_claim(summary: dict, key: str = "checks") -> Claim:
     c16 = summary[key]["check16_onset"]
     c16 = {**c16, "partial": True}
@@ -207,11 +191,15 @@ def onset_claim(summary: dict, key: str = "checks") -> Claim:
             return "never"
         return f"{v['over_t_star']:.2f} t* (95 % CI {_interval(v['ci95_over_t_star'], '.2f')})"
 
+    ci = c16["unbroken_at_end_ci95"]
     measured = (f"first removal: earliest {item('first_removal_earliest')}, median "
                 f"{item('first_removal_median')}; samples broken (>= 2 fragments): first "
                 f"{item('first_sample_broken')}, half {item('half_samples_broken')}, all "
                 f"{item('all_samples_broken')}; {c16['unbroken_at_end']} of "
-                f"{c16['n_samples']} unbroken at the end{_share(c16)}{_onset_rates(c16)}")
+                f"{c16['n_samples']} unbroken at the end (exact 95 % interval {ci[0]:.2f}-"
+                f"{ci[1]:.2f}); at {c16['rates_at_samples']} samples drawn from these, both "
+                f"conditions hold in {c16['confirmation_rate']:.0%}; power against "
+                f"{c16['alternative']}: {c16['power']:.2f}")
     return Claim(MODEL, "fragments appear early: the first sample breaks by 0.40 t*, all are "
                  "broken before 0.8 t* (100 samples)",
                  _labelled(summary, key, "paper Figs. 4-6 (t = 90, 150, 180); drying spec "
@@ -347,9 +335,8 @@ def claims(sources: list[Path]) -> list[Claim]:
             summary = json.loads(path.read_text())
             for key in LABELLING_KEYS:
                 if key in summary:
-                    out += [inverse_area_claim(summary, key), collapse_claim(summary, key)]
-                    if "check16_onset" in summary[key]:
-                        out.append(onset_claim(summary, key))
+                    out += [inverse_area_claim(summary, key), collapse_claim(summary, key),
+                            onset_claim(summary, key)]
         elif path.name == "thickness.nc":
             out.append(thickness_claim(path))
         elif path.name == "transition.nc":

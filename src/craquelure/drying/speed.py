@@ -29,7 +29,8 @@ import xarray as xr
 
 from craquelure.drying import ensemble
 from craquelure.drying.campaign import build_campaign, per_sample_totals
-from craquelure.drying.time_scales import drying_number
+from craquelure.drying.summary import b_star_of
+from craquelure.drying.time_scales import broken_from, drying_number
 from craquelure.errors import CraquelureError
 from craquelure.scene import Scene
 from craquelure.validation import bootstrap_interval
@@ -62,12 +63,6 @@ def speed_run_settings(scene: Scene, pi: float, end_over_t_star: float,
     }
 
 
-def _broken_window(campaign: xr.Dataset) -> np.ndarray:
-    """Snapshots from which on every sample has >= 2 fragments."""
-    broken = np.all(campaign["n_fragments"].values >= 2, axis=0)
-    return np.flip(np.logical_and.accumulate(np.flip(broken)))
-
-
 def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
                ) -> dict[str, float]:
     campaign = build_campaign(list(fragments), window_mode="all_broken")
@@ -86,12 +81,10 @@ def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
         lo, hi = v["ci95_over_t_star"]
         out[f"{item}_lo"] = np.nan if lo is None else lo
         out[f"{item}_hi"] = np.nan if hi is None else hi
-    b_star = (float(a["lame_mu"]) * float(a["drying_rate"])
-              / ((float(a["lame_lambda"]) + 2 * float(a["lame_mu"]))
-                 * float(a["thickness"]) ** 2 * float(a["yield_stress"])))
+    b_star = b_star_of(a)
     seeds = campaign["seed"].values
     total, count = per_sample_totals(campaign)
-    window = _broken_window(campaign)
+    window = broken_from(campaign["n_fragments"].values)
     fit = ensemble.check_inverse_area(times[window], total[:, window], count[:, window], tstar,
                                     b_star, n_boot, n_power=200)
     for key, value, ci, scale in (("t0_over_t_star", "x_intercept_t0", "t0_ci95", tstar),

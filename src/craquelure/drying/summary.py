@@ -53,6 +53,7 @@ from craquelure.drying.campaign import per_sample_totals
 from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
 from craquelure.drying.time_scales import (
     drying_number,
+    holds_from,
     paper_pi,
     paper_t_star,
     t_star,
@@ -122,17 +123,20 @@ def _collapse(campaign: xr.Dataset, win: dict[str, Any]) -> dict[str, Any]:
     tk = win["collapse_times"]
     pooled = (np.concatenate([scaled[t] for t in times[window]]) if window.any()
               else np.zeros(0))
-    rows = []
-    for t in tk:
+
+    def ks_row(t: float) -> dict[str, Any]:
+        """KS distance of the scaled sizes at t to the window-pooled ones, and its critical
+        value."""
         x = scaled[float(t)]
         if x.size == 0 or pooled.size == 0:
-            rows.append({"time": float(t), "n": int(x.size), "ks": None, "critical": None,
-                         "below_critical": False, "mean_x2": None})
-            continue
+            return {"time": float(t), "n": int(x.size), "ks": None, "critical": None,
+                    "below_critical": False, "mean_x2": None}
         d = float(stats.ks_2samp(x, pooled).statistic)
         crit = ks_critical(x.size, pooled.size)
-        rows.append({"time": float(t), "n": int(x.size), "ks": d, "critical": crit,
-                     "below_critical": bool(d < crit), "mean_x2": float(np.mean(x**2))})
+        return {"time": float(t), "n": int(x.size), "ks": d, "critical": crit,
+                "below_critical": bool(d < crit), "mean_x2": float(np.mean(x**2))}
+
+    rows = [ks_row(t) for t in tk]
     x2 = np.array([r["mean_x2"] for r in rows if r["mean_x2"] is not None])
     cv = float(np.std(x2, ddof=1) / np.mean(x2)) if x2.size >= 2 else None
     raw_ks = None
@@ -144,17 +148,8 @@ def _collapse(campaign: xr.Dataset, win: dict[str, Any]) -> dict[str, Any]:
     before = [scaled[float(t)] for t in times[:start]]
     after = [scaled[float(t)] for t in times[window]]
     # Collapse onset: earliest snapshot from which on all are within the critical value.
-    onset = None
-    if pooled.size:
-        ok = []
-        for t in times:
-            x = scaled[float(t)]
-            ok.append(x.size >= 1 and
-                      stats.ks_2samp(x, pooled).statistic < ks_critical(x.size, pooled.size))
-        for k in range(len(times)):
-            if all(ok[k:]):
-                onset = float(times[k])
-                break
+    stays = holds_from([ks_row(t)["below_critical"] for t in times])
+    onset = float(times[np.argmax(stays)]) if stays.any() else None
     return {
         "collapse_times": tk.tolist(),
         "per_time": rows,

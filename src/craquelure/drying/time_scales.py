@@ -90,6 +90,17 @@ def collapse_times(times: np.ndarray, tstar: float) -> np.ndarray:
     return np.asarray(chosen)
 
 
+def broken_from(n_fragments: np.ndarray) -> np.ndarray:
+    """Mask of the snapshots from which on every sample has >= 2 fragments (dims (seed,
+    time))."""
+    return holds_from(np.all(np.asarray(n_fragments) >= 2, axis=0))
+
+
+def holds_from(flags: np.ndarray) -> np.ndarray:
+    """Mask of the positions from which on every flag is true."""
+    return np.flip(np.logical_and.accumulate(np.flip(np.asarray(flags, bool))))
+
+
 WINDOW_MODES = ("paper", "all_broken")
 N_COLLAPSE_TIMES = len(PAPER_COLLAPSE_TIMES)
 
@@ -107,9 +118,7 @@ def campaign_window(times: np.ndarray, n_fragments: np.ndarray, tstar: float,
                        f"{PAPER_WINDOW[1]:g}], initial stage t < {PAPER_INITIAL_STAGE_END:g}) "
                        f"rescaled by t*/t*_paper = {time_scale(tstar):.4g}")
     elif mode == "all_broken":
-        broken = np.all(np.asarray(n_fragments) >= 2, axis=0)
-        # First snapshot from which on every later one has every sample broken.
-        stays = np.flip(np.logical_and.accumulate(np.flip(broken)))
+        stays = broken_from(n_fragments)
         if stays.any():
             k0 = int(np.argmax(stays))
             lo, hi = float(times[k0]), float(times[-1])

@@ -42,6 +42,7 @@ Reported without a verdict (not findings of the source): the peak contact force 
 from __future__ import annotations
 
 import math
+import operator
 
 import numpy as np
 
@@ -115,14 +116,15 @@ def fraction_test(flags, deterministic: bool = False, seed: int = 12) -> dict:
 MEDIAN_AGREEMENT = 0.95  # the median rule decides when 95 % of bootstrap medians agree
 
 
-def median_rule(values, decide, flags) -> dict:
+def median_rule(case: dict | None, q: str, decide) -> dict:
     """The spec's median rule as a defining condition: "the median specimen has P", P =
-    ``decide`` on the median of ``values`` over the seeds, decided when at least 95 % of the
-    bootstrap medians (:func:`median_with_interval`) give the same answer, undecided otherwise.
-    The exact binomial test of :func:`fraction_test` on the per-seed ``flags`` (P in at least
-    half of the specimens) is reported beside it with its interval and power."""
-    med = median_with_interval(values, decide)
-    test = fraction_test(flags)
+    ``decide`` on the median of ``case``'s values of ``q`` over the seeds, decided when at least
+    95 % of the bootstrap medians (:func:`median_with_interval`) give the same answer,
+    undecided otherwise. The exact binomial test of :func:`fraction_test` on the per-seed
+    flags (P in at least half of the specimens) is reported beside it with its interval and
+    power."""
+    med = median_with_interval(_vals(case, q), decide)
+    test = fraction_test(_flags(case, q, decide))
     decided = None
     if med["median"] is not None and med["agreement"] >= MEDIAN_AGREEMENT:
         decided = bool(decide(med["median"]))
@@ -216,23 +218,14 @@ def _flags(case: dict | None, q: str, test) -> list:
             for v in case["per_seed"].get(q, [])] if case else []
 
 
-def _differs(a: dict | None, b: dict | None, q: str, rel: float) -> list:
-    """Per seed common to both cases: |a's q - b's q| > rel |b's q| (None where missing)."""
+def _by_seed(a: dict | None, b: dict | None, q: str, compare) -> list:
+    """Per seed common to both cases: ``compare(a's q, b's q)`` (None where either is
+    missing)."""
     if not a or not b:
         return []
     va = dict(zip(a["seeds"], a["per_seed"].get(q, []), strict=False))
     vb = dict(zip(b["seeds"], b["per_seed"].get(q, []), strict=False))
-    return [None if _missing(va[s]) or _missing(vb[s]) else abs(va[s] - vb[s]) > rel * abs(vb[s])
-            for s in sorted(set(va) & set(vb))]
-
-
-def _paired(a: dict | None, b: dict | None, q: str) -> list:
-    """Per seed common to both cases: a's ``q`` above b's (None where either is missing)."""
-    if not a or not b:
-        return []
-    va = dict(zip(a["seeds"], a["per_seed"].get(q, []), strict=False))
-    vb = dict(zip(b["seeds"], b["per_seed"].get(q, []), strict=False))
-    return [None if _missing(va[s]) or _missing(vb[s]) else va[s] > vb[s]
+    return [None if _missing(va[s]) or _missing(vb[s]) else compare(va[s], vb[s])
             for s in sorted(set(va) & set(vb))]
 
 
@@ -332,8 +325,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
             "damage than the homogeneous disc",
             "phi_c above the homogeneous disc's in at least half of the specimens (>= 8 seeds,"
             " exact binomial interval above 1/2)",
-            {key: median_rule(_vals(het[1.0], "n_main_cracks_opening"), lambda m: m >= 2,
-                              _flags(het[1.0], "n_main_cracks_opening", lambda m: m >= 2)),
+            {key: median_rule(het[1.0], "n_main_cracks_opening", lambda m: m >= 2),
              "phi_c above homogeneous in at least half of the specimens":
                 fraction_test(_flags(het[1.0], "cracked_fraction", lambda m: m > phi_h)
                               if phi_h is not None else [])},
@@ -350,8 +342,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
             "cracks beside it",
             ">= 1 shorter (non-main, > 2 Delta) crack in at least half of the specimens "
             "(>= 8 seeds, exact binomial interval above 1/2)",
-            {key: median_rule(_vals(het[1.5], "n_main_cracks_opening"), lambda m: m == 1,
-                              _flags(het[1.5], "n_main_cracks_opening", lambda m: m == 1)),
+            {key: median_rule(het[1.5], "n_main_cracks_opening", lambda m: m == 1),
              "shorter cracks beside it in at least half of the specimens":
                 fraction_test(_flags(het[1.5], "n_secondary_cracks_opening",
                                      lambda m: m >= 1))},
@@ -381,16 +372,15 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
             "fraction within 3 Delta of the main crack, a larger A_cr, a peak contact force "
             f"differing by more than {FORCE_DIFFERENCE:.0%}; eps_AS and l_c the same at both "
             "kappa",
-            {key: median_rule(_vals(het[0.7], "n_main_cracks_opening"), lambda m: m == 1,
-                              _flags(het[0.7], "n_main_cracks_opening", lambda m: m == 1)),
+            {key: median_rule(het[0.7], "n_main_cracks_opening", lambda m: m == 1),
              "cracked fraction near the main crack above kappa = 1 in at least half of the "
-             "specimens": fraction_test(_paired(het[0.7], het[1.0],
-                                                "cracked_fraction_near_main")),
+             "specimens": fraction_test(_by_seed(het[0.7], het[1.0],
+                                                 "cracked_fraction_near_main", operator.gt)),
              "crushed area above kappa = 1 in at least half of the specimens":
-                fraction_test(_paired(het[0.7], het[1.0], "crushed_area")),
+                fraction_test(_by_seed(het[0.7], het[1.0], "crushed_area", operator.gt)),
              "peak contact force differs from kappa = 1 in at least half of the specimens":
-                fraction_test(_differs(het[0.7], het[1.0], "contact_force_peak",
-                                       FORCE_DIFFERENCE)),
+                fraction_test(_by_seed(het[0.7], het[1.0], "contact_force_peak",
+                                       lambda a, b: abs(a - b) > FORCE_DIFFERENCE * abs(b))),
              "eps_AS the same at kappa = 0.7 and 1": same_eps,
              "l_c the same at kappa = 0.7 and 1": same_band},
             {"N_main": nm, "cracked_fraction_near_main": {str(k): v for k, v in near.items()},

@@ -13,16 +13,19 @@ from craquelure.io import open_dataset
 from craquelure.plotting import plt, save
 
 
+def _map(ax, x, y, values, size, cmap, vmin, vmax):
+    """Particles at (x, y) [m], drawn in mm and coloured by ``values``, on bare equal axes."""
+    sc = ax.scatter(x * 1e3, y * 1e3, c=values, s=size, cmap=cmap, vmin=vmin, vmax=vmax,
+                    linewidths=0)
+    ax.set(aspect="equal", xticks=[], yticks=[])
+    return sc
+
+
 def _disc(ax, ds, values, snapshot=-1, cmap="gray_r", vmin=0.0, vmax=1.0, reference=False):
     x = ds["x0"].values if reference else ds["snap_x"].values[snapshot]
     y = ds["y0"].values if reference else ds["snap_y"].values[snapshot]
-    size = 9.0 * (0.004 / float(run_fact(ds, "spacing"))) ** 2
-    sc = ax.scatter(x * 1e3, y * 1e3, c=values, s=size, cmap=cmap, vmin=vmin, vmax=vmax,
-                    linewidths=0)
-    ax.set_aspect("equal")
-    ax.set_xticks([])
-    ax.set_yticks([])
-    return sc
+    return _map(ax, x, y, values, 9.0 * (0.004 / float(run_fact(ds, "spacing"))) ** 2, cmap,
+                vmin, vmax)
 
 
 def _failed(ds, snapshot=-1):
@@ -190,12 +193,7 @@ def _opening_panel(ax, ds, x=None, y=None, vmax=2.0):
     ys = (ds["y"].values if y is None else y)[idx]
     cells = float(np.ptp(ds["x0"].values)) / float(run_fact(ds, "spacing")) + 1.0
     size = (140.0 / cells) ** 2  # markers about one cell wide in a ~2.4 inch panel
-    sc = ax.scatter(xs * 1e3, ys * 1e3, c=np.clip(per * 1e3, 0, vmax), s=size, cmap="magma_r",
-                    vmin=0.0, vmax=vmax, linewidths=0)
-    ax.set_aspect("equal")
-    ax.set_xticks([])
-    ax.set_yticks([])
-    return sc
+    return _map(ax, xs, ys, np.clip(per * 1e3, 0, vmax), size, "magma_r", 0.0, vmax)
 
 
 def _dim_label(ds) -> str:

@@ -84,14 +84,7 @@ def centre_line_crossings(x0, y0, damage, plastic, spacing, centre_y, cracked=0.
     idx = np.flatnonzero(_centre_row(y0, centre_y, spacing))
     idx = idx[np.argsort(x0[idx])]
     hit = (damage[idx] >= cracked) & (plastic[idx] < crushed)
-    runs, start = [], None
-    for k, h in enumerate(hit):
-        if h and start is None:
-            start = k
-        if start is not None and (not h or k == hit.size - 1):
-            end = k if h else k - 1
-            runs.append(float(x0[idx[start:end + 1]].mean()))
-            start = None
+    runs = [float(x0[idx[run]].mean()) for run in _runs_of(hit)]
     return len(runs), ",".join(f"{1e3 * x:.0f}" for x in runs)
 
 
@@ -371,14 +364,8 @@ def _row_gaps(x0, y0, x, y, mass, spacing, centre_y):
 
 def _runs_of(flags: np.ndarray) -> list[np.ndarray]:
     """Index arrays of the runs of consecutive True in ``flags``."""
-    out, start = [], None
-    for k, f in enumerate(list(flags) + [False]):
-        if f and start is None:
-            start = k
-        elif not f and start is not None:
-            out.append(np.arange(start, k))
-            start = None
-    return out
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], np.asarray(flags, np.int8), [0]])))
+    return [np.arange(a, b) for a, b in zip(edges[::2], edges[1::2], strict=True)]
 
 
 def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,

@@ -39,11 +39,6 @@ def block_engine(n_particles: int, effects=("beams",), seed: int = 0,
     return eng
 
 
-def time_per_step(engine: Engine, steps: int, repeats: int = 3) -> float:
-    """Best wall time per step (compilation excluded)."""
-    return timings(engine, steps, repeats)[0]
-
-
 def timings(engine: Engine, steps: int, repeats: int = 3) -> tuple[float, float]:
     """(best wall time, best process CPU time) per step. On a machine shared with other jobs
     the CPU time (summed over this process's threads) is the load-independent figure."""

@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from craquelure.lattice import beam
-from craquelure.lattice.initial_state import beam_constants, block_height
+from craquelure.lattice.initial_state import beam_constants
 from craquelure.scene import Scene
 
 RELAXATIONS = 5.0
@@ -61,20 +61,6 @@ def strain_rate(time: np.ndarray, ux: np.ndarray, height: float, fit_from: float
 
 def viscosity(tau: float, gamma_dot: float) -> float:
     return 2.0 * tau / gamma_dot if gamma_dot > 0 else math.inf
-
-
-def measure(scene: Scene, tau: float, seed: int = 0) -> dict[str, float]:
-    """Run one stress of the sweep in memory and return tau, rates and mu."""
-    from craquelure.lattice.initial_state import make_engine
-
-    sc = scene.with_overrides(overrides(scene, tau))
-    engine, _ = make_engine(sc, seed)
-    engine.run(int(math.ceil(sc.get("outputs.t_end") / engine.dt)))
-    series = engine.series_array()
-    out = strain_rate(series[:, 0], series[:, 13], block_height(sc))
-    out.update(tau=tau, mu=viscosity(tau, out["gamma_dot"]),
-               melt_rate=float(series[-1, 12] / (series[-1, 0] * engine.system.bi.size)))
-    return out
 
 
 def fit_power_law(x, y) -> tuple[float, float]:

@@ -10,8 +10,6 @@ with :math:`H = (n + 1/2)h` to O(1/n^2): every particle stands for a cell of hei
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from craquelure.lattice import beam
@@ -37,9 +35,3 @@ def measured_settlement(y0: np.ndarray, y: np.ndarray, row: np.ndarray, x0: np.n
     half = 0.5 * central_fraction * (x0[top].max() - x0[top].min())
     sel = top & (np.abs(x0 - xc) <= max(half, 0.5))
     return float(np.mean(y0[sel] - y[sel]))
-
-
-def fundamental_rate(kn: float, ks: float, mass: float, ny: int, L: float = 1.0) -> float:  # noqa: N803
-    """omega_1 = (pi/2) c_P / H of the clamped-free column."""
-    c = math.sqrt(beam.lattice_moduli(kn, ks)["M"] / (mass / beam.cell_area(L)))
-    return 0.5 * math.pi * c / effective_height(ny, L)

@@ -110,34 +110,6 @@ def kernel_dwdr(kind, r, s, dim):
 
 
 @njit(inline="always", cache=True)
-def kernel_w_dwdr(kind, r, s, dim):
-    """(W, dW/dr) at once; the quintic shares its powers (same values as kernel_w and
-    kernel_dwdr, which the pass of the drying rate needs both of)."""
-    if kind != QUINTIC:
-        return kernel_w(kind, r, s, dim), kernel_dwdr(kind, r, s, dim)
-    inv = 1.0 / s
-    x = r * inv
-    if x >= 1.0:
-        return 0.0, 0.0
-    a = 3.0 - 3.0 * x
-    d = a * a * a * a
-    f = d * a
-    if x < 2.0 / 3.0:
-        b = 2.0 - 3.0 * x
-        b4 = b * b * b * b
-        f -= 6.0 * (b4 * b)
-        d -= 6.0 * b4
-        if x < 1.0 / 3.0:
-            c = 1.0 - 3.0 * x
-            c4 = c * c * c * c
-            f += 15.0 * (c4 * c)
-            d += 15.0 * c4
-    norm = kernel_norm(kind, dim)
-    scale = inv * inv if dim == 2 else inv * inv * inv
-    return norm * scale * f, norm * (scale * inv) * (-15.0 * d)
-
-
-@njit(inline="always", cache=True)
 def quintic_w_g(r2, inv_s):
     """Branch-free quintic (2D) from the squared distance: ``(W, (dW/dr)/r)`` with ``inv_s`` =
     1/s. The clamps max(k - 3x, 0) are the spec's (k - 3x)_+, so one formula covers every piece

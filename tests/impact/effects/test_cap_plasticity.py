@@ -11,8 +11,9 @@ from craquelure.errors import SceneError
 from craquelure.impact.api import simulate
 from craquelure.impact.effects.cap_plasticity import cap_position, murray_fits, willam_warnke
 from craquelure.impact.effects.compressive_damage import DC_MAX
-from craquelure.impact.material import drive, standard_concrete
+from craquelure.impact.material import standard_concrete
 from craquelure.scene import load_scene
+from tests.impact.material_point import drive
 
 MAT = standard_concrete(band=0.008)  # l_c = 2 Delta, the default at kappa = 1
 CAP = MAT.cap
