@@ -17,12 +17,6 @@ COMPANION_OUTPUTS = [f"figures/drying_companions_{name}.png" for name in COMPARI
 ]
 
 
-def published_with_companions(wildcards):
-    """The rebuilt folders of an archived ensemble and of its archived companions."""
-    names = drying_workflow.published_companions(wildcards.name)
-    return [f"results/drying_published/{name}" for name in [wildcards.name, *names]]
-
-
 localrules:
     drying_published,
     drying_published_companions,
@@ -36,7 +30,8 @@ rule drying_published:
         snapshots="results/published/{name}/snapshots.nc",
         provenance="results/published/{name}/provenance.json",
         companions=lambda wildcards: [
-            f"{folder}/summary.json" for folder in published_with_companions(wildcards)[1:]
+            f"{folder}/summary.json"
+            for folder in drying_workflow.rebuilt_with_companions(wildcards)[1:]
         ],
     output:
         [f"results/drying_published/{{name}}/{path}" for path in PUBLISHED_OUTPUTS],
@@ -61,14 +56,14 @@ rule drying_published_companions:
     input:
         lambda wildcards: [
             f"{folder}/{path}"
-            for folder in published_with_companions(wildcards)
+            for folder in drying_workflow.rebuilt_with_companions(wildcards)
             for path in ("summary.json", "campaign_periodic.nc", "campaign_open.nc")
         ],
     output:
         [f"results/drying_published/{{name}}/{path}" for path in COMPANION_OUTPUTS],
     params:
         outdir=lambda wildcards, output: Path(output[0]).parents[1],
-        rebuilt=published_with_companions,
+        rebuilt=drying_workflow.rebuilt_with_companions,
     log:
         "logs/drying_published_companions/{name}.log",
     threads: 1

@@ -45,6 +45,13 @@ def published_companions(name: str, root: str = "results/published") -> list[str
     return [c for c in named if c != name and (Path(root) / c / "tables/common.json").is_file()]
 
 
+def rebuilt_with_companions(wildcards) -> list[str]:
+    """The rebuilt folders (rule drying_published) of the archived ensemble
+    ``wildcards.name`` and of its archived companions."""
+    names = [wildcards.name, *published_companions(wildcards.name)]
+    return [f"results/drying_published/{name}" for name in names]
+
+
 def label(value: float) -> str:
     """A number as a wildcard value (scene wildcards have no dots): 0.25 -> 0p25."""
     return f"{value:g}".replace(".", "p")
