@@ -114,7 +114,7 @@ def test_comparison_draws_each_ensembles_series(data, tmp_path):
         assert p == pytest.approx(np.mean(x > g), abs=1e-12)
     assert "N = " in series[0]["setting"] and "8 seeds" in series[0]["setting"]
     outputs = {name: tmp_path / f"{name}.png" for name in COMPARISON}
-    assert len(make_comparison(series, outputs, "test")) == 2 * len(COMPARISON)
+    assert len(make_comparison(series, outputs)) == 2 * len(COMPARISON)
     for name in COMPARISON:
         png = imread(outputs[name])
         assert np.unique(png.reshape(-1, png.shape[-1]), axis=0).shape[0] > 20

@@ -4,7 +4,7 @@ companion ensembles it names, Fig. 3 and Figs. 4-6 drawn for all of them
 series in figures/drying_companions.json.
 
 Outside Snakemake: ``python workflow/scripts/drying_published_companions.py OUTDIR REBUILT_DIR ...``
-(the headline's results/drying_published/<name>/ first: its profile is printed).
+(the headline's results/drying_published/<name>/ first).
 """
 
 import json
@@ -18,16 +18,14 @@ from craquelure.io import open_dataset, write_text_atomic
 
 def main(outdir: str, *rebuilt: str) -> None:
     figures = Path(outdir) / "figures"
-    summaries = [json.loads((Path(folder) / "summary.json").read_text()) for folder in rebuilt]
-    profile = summaries[0]["profile"]
-    series = [comparison_series(Path(folder).name, summary,
+    series = [comparison_series(Path(folder).name,
+                                json.loads((Path(folder) / "summary.json").read_text()),
                                 {name: open_dataset(Path(folder) / f"campaign_{name}.nc")
-                                 for name in LABELLINGS})
-              for folder, summary in zip(rebuilt, summaries, strict=True)]
+                                 for name in LABELLINGS}) for folder in rebuilt]
     write_text_atomic(figures / "drying_companions.json",
-                      json.dumps({"profile": profile, "ensembles": series}, indent=1) + "\n")
+                      json.dumps({"ensembles": series}, indent=1) + "\n")
     make_comparison(series, {name: figures / f"drying_companions_{name}.png"
-                             for name in COMPARISON}, profile)
+                             for name in COMPARISON})
     print(f"compared {', '.join(s['name'] for s in series)}")
 
 

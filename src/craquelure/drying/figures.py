@@ -27,6 +27,7 @@ import matplotlib.ticker
 import numpy as np
 import xarray as xr
 
+from craquelure.drying.claims import LABELLING_KEYS, setting
 from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
 from craquelure.drying.summary import ccdf_bands, json_ready
 from craquelure.drying.time_scales import drying_number, paper_t_star, window_of
@@ -237,8 +238,7 @@ def make_figures(campaign: xr.Dataset, summary: dict[str, Any], run: xr.Dataset,
 # Comparison of archived ensembles (a headline and its companions), one figure each:
 # figures/drying_companions_<name>.png, their data in figures/drying_companions.json.
 COMPARISON = ("inverse_mean_area", "scaled_distribution")
-LABELLING_TITLES = {"periodic": "periodic labelling (on the torus)",
-                    "open": "open image (no wrap-around)"}
+CHECKS_OF = {"periodic": "checks", "open": "checks_open_image"}  # summary key per labelling
 
 
 def comparison_series(name: str, summary: dict[str, Any], campaigns: dict[str, xr.Dataset],
@@ -247,13 +247,11 @@ def comparison_series(name: str, summary: dict[str, Any], campaigns: dict[str, x
     of ``campaigns``: 1/<S>_t with its standard error against t/t*, check 14's weighted fit
     1/<S>_t = b (t - t0) at its window's ends, and the CCDF of X = S/<S>_t pooled over the
     window's snapshots (JSON-ready)."""
-    from craquelure.drying.claims import setting
-
-    out = {"name": name, "setting": setting(summary), "labellings": {}}
-    keys = {"periodic": "checks", "open": "checks_open_image"}
+    out = {"name": name, "profile": summary["profile"], "setting": setting(summary),
+           "labellings": {}}
     for labelling, ds in campaigns.items():
         tstar, win = float(ds.attrs["t_star"]), window_of(ds)
-        c14 = summary[keys[labelling]]["check14_inverse_mean_area_linear"]
+        c14 = summary[CHECKS_OF[labelling]]["check14_inverse_mean_area_linear"]
         ends = np.array([win["start"], win["end"]], float)
         x = ds["fragment_scaled_area"].values[win["mask"][ds["fragment_time_index"].values]]
         x = np.sort(x[np.isfinite(x)])
@@ -270,16 +268,15 @@ def comparison_series(name: str, summary: dict[str, Any], campaigns: dict[str, x
     return json_ready(out)
 
 
-def make_comparison(series: list[dict[str, Any]], outputs: dict[str, str | Path],
-                    profile: str) -> list[Path]:
+def make_comparison(series: list[dict[str, Any]], outputs: dict[str, str | Path]) -> list[Path]:
     """Fig. 3 (1/<S>_t against t/t* with each ensemble's 1/t law) and Figs. 4-6 (the scaled
     distributions) of several ensembles (:func:`comparison_series`), one colour each, a panel
     per labelling; ``outputs`` maps each name of :data:`COMPARISON` to its PNG path."""
     figs = {name: plt.subplots(1, 2, figsize=(12, 6.0 + 0.2 * len(series)), sharey=True)
             for name in COMPARISON}
     for colour, s in zip(_colours(len(series)), series, strict=True):
-        label = f"{s['name']}: {s['setting']}"
-        for k, labelling in enumerate(LABELLING_TITLES):
+        label = f"{s['name']} (profile {s['profile']}), {s['setting']}"
+        for k, labelling in enumerate(CHECKS_OF):
             d = s["labellings"].get(labelling)
             if d is None:
                 continue
@@ -294,8 +291,8 @@ def make_comparison(series: list[dict[str, Any]], outputs: dict[str, str | Path]
                 label=label)
     bottom = 0.16 + 0.035 * len(series)
     for fig, axes in figs.values():
-        for ax, title in zip(axes, LABELLING_TITLES.values(), strict=True):
-            ax.set_title(title, fontsize=9)
+        for ax, key in zip(axes, CHECKS_OF.values(), strict=True):
+            ax.set_title(LABELLING_KEYS[key], fontsize=9)
         handles, labels = axes[0].get_legend_handles_labels()
         fig.legend(handles, labels, fontsize=7, loc="lower left",
                    bbox_to_anchor=(0.01, 0.05), frameon=False)
@@ -306,7 +303,7 @@ def make_comparison(series: list[dict[str, Any]], outputs: dict[str, str | Path]
         ax.set_ylim(bottom=0)
     axes[0].set_ylabel("1/<S>_t [1/length^2]")
     fig.suptitle("Inverse mean fragment area of the archived ensembles (cf. paper Fig. 3)")
-    _caption(fig, [f"profile {profile}; points: 1/<S>_t pooled over seeds, +- 1 SE; lines: "
+    _caption(fig, ["points: 1/<S>_t pooled over seeds, +- 1 SE; lines: "
                    "each ensemble's weighted fit 1/<S>_t = b (t - t0) over its window (check "
                    "14), the law <S>_t ~ 1/t"])
     fig, axes = figs["scaled_distribution"]
@@ -316,7 +313,7 @@ def make_comparison(series: list[dict[str, Any]], outputs: dict[str, str | Path]
     axes[0].set_ylabel("P(S/<S>_t > X), pooled over the window")
     fig.suptitle("Scaled fragment-size distributions of the archived ensembles "
                  "(cf. paper Figs. 4-6)")
-    _caption(fig, [f"profile {profile}; complementary cumulative distribution of X = S/<S>_t "
+    _caption(fig, ["complementary cumulative distribution of X = S/<S>_t "
                    "over every fragment of the snapshots in each ensemble's window: curves "
                    "that lie on one another collapse across criteria and sizes"])
     written = []
