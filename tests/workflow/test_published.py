@@ -154,7 +154,7 @@ def test_companions_drawn_beside_the_headline(ci_run, tmp_path):
     assert [e["name"] for e in drawn["ensembles"]] == ["ci-head", "ci-comp"]
     t_star = json.loads((out / "ci-comp/summary.json").read_text())["t_star"]
     comp = drawn["ensembles"][1]
-    assert "L = 2," in comp["setting"] and comp["setting"].endswith("1 seeds")
+    assert "L = 2," in comp["setting"] and comp["setting"].endswith("1 seed")
     for labelling in ("periodic", "open"):
         d = comp["labellings"][labelling]
         direct = _inverse_mean_area(work / "results/published/ci-comp", labelling)

@@ -360,7 +360,7 @@ def setting(summary: dict) -> str:
            if measure == "trace" else "departs from the source's")
     return (f"scene {summary['scene']}: {MEASURE_TEXT[measure]} > sigma_Y ({how}), "
             f"L = {summary['box_length']:g}, N = {summary['n_particles']}, "
-            f"{summary['n_seeds']} seeds")
+            f"{summary['n_seeds']} seed{'s' * (summary['n_seeds'] != 1)}")
 
 
 def companion(name: str, summary: dict) -> dict:
