@@ -16,7 +16,8 @@ SNAKEMAKE := $(BIN)/snakemake $(if $(CORES),--cores $(CORES))
 # theme's banner.
 MKDOCS := NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --quiet
 
-.PHONY: install run test test-fast test-slurm lint bench docs reference clean-results publish
+.PHONY: install run test test-fast test-slurm lint bench docs reference clean-results publish \
+	republish
 
 $(BIN)/.installed: pyproject.toml requirements.lock
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -75,6 +76,9 @@ reference: install
 # SHA-256 manifest `craquelure verify` checks); commit the folder. For the Table I ensemble:
 #   make publish NAME=drying-table1 SCENE=table1_trace \
 #       CONFIG="config/faithful.yaml config/table1_ensemble.yaml"
+# and for its companions (any drying scene; a criterion run's folder, e.g. paper_speed_Ctrace):
+#   make publish NAME=drying-l5-trace SCENE=paper_speed_Ctrace \
+#       CONFIG="config/faithful.yaml config/l5_trace_ensemble.yaml"
 PUBLISH := $(BIN)/python -c 'import sys; from craquelure.drying.published import publish; \
 	publish(*[None if a == "-" else a for a in sys.argv[1:]])'
 publish: install
@@ -84,6 +88,17 @@ publish: install
 	$(PUBLISH) results/drying/$(SCENE)/published - results/published/$(NAME)
 	$(SNAKEMAKE) published --forcerun drying_published
 	$(PUBLISH) results/drying/$(SCENE)/published results/drying_published/$(NAME) \
+		results/published/$(NAME)
+	$(BIN)/craquelure verify results/published/$(NAME)
+
+# Refresh an archived ensemble's rebuilt files (figures, summary, validation rows, manifest)
+# from its committed tables, e.g. once a companion its provenance names is archived (the
+# companions' overlays: config/table1_source_ensemble.yaml, l5_source_ensemble.yaml,
+# l5_trace_ensemble.yaml): make republish NAME=drying-table1
+republish: install
+	@test -n "$(NAME)" || { echo "usage: make republish NAME=<archived ensemble>"; exit 2; }
+	$(SNAKEMAKE) published --forcerun drying_published
+	$(PUBLISH) results/published/$(NAME) results/drying_published/$(NAME) \
 		results/published/$(NAME)
 	$(BIN)/craquelure verify results/published/$(NAME)
 

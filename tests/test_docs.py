@@ -315,3 +315,36 @@ def test_verdicts_show_the_figures_beside_the_report(hooks, tmp_path, monkeypatc
     out = hooks.verdicts_table(report, "drying", "drying.md")
     assert "(figures/results/published/x/figures/a.png)" in out and "`b.png`" in out
     assert hooks.marked_figures() == [report.parent / "figures" / "a.png"]
+
+
+def test_companions_show_their_rows_and_the_comparison_figures(hooks, tmp_path, monkeypatch):
+    """`{{ companions: ... }}` shows each companion ensemble of a report with its setting and
+    rows (a verdict, or "not judged" and why) and the comparison figures beside the report
+    (copied into the site); a report without companions says so."""
+    import json
+
+    monkeypatch.setattr(hooks, "ROOT", tmp_path)
+    report = tmp_path / "results" / "published" / "x" / "validation.json"
+    (report.parent / "figures").mkdir(parents=True)
+    report.write_text(json.dumps({"profile": "p", "claims": []}))
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "docs" / "drying.md").write_text(
+        "{{ companions: results/published/x/validation.json }}\n")
+    assert "No companion ensemble" in hooks.expand_markers(
+        "{{ companions: results/published/x/validation.json }}\n", "drying.md")
+    fig = report.parent / "figures" / "drying_companions_inverse_mean_area.png"
+    fig.write_bytes(b"\x89PNG")
+    row = {"model": "drying", "claim": "c", "source": "s", "measured": "t* = 1"}
+    tally = {"all": {"reproduced": 0, "partly": 1, "not reproduced": 0, "inconclusive": 0}}
+    report.write_text(json.dumps({"profile": "p", "claims": [], "companions": [
+        {"name": "a", "setting": "L = 10", "judged": True, "why": "", "tally": tally,
+         "claims": [{**row, "verdict": "partly"}]},
+        {"name": "b", "setting": "L = 5", "judged": False, "why": "a variant", "tally": None,
+         "claims": [{**row, "verdict": None}, {**row, "verdict": None}]}]}))
+    out = hooks.companions_section(report, "drying.md")
+    assert "**a**, L = 5" not in out and "**a**, L = 10: 0 reproduced, 1 partly" in out
+    assert "**b**, L = 5: not judged: a variant." in out
+    assert sum(line.startswith("|") for line in out.splitlines()) == 2 + 1 + 2 + 2
+    assert out.count("| not judged |") == 2 and "t\\* = 1" in out
+    assert "(figures/results/published/x/figures/drying_companions_inverse_mean_area.png)" in out
+    assert hooks.marked_figures() == [fig]

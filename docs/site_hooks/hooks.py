@@ -20,8 +20,11 @@
   retyped: a line ``{{ include: path/from/repo.md }}`` is replaced by that Markdown file (a
   ``.json`` file becomes a table: a list of rows, or a mapping of names to values), and
   ``{{ verdicts: path/to/validation.json model=drying }}`` by the model's rows of a validation
-  report (claim, verdict, what was measured, the figure when it lies beside the report). A
-  marker whose file does not exist fails the build.
+  report (claim, verdict, what was measured, the figure when it lies beside the report);
+  ``{{ companions: path/to/validation.json }}`` by the rows of the companion ensembles shown
+  beside that report's (each with its setting, verdicts or why it has none) and the comparison
+  figures beside it (``figures/drying_companions_*.png``). A marker whose file does not exist
+  fails the build.
 * The tutorials (``docs/tutorials/*.ipynb``) are executed during the build (nbclient, in a
   temporary folder) and become pages with their outputs; a cell that raises fails the build.
   ``CRAQUELURE_DOCS_EXECUTE=0`` renders them without executing (outputs as stored).
@@ -202,7 +205,8 @@ def mathjax_file() -> Path:
 
 
 _MARKER = re.compile(
-    r"^\{\{[ \t]*(include|verdicts):[ \t]*(\S+)((?:[ \t]+\w+=\S+)*)[ \t]*\}\}[ \t]*$", re.M)
+    r"^\{\{[ \t]*(include|verdicts|companions):[ \t]*(\S+)((?:[ \t]+\w+=\S+)*)[ \t]*\}\}"
+    r"[ \t]*$", re.M)
 # site folder of the figures that validation reports name
 FIGURES = "figures"
 
@@ -279,6 +283,34 @@ def verdicts_table(report: Path, model: str, site_path: str) -> str:
     return head + ".\n\n" + markdown_table(table)
 
 
+def _figure_link(fig: Path, site_path: str) -> str:
+    link = posixpath.relpath(f"{FIGURES}/{fig.relative_to(ROOT).as_posix()}",
+                             posixpath.dirname(site_path) or ".")
+    return f"[![{fig.name}]({link})]({link})"
+
+
+def companion_figures(report: Path) -> list[Path]:
+    """The comparison figures of a report's ensemble and its companions, beside the report."""
+    return sorted((report.parent / "figures").glob("drying_companions_*.png"))
+
+
+def companions_section(report: Path, site_path: str) -> str:
+    """A validation report's companion ensembles (``companions``): per ensemble its setting and
+    rows (verdicts, or why it has none), then the comparison figures beside the report."""
+    parts = []
+    for c in json.loads(report.read_text()).get("companions", []):
+        judged = (", ".join(f"{n} {v}" for v, n in c["tally"]["all"].items()) if c["judged"]
+                  else f"not judged: {plain(c['why'])}")
+        rows = [{"claim (source)": plain(f"{r['claim']} ({r.get('source', '')})"),
+                 "verdict": f"**{r['verdict']}**" if r["verdict"] else "not judged",
+                 "measured": plain(r.get("measured", ""))} for r in c["claims"]]
+        parts.append(f"**{c['name']}**, {plain(c['setting'])}: {judged}.\n\n"
+                     + markdown_table(rows))
+    if not parts:
+        parts.append(f"No companion ensemble of `{report.relative_to(ROOT)}` is archived.")
+    return "\n\n".join(parts + [_figure_link(f, site_path) for f in companion_figures(report)])
+
+
 def expand_markers(markdown: str, site_path: str) -> str:
     """Replace the ``{{ include: ... }}`` and ``{{ verdicts: ... }}`` lines of a page."""
 
@@ -290,6 +322,8 @@ def expand_markers(markdown: str, site_path: str) -> str:
             if "model" not in options:
                 raise PluginError(f"{site_path}: {{{{ verdicts: {path} }}}} needs model=<model>")
             return verdicts_table(full, options["model"], site_path)
+        if kind == "companions":
+            return companions_section(full, site_path)
         if full.suffix == ".json":
             return json_table(json.loads(full.read_text()))
         return rewrite_links(full.read_text().rstrip("\n"), path, site_path)
@@ -298,7 +332,8 @@ def expand_markers(markdown: str, site_path: str) -> str:
 
 
 def marked_figures() -> list[Path]:
-    """Every figure that a ``{{ verdicts: ... }}`` marker of a page shows."""
+    """Every figure that a ``{{ verdicts: ... }}`` or ``{{ companions: ... }}`` marker of a
+    page shows."""
     pages = [ROOT / p for p in ROOT_PAGES] + sorted((ROOT / "docs").rglob("*.md"))
     found = []
     for page in filter(Path.is_file, pages):
@@ -307,6 +342,8 @@ def marked_figures() -> list[Path]:
             if m.group(1) == "verdicts" and report.is_file():
                 found += [f for c in json.loads(report.read_text()).get("claims", [])
                           if (f := figure_path(report, c.get("figure", ""))) is not None]
+            if m.group(1) == "companions" and report.is_file():
+                found += companion_figures(report)
     return sorted(set(found))
 
 

@@ -225,12 +225,23 @@ def tally(claims: Sequence[Claim]) -> dict[str, dict[str, int]]:
 
 
 def write_json(claims: Sequence[Claim], path: str | Path, profile: str,
-               sources: Mapping[str, Sequence[str | Path]] | None = None) -> Path:
+               sources: Mapping[str, Sequence[str | Path]] | None = None,
+               companions: Sequence[Mapping] = ()) -> Path:
+    """The report as JSON; ``companions``: other ensembles' rows shown beside these (``name``,
+    ``setting``, ``judged``, ``why`` not judged, ``claims``; e.g.
+    :func:`craquelure.drying.claims.companion`), outside the tally, verdicts ``null`` when
+    not judged."""
     doc = {"profile": profile, "tally": tally(claims), "claims": [asdict(c) for c in claims],
            "benchmarked": benchmarked(_models_of(claims)),
            "provenance": {"git_commit": git_commit(), **library_versions(),
                           "sources": {m: [str(p) for p in paths]
                                       for m, paths in (sources or {}).items()}}}
+    if companions:
+        doc["companions"] = [
+            {**{k: v for k, v in c.items() if k != "claims"},
+             "tally": tally(c["claims"]) if c["judged"] else None,
+             "claims": [asdict(x) | ({} if c["judged"] else {"verdict": None})
+                        for x in c["claims"]]} for c in companions]
     return write_text_atomic(path, json.dumps(doc, indent=2) + "\n")
 
 
@@ -329,12 +340,14 @@ def _tally_text(n: Mapping[str, int]) -> str:
 
 
 def render_summary(claims: Sequence[Claim], profile: str,
-                   figures: Sequence[str | Path] = ()) -> str:
+                   figures: Sequence[str | Path] = (), heading: str = "",
+                   not_judged: str = "") -> str:
     """The one-screen summary: per claim a thumbnail of the figure that decides it, the claim,
     a verdict badge and the one deciding number, in two balanced columns; the source,
     criterion, measured numbers, note and the figure itself are folded under each row
     (``<details>``). A self-contained HTML fragment (its own style, figures embedded), the
-    body of results/validation.html and the lead of the Snakemake report's first page."""
+    body of results/validation.html and the lead of the Snakemake report's first page.
+    ``heading`` replaces the title; ``not_judged`` (why) shows the rows without verdicts."""
     counts = tally(claims)
     total = counts.get("all", dict.fromkeys(VERDICTS, 0))
     used: dict[Path, int] = {}
@@ -376,7 +389,8 @@ def render_summary(claims: Sequence[Claim], profile: str,
                 f'<td class="cq-fig">{thumb}</td>'
                 f'<td class="cq-claim"><details><summary title="{html.escape(c.claim)}">'
                 f'{html.escape(c.claim)}</summary><dl>{dl}</dl>{large}</details></td>'
-                f'<td class="cq-verdict">{_badge(c.verdict)}</td>'
+                f'<td class="cq-verdict">{_badge("not judged" if not_judged else c.verdict)}'
+                f'</td>'
                 f'<td class="cq-number" title="{number}">{number}</td></tr>')))
     # Two columns of (nearly) equal length; a column never ends on a model heading, and one
     # that starts inside a model repeats its heading.
@@ -411,8 +425,15 @@ def render_summary(claims: Sequence[Claim], profile: str,
     timed = (f'<p class="cq-tally">Not judged here (the only measurement is a timing, which '
              f'depends on the machine\'s load; a verdict must follow from the data): {timed}.'
              f'</p>\n' if timed else "")
+    heading = html.escape(heading or f"Validation, profile {profile}")
+    if not_judged:
+        return (f'<section class="{SUMMARY_CLASS}"><style>{_STYLE}.cq-badge.not-judged '
+                f'{{ background: #9e9e9e; color: #fff; }}</style>\n<h2>{heading}</h2>'
+                f'\n<p class="cq-tally">{len(claims)} rows, not judged: '
+                f'{html.escape(not_judged)}.</p>\n<div class="cq-grid">{tables}</div>'
+                f'</section>\n')
     return (f'<section class="{SUMMARY_CLASS}"><style>{_STYLE}\n' + "\n".join(styles) +
-            f'</style>\n<h2>Validation, profile {html.escape(profile)}</h2>\n'
+            f'</style>\n<h2>{heading}</h2>\n'
             f'<p class="cq-tally">{len(claims)} claims: {total["reproduced"]} '
             f'{_badge("reproduced")}, {total["partly"]} {_badge("partly")}, '
             f'{total["not reproduced"]} {_badge("not reproduced")}, {total["inconclusive"]} '
@@ -423,17 +444,21 @@ def render_summary(claims: Sequence[Claim], profile: str,
 
 
 def render_html(claims: Sequence[Claim], profile: str,
-                figures: Sequence[str | Path] = ()) -> str:
-    """results/validation.html: the summary (:func:`render_summary`) as a page."""
+                figures: Sequence[str | Path] = (), companions: Sequence[Mapping] = ()) -> str:
+    """results/validation.html: the summary (:func:`render_summary`) as a page, then the rows
+    of each companion ensemble (:func:`write_json`) beside it."""
+    beside = "".join(render_summary(c["claims"], profile, (), f"Beside it: {c['name']}, "
+                                    f"{c['setting']}", "" if c["judged"] else c["why"])
+                     for c in companions)
     return ("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><meta name=\"viewport\" "
             "content=\"width=device-width\"><title>craquelure validation</title></head>"
             "<body style=\"margin: 8px\">\n" + render_summary(claims, profile, figures) +
-            "</body></html>\n")
+            beside + "</body></html>\n")
 
 
 def write_html(claims: Sequence[Claim], path: str | Path, profile: str,
-               figures: Sequence[str | Path] = ()) -> Path:
-    return write_text_atomic(path, render_html(claims, profile, figures))
+               figures: Sequence[str | Path] = (), companions: Sequence[Mapping] = ()) -> Path:
+    return write_text_atomic(path, render_html(claims, profile, figures, companions))
 
 
 def write_summary(claims: Sequence[Claim], path: str | Path, profile: str,

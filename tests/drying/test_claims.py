@@ -107,3 +107,39 @@ def test_a_campaign_without_a_window_is_inconclusive_with_its_reason():
     assert inverse.verdict == collapse.verdict == "inconclusive"
     assert inverse.measured == "no test: needs >= 4 snapshots in the window"
     assert "needs a longer or larger run" in collapse.note
+
+
+def test_companion_rows_name_their_setting_and_a_departing_variant_has_no_verdict(tmp_path):
+    """Beside the headline: a companion with the source's criterion is judged as its own
+    summary is; one whose criterion departs (tr(sigma) at L = 5) keeps its numbers and loses
+    its verdicts, in the JSON (null, no tally) and on the page ("not judged")."""
+    import json
+
+    from craquelure import validation
+
+    base = {**SUMMARY, "scene": "paper_speed", "box_length": 5.0}
+    source = claims.companion("drying-l5-source", {**base, "fracture_stress_measure":
+                                                   "half_trace"})
+    variant = claims.companion("drying-l5-trace", {**base, "fracture_stress_measure": "trace"})
+    assert source["judged"] and not variant["judged"] and "never ran" in variant["why"]
+    assert source["setting"] == ("scene paper_speed: tr(sigma)/2 > sigma_Y (the source's), "
+                                 "L = 5, N = 10000, 8 seeds")
+    assert "a factor 2 from the source's" in variant["setting"]
+    own = claims.summary_claims(base)
+    assert [c.verdict for c in source["claims"]] == [c.verdict for c in own]
+    for c in source["claims"] + variant["claims"]:
+        assert c.note.endswith("L = 5, N = 10000, 8 seeds") and "ensemble drying-l5-" in c.note
+    headline = claims.summary_claims({**base, "fracture_stress_measure": "trace"})
+    path = validation.write_json(headline, tmp_path / "v.json", "table1", None,
+                                 [source, variant])
+    doc = json.loads(path.read_text())
+    assert doc["tally"] == validation.tally(headline)  # companions stay out of the tally
+    judged, context = doc["companions"]
+    assert judged["tally"] == validation.tally(own) and context["tally"] is None
+    assert {r["verdict"] for r in context["claims"]} == {None}
+    assert [r["measured"] for r in context["claims"]] == [c.measured for c in own]
+    page = validation.render_html(headline, "table1", (), [source, variant])
+    assert page.count("Beside it: drying-l5-") == 2
+    assert page.count('class="cq-badge not-judged"') == len(own)
+    plain = validation.render_html(headline, "table1")
+    assert "Beside it" not in plain and page.startswith(plain.removesuffix("</body></html>\n"))

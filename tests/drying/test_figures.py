@@ -7,13 +7,17 @@ from matplotlib.image import imread
 
 from craquelure.drying.campaign import build_campaign
 from craquelure.drying.figures import (
+    COMPARISON,
     FIGURES,
+    comparison_series,
     fig_inverse_mean_area,
     fit_line,
+    make_comparison,
     make_figures,
     setup_line,
 )
 from craquelure.drying.summary import summarise
+from craquelure.drying.time_scales import window_of
 
 from .synthetic_run import fragment_dataset, lattice_run
 
@@ -84,3 +88,33 @@ def test_all_figures_written_as_png_and_pdf(data, tmp_path):
         assert np.unique(png.reshape(-1, png.shape[-1]), axis=0).shape[0] > 20
         pdf = (tmp_path / f"{name}.pdf").read_bytes()
         assert pdf.startswith(b"%PDF") and len(pdf) > 5000
+
+
+def test_comparison_draws_each_ensembles_series(data, tmp_path):
+    """The comparison of ensembles plots, per ensemble, its campaign's 1/<S>_t against t/t*,
+    check 14's fitted line at the window's ends, and the CCDF of X = S/<S>_t over the
+    window's fragments (what the counts give directly); both figures are drawn."""
+    campaign, summary, _ = data
+    summary = {**summary, "box_length": 2.0}
+    series = [comparison_series(name, summary, {"periodic": campaign})
+              for name in ("one", "other")]
+    d = series[0]["labellings"]["periodic"]
+    tstar = float(campaign.attrs["t_star"])
+    np.testing.assert_allclose(d["t_over_t_star"], TIMES / tstar)
+    np.testing.assert_allclose(np.array(d["inverse_mean_area"], float),
+                               1 / campaign["mean_area"].values)
+    c14 = summary["checks"]["check14_inverse_mean_area_linear"]
+    lo, hi = summary["window"]
+    np.testing.assert_allclose(d["fit_inverse_mean_area"],
+                               [c14["intercept_a"] + c14["slope_b"] * t for t in (lo, hi)])
+    in_window = window_of(campaign)["mask"][campaign["fragment_time_index"].values]
+    x = campaign["fragment_scaled_area"].values[in_window]
+    assert d["n_fragments"] == x.size > 50
+    for g, p in zip(d["x"], d["ccdf"], strict=True):
+        assert p == pytest.approx(np.mean(x > g), abs=1e-12)
+    assert "N = " in series[0]["setting"] and "8 seeds" in series[0]["setting"]
+    outputs = {name: tmp_path / f"{name}.png" for name in COMPARISON}
+    assert len(make_comparison(series, outputs)) == 2 * len(COMPARISON)
+    for name in COMPARISON:
+        png = imread(outputs[name])
+        assert np.unique(png.reshape(-1, png.shape[-1]), axis=0).shape[0] > 20

@@ -105,3 +105,27 @@ def test_a_campaign_grows_its_archive_across_sessions(tmp_path, fragments):
     other.attrs = {**other.attrs, "phi0": 0.7, "seed": 3}
     with pytest.raises(CraquelureError, match="another scene or binarisation"):
         publish(_tables(tmp_path, "third", [other], 3), None, dest)
+
+
+def test_an_archive_is_refreshed_from_its_own_tables(tmp_path, fragments):
+    """`make republish` (publish a folder onto itself with a new rebuild, e.g. once a companion
+    it names is archived): tables and snapshots stay byte for byte, the provenance keeps every
+    entry, the rebuilt files and the comparison's series are installed, the manifest checks."""
+    dest = tmp_path / "published" / "ensemble"
+    publish(_tables(tmp_path, "first", fragments, 1), None, dest)
+    kept = {p: p.read_bytes() for p in dest.rglob("*")
+            if p.is_file() and p.name not in ("MANIFEST.sha256", "provenance.json")}
+    provenance = json.loads((dest / "provenance.json").read_text())
+    rebuilt = tmp_path / "rebuilt"
+    (rebuilt / "figures").mkdir(parents=True)
+    for name in ("summary.json", "validation.json", "validation.html"):
+        (rebuilt / name).write_text(name)
+    for name in ("drying_companions.json", "drying_companions_x.png", "drying_x.pdf"):
+        (rebuilt / "figures" / name).write_text(name)
+    publish(dest, rebuilt, dest)
+    assert all(path.read_bytes() == data for path, data in kept.items())
+    assert json.loads((dest / "provenance.json").read_text()).items() >= provenance.items()
+    assert sorted(p.name for p in (dest / "figures").iterdir()) == [
+        "drying_companions.json", "drying_companions_x.png"]  # no PDF
+    assert (dest / "validation.json").read_text() == "validation.json"
+    assert verify(dest) == ([], len([p for p in dest.rglob("*") if p.is_file()]) - 1)

@@ -240,3 +240,37 @@ def test_explicit_seeds_and_the_archived_ones(tmp_path, monkeypatch):
     fragments = jobs.campaign_fragments(type("W", (), {"scene": "table1_trace"})())
     assert "results/drying/table1_trace/fragments/seed12.nc" not in fragments
     assert len(fragments) == 38
+
+
+def test_companion_overlays_archive_their_own_ensembles(tmp_path, monkeypatch):
+    """Each companion overlay grows its own archived ensemble from its own scene (the L = 5
+    tr(sigma) one from the criterion runs of the faithful states, whose mass solves are the
+    scene's); the headline names the companions, and those archived are shown beside it."""
+    seeds = {}
+    for name, scene, folder in (("table1_source_ensemble.yaml", "table1_rkc2", "table1_rkc2"),
+                                ("l5_source_ensemble.yaml", "paper_speed", "paper_speed"),
+                                ("l5_trace_ensemble.yaml", "paper_speed",
+                                 "paper_speed_Ctrace")):
+        sec = _merged("faithful.yaml", name)
+        jobs = workflow.Jobs(sec)
+        assert sec["scene"] == scene and sec["published"].startswith("drying-")
+        fragments = jobs.campaign_fragments(SimpleNamespace(scene=folder))
+        assert fragments[0] == f"results/drying/{folder}/fragments/seed1.nc"
+        seeds[sec["published"]] = len(fragments)
+        bench = jobs.publish_benchmarks(SimpleNamespace(scene=folder))
+        assert bench["mass_consistency"][0].endswith(f"/mass_consistency/{scene}/seed1.tsv")
+        assert bench["drying_run"][0].endswith(f"/drying_run/{folder}/seed1.tsv")
+    assert seeds == {"drying-table1-source": 8, "drying-l5-source": 16, "drying-l5-trace": 16}
+    headline = _merged("faithful.yaml", "table1_ensemble.yaml")
+    assert headline["companions"] == list(seeds)
+    root = tmp_path / "results/published"
+    for name in ("drying-table1", "drying-l5-trace"):
+        (root / name / "tables").mkdir(parents=True)
+        (root / name / "tables/common.json").write_text("{}")
+    (root / "drying-table1/provenance.json").write_text(
+        '{"companions": ["drying-table1-source", "drying-l5-trace", "drying-table1"]}')
+    monkeypatch.chdir(tmp_path)
+    assert workflow.published_companions("drying-table1") == ["drying-l5-trace"]
+    assert workflow.published_companions("drying-l5-trace") == []
+    assert workflow.rebuilt_with_companions(SimpleNamespace(name="drying-table1")) == [
+        "results/drying_published/drying-table1", "results/drying_published/drying-l5-trace"]

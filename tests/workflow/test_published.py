@@ -5,15 +5,20 @@ ensemble."""
 
 from __future__ import annotations
 
+import csv
 import json
+import runpy
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from craquelure.archive import verify
+from craquelure.drying.figures import COMPARISON
+from craquelure.drying.figures import FIGURES as DRYING_FIGURES
 from craquelure.drying.published import publish
 from tests.workflow.test_snakemake import snakemake, workflow_copy
 
@@ -52,14 +57,13 @@ def test_rebuilt_from_the_committed_tables(tmp_path, folder):
         assert (rebuilt / "figures" / png.name).stat().st_size > 10_000
 
 
-@pytest.mark.slow
-def test_publish_end_to_end_on_the_ci_ensemble(ci_run, tmp_path):
-    """Tables of the CI run's drying ensemble, installed, rebuilt, verified: both labellings
-    judged, and a changed file is caught by `craquelure verify`. (In a copy of the run's
-    drying outputs: the CI run's own folder stays as the workflow wrote it.)"""
+@pytest.fixture(scope="module")
+def ci_tables(ci_run, tmp_path_factory) -> Path:
+    """The tables of the CI run's drying ensemble (rule drying_publish_tables), made in a copy
+    of its drying outputs: the CI run's own folder stays as the workflow wrote it."""
     ci_work, proc = ci_run
     assert proc.returncode == 0, proc.stderr[-3000:]
-    work = workflow_copy(tmp_path)
+    work = workflow_copy(tmp_path_factory.mktemp("tables"))
     for sub in ("results/drying/ci", "results/mass/ci",
                 *(f"benchmarks/results/{kind}/ci" for kind in
                   ("mass_consistency", "drying_run", "drying_fragments"))):
@@ -68,6 +72,16 @@ def test_publish_end_to_end_on_the_ci_ensemble(ci_run, tmp_path):
     run = snakemake(work, str(tables.relative_to(work)), "--cores", "1", "--configfile",
                     "config/ci.yaml")
     assert run.returncode == 0, run.stderr[-3000:]
+    return tables
+
+
+@pytest.mark.slow
+def test_publish_end_to_end_on_the_ci_ensemble(ci_tables, tmp_path):
+    """Tables of the CI run's drying ensemble, installed, rebuilt, verified: both labellings
+    judged, the provenance names scene, criterion and box, and a changed file is caught by
+    `craquelure verify`."""
+    tables = ci_tables
+    work = workflow_copy(tmp_path)
     dest = work / "results/published/ci-test"
     publish(tables, None, dest)
     rebuild = snakemake(work, "published", "--cores", "1")
@@ -81,8 +95,85 @@ def test_publish_end_to_end_on_the_ci_ensemble(ci_run, tmp_path):
     assert sum("open-image labelling" in c["source"] for c in claims) == 3
     provenance = json.loads((dest / "provenance.json").read_text())
     assert provenance["seeds"] == [1, 2] and provenance["cpu_hours_total"] > 0
+    assert (provenance["scene"], provenance["fracture_stress_measure"],
+            provenance["box_length"]) == ("ci", summary["fracture_stress_measure"], 2.0)
+    assert "companions" not in provenance and "companions" not in json.loads(
+        (dest / "validation.json").read_text())
+    assert not list((dest / "figures").glob("drying_companions*"))
     cli = [sys.executable, "-m", "craquelure", "verify", str(dest)]
     assert subprocess.run(cli, capture_output=True).returncode == 0
     (dest / "tables/seed1_fragments.csv").write_text("time,labelling,area\n")
     proc = subprocess.run(cli, capture_output=True, text=True)
     assert proc.returncode == 1 and "changed: tables/seed1_fragments.csv" in proc.stdout
+
+
+def _inverse_mean_area(folder: Path, labelling: str) -> np.ndarray:
+    """1/<S>_t of an archived ensemble straight from its tables: the fragment areas summed
+    over seeds per snapshot, over the fragments counted per snapshot."""
+    with open(folder / "tables/seeds.csv", newline="") as fh:
+        seeds = [int(float(row["seed"])) for row in csv.DictReader(fh)]
+    total = count = 0.0
+    for seed in seeds:
+        snaps = np.genfromtxt(folder / f"tables/seed{seed}_snapshots.csv", delimiter=",",
+                              names=True)
+        with open(folder / f"tables/seed{seed}_fragments.csv", newline="") as fh:
+            rows = [r for r in csv.DictReader(fh) if r["labelling"] == labelling]
+        k = np.searchsorted(snaps["time"], [float(r["time"]) for r in rows])
+        total = total + np.bincount(k, [float(r["area"]) for r in rows], snaps.size)
+        count = count + snaps["n_fragments" if labelling == "periodic" else "n_fragments_open"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return count / total
+
+
+@pytest.mark.slow
+def test_companions_drawn_beside_the_headline(ci_run, tmp_path):
+    """Three archived ensembles of the CI run: a headline whose provenance names two companions
+    (one archived: the first seed alone; one not), the companion, and the headline's tables
+    without companions. Target `published` draws the comparison of the headline and the
+    archived companion only, with the companion's 1/<S>_t as its committed tables give it,
+    adds the companion's rows beside the headline's, and leaves the headline's own summary,
+    rows and figures as they are without companions."""
+    ci_work, proc = ci_run
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    script = runpy.run_path(str(ROOT / "workflow/scripts/drying_publish_tables.py"))
+    fragments = sorted(str(p) for p in (ci_work / "results/drying/ci/fragments").glob("*.nc"))
+    run = str(ci_work / "results/drying/ci/run/seed1.nc")
+    work = workflow_copy(tmp_path)
+    for name, frags, companions in (("ci-head", fragments, ["ci-comp", "ci-missing"]),
+                                    ("ci-alone", fragments, []),
+                                    ("ci-comp", fragments[:1], [])):
+        tables = tmp_path / name / "results/drying/ci/published"
+        script["main"](str(tables), run, frags, {}, "ci", companions)
+        publish(tables, None, work / "results/published" / name)
+    proc = snakemake(work, "published", "--cores", "1")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    out = work / "results/drying_published"
+    assert sorted(p.name for p in out.glob("*/figures/drying_companions_*.png")) == [
+        f"drying_companions_{name}.png" for name in COMPARISON]  # the headline's only
+    drawn = json.loads((out / "ci-head/figures/drying_companions.json").read_text())
+    assert [e["name"] for e in drawn["ensembles"]] == ["ci-head", "ci-comp"]
+    t_star = json.loads((out / "ci-comp/summary.json").read_text())["t_star"]
+    comp = drawn["ensembles"][1]
+    assert "L = 2," in comp["setting"] and comp["setting"].endswith("1 seed")
+    for labelling in ("periodic", "open"):
+        d = comp["labellings"][labelling]
+        direct = _inverse_mean_area(work / "results/published/ci-comp", labelling)
+        assert np.isfinite(direct).sum() >= 2
+        np.testing.assert_allclose(np.array(d["inverse_mean_area"], float), direct,
+                                   rtol=1e-12)
+        times = np.genfromtxt(work / "results/published/ci-comp/tables/seed1_snapshots.csv",
+                              delimiter=",", names=True)["time"]
+        np.testing.assert_allclose(d["t_over_t_star"], times / t_star, rtol=1e-12)
+    head, alone = (json.loads((out / name / "validation.json").read_text())
+                   for name in ("ci-head", "ci-alone"))
+    assert head["claims"] == alone["claims"] and "companions" not in alone
+    assert [c["name"] for c in head["companions"]] == ["ci-comp"]
+    rows = head["companions"][0]["claims"]
+    assert len(rows) == len(head["claims"]) and all("ensemble ci-comp" in r["note"]
+                                                     for r in rows)
+    assert "Beside it: ci-comp" in (out / "ci-head/validation.html").read_text()
+    assert _judged(json.loads((out / "ci-head/summary.json").read_text())) == _judged(
+        json.loads((out / "ci-alone/summary.json").read_text()))
+    for name in DRYING_FIGURES:
+        png = f"figures/drying_{name}.png"
+        assert (out / "ci-head" / png).read_bytes() == (out / "ci-alone" / png).read_bytes()

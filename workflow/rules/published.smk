@@ -1,16 +1,25 @@
 # Archived drying ensembles (results/published/<name>/, committed; src/craquelure/drying/
 # published.py): rule drying_published rebuilds the paper's figures, the summary with checks
 # 14-16 for both labellings and the validation rows from the committed tables, without a
-# simulation (target `published`; CI runs it). Rule drying_publish_tables writes the tables of
-# a finished ensemble of the config's drying scene; `make publish` installs both in the folder.
+# simulation (target `published`; CI runs it). An ensemble whose provenance names companions
+# (config drying.companions) shows those that are archived beside it: their rows in its
+# validation report, and rule drying_published_companions draws Fig. 3 and Figs. 4-6 for all
+# of them. Rule drying_publish_tables writes the tables of a finished ensemble of any drying
+# scene; `make publish` installs both in the folder.
+from craquelure.drying.figures import COMPARISON
+
 PUBLISHED_DRYING = glob_wildcards("results/published/{name}/tables/common.json").name
 PUBLISHED_OUTPUTS = ["summary.json", "validation.json", "validation.html"] + [
     f"figures/drying_{name}.png" for name in DRYING_FIGURES
+]
+COMPANION_OUTPUTS = [f"figures/drying_companions_{name}.png" for name in COMPARISON] + [
+    "figures/drying_companions.json"
 ]
 
 
 localrules:
     drying_published,
+    drying_published_companions,
     drying_publish_tables,
     published,
 
@@ -20,8 +29,16 @@ rule drying_published:
         tables="results/published/{name}/tables/seeds.csv",
         snapshots="results/published/{name}/snapshots.nc",
         provenance="results/published/{name}/provenance.json",
+        companions=lambda wildcards: [
+            f"{folder}/summary.json"
+            for folder in drying_workflow.rebuilt_with_companions(wildcards)[1:]
+        ],
     output:
         [f"results/drying_published/{{name}}/{path}" for path in PUBLISHED_OUTPUTS],
+        campaigns=[
+            f"results/drying_published/{{name}}/campaign_{labelling}.nc"
+            for labelling in ("periodic", "open")
+        ],
     params:
         published=lambda wildcards, input: Path(input.tables).parents[1],
         outdir=lambda wildcards, output: Path(output[0]).parent,
@@ -35,12 +52,40 @@ rule drying_published:
         "../scripts/drying_published.py"
 
 
+rule drying_published_companions:
+    input:
+        lambda wildcards: [
+            f"{folder}/{path}"
+            for folder in drying_workflow.rebuilt_with_companions(wildcards)
+            for path in ("summary.json", "campaign_periodic.nc", "campaign_open.nc")
+        ],
+    output:
+        [f"results/drying_published/{{name}}/{path}" for path in COMPANION_OUTPUTS],
+    params:
+        outdir=lambda wildcards, output: Path(output[0]).parents[1],
+        rebuilt=drying_workflow.rebuilt_with_companions,
+    log:
+        "logs/drying_published_companions/{name}.log",
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=30,
+    script:
+        "../scripts/drying_published_companions.py"
+
+
 rule published:
     input:
         [
             f"results/drying_published/{name}/{path}"
             for name in PUBLISHED_DRYING
             for path in PUBLISHED_OUTPUTS
+        ],
+        [
+            f"results/drying_published/{name}/{path}"
+            for name in PUBLISHED_DRYING
+            if drying_workflow.published_companions(name)
+            for path in COMPANION_OUTPUTS
         ],
 
 
@@ -52,13 +97,8 @@ rule drying_publish_tables:
         directory("results/drying/{scene}/published"),
     params:
         profile=config["profile"],
-        benchmarks=lambda wildcards: {
-            kind: [
-                f"benchmarks/results/{kind}/{wildcards.scene}/seed{seed}.tsv"
-                for seed in DRYING_JOBS.seeds()
-            ]
-            for kind in ("mass_consistency", "drying_run", "drying_fragments")
-        },
+        companions=config["drying"].get("companions", []),
+        benchmarks=DRYING_JOBS.publish_benchmarks,
     log:
         "logs/drying_publish_tables/{scene}.log",
     threads: 1

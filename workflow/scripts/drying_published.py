@@ -2,7 +2,12 @@
 checks 14-16 for both fragment labellings and the validation rows of an archived ensemble,
 rebuilt from its committed tables (results/published/<name>/) without running a simulation.
 
-Outside Snakemake: ``python workflow/scripts/drying_published.py PUBLISHED_DIR OUTDIR``.
+The check 14-16 rows of the companion ensembles it names (their rebuilt summaries,
+results/drying_published/<companion>/summary.json) stand beside its own in the validation
+report (craquelure.drying.claims.companion).
+
+Outside Snakemake: ``python workflow/scripts/drying_published.py PUBLISHED_DIR OUTDIR
+[COMPANION_SUMMARY ...]``.
 """
 
 import json
@@ -12,6 +17,7 @@ from pathlib import Path
 from craquelure import validation
 from craquelure.drying.analysis import run_scene
 from craquelure.drying.campaign import LABELLINGS, build_campaign
+from craquelure.drying.claims import companion
 from craquelure.drying.figures import FIGURES, make_figures
 from craquelure.drying.published import read_tables
 from craquelure.drying.summary import write_summary
@@ -19,7 +25,7 @@ from craquelure.io import open_dataset, write_dataset
 from craquelure.provenance import WallClock, provenance_attrs
 
 
-def main(published: str, outdir: str, window: str = "paper") -> None:
+def main(published: str, outdir: str, *companions: str, window: str = "paper") -> None:
     source, out = Path(published), Path(outdir)
     profile = json.loads((source / "provenance.json").read_text()).get("profile", "")
     clock = WallClock()
@@ -39,10 +45,12 @@ def main(published: str, outdir: str, window: str = "paper") -> None:
                            {name: out / "figures" / f"drying_{name}.png" for name in FIGURES},
                            profile)
     claims = validation.collect({"drying": [out / "summary.json"]})
+    beside = [companion(Path(p).parent.name, json.loads(Path(p).read_text()))
+              for p in companions]
     validation.write_json(claims, out / "validation.json", profile,
-                          {"drying": [str(out / "summary.json")]})
+                          {"drying": [str(out / "summary.json")]}, beside)
     validation.write_html(claims, out / "validation.html", profile,
-                          [p for p in written if p.suffix == ".png"])
+                          [p for p in written if p.suffix == ".png"], beside)
     for c in claims:
         print(f"{c.verdict:>14}: {c.claim} | {c.source}")
 
@@ -50,6 +58,7 @@ def main(published: str, outdir: str, window: str = "paper") -> None:
 if "snakemake" in globals():
     with open(snakemake.log[0], "w") as log:  # noqa: F821
         sys.stdout = sys.stderr = log
-        main(snakemake.params.published, snakemake.params.outdir)  # noqa: F821
+        main(snakemake.params.published, snakemake.params.outdir,  # noqa: F821
+             *snakemake.input.companions)  # noqa: F821
 elif __name__ == "__main__":
     main(*sys.argv[1:])

@@ -14,11 +14,12 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
+from craquelure.drying.effects.fracture import MEASURE_TEXT, SOURCE_MEASURE, departure_note
 from craquelure.drying.transition import ISING, PERCOLATION
 from craquelure.io import open_dataset
 from craquelure.validation import Claim, verdict_of
@@ -328,15 +329,49 @@ def transition_claims(path: Path) -> list[Claim]:
     return [phases, scaling]
 
 
+def summary_claims(summary: dict) -> list[Claim]:
+    """Checks 14-16 of a summary, for each labelling it judges."""
+    out: list[Claim] = []
+    for key in LABELLING_KEYS:
+        if key in summary:
+            out += [inverse_area_claim(summary, key), collapse_claim(summary, key),
+                    onset_claim(summary, key)]
+    return out
+
+
+def setting(summary: dict) -> str:
+    """An ensemble in the paper's terms: scene, criterion (and how it departs from the
+    source's), L, N and seeds."""
+    measure = summary.get("fracture_stress_measure", SOURCE_MEASURE)
+    how = ("the source's" if measure == SOURCE_MEASURE else "a factor 2 from the source's"
+           if measure == "trace" else "departs from the source's")
+    return (f"scene {summary['scene']}: {MEASURE_TEXT[measure]} > sigma_Y ({how}), "
+            f"L = {summary['box_length']:g}, N = {summary['n_particles']}, "
+            f"{summary['n_seeds']} seed{'s' * (summary['n_seeds'] != 1)}")
+
+
+def companion(name: str, summary: dict) -> dict:
+    """The rows of a companion ensemble (archived as ``name``) shown beside the headline's
+    (``companions`` of :func:`craquelure.validation.write_json`), each naming the ensemble's
+    setting. With the source's criterion they are judged (the source's model, at Table I's size
+    or the spec's smaller CPU size); the headline alone carries the declared departure, so a
+    companion whose criterion departs is a variant the source never ran: its rows give their
+    numbers without a verdict."""
+    judged = summary.get("fracture_stress_measure", SOURCE_MEASURE) == SOURCE_MEASURE
+    label = setting(summary)
+    return {"name": name, "setting": label, "judged": judged,
+            "why": "" if judged else ("its criterion departs from the source's and only the "
+                                      "headline carries the declared departure: a variant the "
+                                      "source never ran, shown for context"),
+            "claims": [replace(c, note=_with(c.note, f"ensemble {name}, {label}"))
+                       for c in summary_claims(summary)]}
+
+
 def claims(sources: list[Path]) -> list[Claim]:
     out: list[Claim] = []
     for path in sources:
         if path.name == "summary.json":
-            summary = json.loads(path.read_text())
-            for key in LABELLING_KEYS:
-                if key in summary:
-                    out += [inverse_area_claim(summary, key), collapse_claim(summary, key),
-                            onset_claim(summary, key)]
+            out += summary_claims(json.loads(path.read_text()))
         elif path.name == "thickness.nc":
             out.append(thickness_claim(path))
         elif path.name == "transition.nc":

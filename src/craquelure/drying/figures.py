@@ -27,8 +27,9 @@ import matplotlib.ticker
 import numpy as np
 import xarray as xr
 
+from craquelure.drying.claims import LABELLING_KEYS, setting
 from craquelure.drying.effects.fracture import SOURCE_MEASURE, departure_note
-from craquelure.drying.summary import ccdf_bands
+from craquelure.drying.summary import ccdf_bands, json_ready
 from craquelure.drying.time_scales import drying_number, paper_t_star, window_of
 from craquelure.plotting import label_axes, plt, save
 
@@ -231,6 +232,93 @@ def make_figures(campaign: xr.Dataset, summary: dict[str, Any], run: xr.Dataset,
     written = []
     for name in FIGURES:
         written.extend(save_figure(makers[name](), outputs[name]))
+    return written
+
+
+# Comparison of archived ensembles (a headline and its companions), one figure each:
+# figures/drying_companions_<name>.png, their data in figures/drying_companions.json.
+COMPARISON = ("inverse_mean_area", "scaled_distribution")
+CHECKS_OF = {"periodic": "checks", "open": "checks_open_image"}  # summary key per labelling
+
+
+def comparison_series(name: str, summary: dict[str, Any], campaigns: dict[str, xr.Dataset],
+                      n_grid: int = 100) -> dict[str, Any]:
+    """What the comparison figures draw of one ensemble (archived as ``name``), per labelling
+    of ``campaigns``: 1/<S>_t with its standard error against t/t*, check 14's weighted fit
+    1/<S>_t = b (t - t0) at its window's ends, and the CCDF of X = S/<S>_t pooled over the
+    window's snapshots (JSON-ready)."""
+    out = {"name": name, "profile": summary["profile"], "setting": setting(summary),
+           "labellings": {}}
+    for labelling, ds in campaigns.items():
+        tstar, win = float(ds.attrs["t_star"]), window_of(ds)
+        c14 = summary[CHECKS_OF[labelling]]["check14_inverse_mean_area_linear"]
+        ends = np.array([win["start"], win["end"]], float)
+        x = ds["fragment_scaled_area"].values[win["mask"][ds["fragment_time_index"].values]]
+        x = np.sort(x[np.isfinite(x)])
+        grid = np.linspace(0.0, x[-1] if x.size else 1.0, n_grid)
+        out["labellings"][labelling] = {
+            "t_over_t_star": ds["time"].values / tstar,
+            "inverse_mean_area": ds["inverse_mean_area"].values,
+            "inverse_mean_area_se": ds["inverse_mean_area_se"].values,
+            "fit_t_over_t_star": ends / tstar if "slope_b" in c14 else [],
+            "fit_inverse_mean_area": (c14["intercept_a"] + c14["slope_b"] * ends
+                                      if "slope_b" in c14 else []),
+            "x": grid, "ccdf": 1.0 - np.searchsorted(x, grid, side="right") / max(x.size, 1),
+            "n_fragments": int(x.size)}
+    return json_ready(out)
+
+
+def make_comparison(series: list[dict[str, Any]], outputs: dict[str, str | Path]) -> list[Path]:
+    """Fig. 3 (1/<S>_t against t/t* with each ensemble's 1/t law) and Figs. 4-6 (the scaled
+    distributions) of several ensembles (:func:`comparison_series`), one colour each, a panel
+    per labelling; ``outputs`` maps each name of :data:`COMPARISON` to its PNG path."""
+    figs = {name: plt.subplots(1, 2, figsize=(12, 6.0 + 0.2 * len(series)), sharey=True)
+            for name in COMPARISON}
+    for colour, s in zip(_colours(len(series)), series, strict=True):
+        label = f"{s['name']} (profile {s['profile']}), {s['setting']}"
+        for k, labelling in enumerate(CHECKS_OF):
+            d = s["labellings"].get(labelling)
+            if d is None:
+                continue
+            ax = figs["inverse_mean_area"][1][k]
+            y, err = (np.array(d[key], float) for key in ("inverse_mean_area",
+                                                          "inverse_mean_area_se"))
+            ax.errorbar(d["t_over_t_star"], y, yerr=np.nan_to_num(err), fmt="o", ms=3,
+                        capsize=2, color=colour, label=label)
+            ax.plot(d["fit_t_over_t_star"], d["fit_inverse_mean_area"], "-", color=colour)
+            figs["scaled_distribution"][1][k].step(
+                d["x"], _positive(np.array(d["ccdf"], float)), where="post", color=colour,
+                label=label)
+    bottom = 0.16 + 0.035 * len(series)
+    for fig, axes in figs.values():
+        for ax, key in zip(axes, CHECKS_OF.values(), strict=True):
+            ax.set_title(LABELLING_KEYS[key], fontsize=9)
+        handles, labels = axes[0].get_legend_handles_labels()
+        fig.legend(handles, labels, fontsize=7, loc="lower left",
+                   bbox_to_anchor=(0.01, 0.05), frameon=False)
+        fig.subplots_adjust(bottom=bottom, top=0.9, wspace=0.05)
+    fig, axes = figs["inverse_mean_area"]
+    for ax in axes:
+        label_axes(ax, "t / t*  (t* = sigma_Y / v_r)")
+        ax.set_ylim(bottom=0)
+    axes[0].set_ylabel("1/<S>_t [1/length^2]")
+    fig.suptitle("Inverse mean fragment area of the archived ensembles (cf. paper Fig. 3)")
+    _caption(fig, ["points: 1/<S>_t pooled over seeds, +- 1 SE; lines: "
+                   "each ensemble's weighted fit 1/<S>_t = b (t - t0) over its window (check "
+                   "14), the law <S>_t ~ 1/t"])
+    fig, axes = figs["scaled_distribution"]
+    for ax in axes:
+        ax.set_yscale("log")
+        ax.set_xlabel("X = S / <S>_t")
+    axes[0].set_ylabel("P(S/<S>_t > X), pooled over the window")
+    fig.suptitle("Scaled fragment-size distributions of the archived ensembles "
+                 "(cf. paper Figs. 4-6)")
+    _caption(fig, ["complementary cumulative distribution of X = S/<S>_t "
+                   "over every fragment of the snapshots in each ensemble's window: curves "
+                   "that lie on one another collapse across criteria and sizes"])
+    written = []
+    for name in COMPARISON:
+        written.extend(save_figure(figs[name][0], outputs[name]))
     return written
 
 

@@ -198,8 +198,9 @@ def publish(tables_dir: str | Path, rebuilt_dir: str | Path | None, dest: str | 
         path = Path(rebuilt_dir) / name
         if not path.exists():
             raise CraquelureError(f"publish: {path} is missing (run the rebuild first)")
-        # PNG figures only: the PDFs of the same figures would multiply the folder's size
-        sources += (sorted(p for p in path.rglob("*.png")) if path.is_dir() else [path])
+        # PNG figures and the series they plot: the PDFs would multiply the folder's size
+        sources += (sorted(p for p in path.rglob("*") if p.suffix in (".png", ".json"))
+                    if path.is_dir() else [path])
     for src in sources:
         base = tables_dir if src.is_relative_to(tables_dir) else Path(rebuilt_dir)
         target = dest / src.relative_to(base)

@@ -12,6 +12,7 @@ turn a point's h/Delta into its particle count.
 from __future__ import annotations
 
 import csv
+import json
 import re
 import shlex
 from pathlib import Path
@@ -34,6 +35,21 @@ def published_seeds(name: str | None, root: str = "results/published") -> set[in
         return set()
     with open(path, newline="") as fh:
         return {int(float(row["seed"])) for row in csv.DictReader(fh)}
+
+
+def published_companions(name: str, root: str = "results/published") -> list[str]:
+    """The ensembles the archived ensemble ``root/name`` shows beside it (``companions`` of its
+    provenance) that are archived (their tables committed), in its order."""
+    path = Path(root) / name / "provenance.json"
+    named = json.loads(path.read_text()).get("companions", []) if path.is_file() else []
+    return [c for c in named if c != name and (Path(root) / c / "tables/common.json").is_file()]
+
+
+def rebuilt_with_companions(wildcards) -> list[str]:
+    """The rebuilt folders (rule drying_published) of the archived ensemble
+    ``wildcards.name`` and of its archived companions."""
+    names = [wildcards.name, *published_companions(wildcards.name)]
+    return [f"results/drying_published/{name}" for name in names]
 
 
 def label(value: float) -> str:
@@ -77,6 +93,16 @@ class Jobs:
         if re.fullmatch(rf".+_C(?:{CRITERION_PATTERN})", wildcards.scene):
             seeds = seeds[: self.section["criterion"]["n_seeds"]]
         return [f"results/drying/{wildcards.scene}/fragments/seed{seed}.nc" for seed in seeds]
+
+    def publish_benchmarks(self, wildcards) -> dict[str, list[str]]:
+        """The benchmark files of the jobs behind the tables of ``wildcards.scene`` (rule
+        drying_publish_tables): a criterion folder's initial states are its scene's."""
+        base = re.sub(rf"_C(?:{CRITERION_PATTERN})$", "", wildcards.scene)
+        return {kind: [f"benchmarks/results/{kind}/{folder}/seed{seed}.tsv"
+                       for seed in self.seeds()]
+                for kind, folder in (("mass_consistency", base),
+                                     ("drying_run", wildcards.scene),
+                                     ("drying_fragments", wildcards.scene))}
 
     def criterion_folders(self) -> list[str]:
         """results/drying/<folder> of the criterion sensitivity runs (none if n_seeds = 0)."""
