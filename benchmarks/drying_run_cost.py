@@ -86,7 +86,7 @@ def table(found: list[dict]) -> str:
     lines += ["", "CPU seconds from the rules' Snakemake benchmark files (one numba thread per "
               "run, two runs at a time on a shared 2-core machine); steps and evaluations are the "
               "engine's counts; a campaign is its runs, labelling and mass solves at the medians "
-              f"(half the core-hours on two cores). Written by `benchmarks/drying_run_cost.py`."]
+              "(half the core-hours on two cores). Written by `benchmarks/drying_run_cost.py`."]
     return "\n".join(lines) + "\n"
 
 
