@@ -364,8 +364,9 @@ def render_summary(claims: Sequence[Claim], profile: str,
         mine = [c for c in claims if c.model == model]
         if not mine:
             continue
-        rows.append(("", f'<tr class="cq-model"><th colspan="4">{html.escape(model)}: '
-                         f'{_tally_text(counts[model])}</th></tr>'))
+        told = "" if not_judged else f": {_tally_text(counts[model])}"
+        rows.append(("", f'<tr class="cq-model"><th colspan="4">{html.escape(model)}{told}'
+                         f'</th></tr>'))
         for c in mine:
             path = figure_for(c, figures)
             name = html.escape(path.name if path else "")
@@ -385,7 +386,7 @@ def render_summary(claims: Sequence[Claim], profile: str,
             dl = "".join(f"<dt>{k}</dt><dd>{html.escape(v)}</dd>" for k, v in items)
             number = html.escape(c.deciding or "-")
             rows.append((model, (
-                f'<tr class="cq-row" data-verdict="{html.escape(c.verdict)}">'
+                f'<tr class="cq-row" data-verdict="{"" if not_judged else html.escape(c.verdict)}">'
                 f'<td class="cq-fig">{thumb}</td>'
                 f'<td class="cq-claim"><details><summary title="{html.escape(c.claim)}">'
                 f'{html.escape(c.claim)}</summary><dl>{dl}</dl>{large}</details></td>'

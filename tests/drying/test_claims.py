@@ -4,6 +4,7 @@ what its sample cannot decide."""
 from __future__ import annotations
 
 import copy
+import re
 
 import numpy as np
 import xarray as xr
@@ -141,5 +142,8 @@ def test_companion_rows_name_their_setting_and_a_departing_variant_has_no_verdic
     page = validation.render_html(headline, "table1", (), [source, variant])
     assert page.count("Beside it: drying-l5-") == 2
     assert page.count('class="cq-badge not-judged"') == len(own)
+    context_page = page.split("Beside it: drying-l5-trace")[1]  # no verdict, no tally there
+    assert 'data-verdict=""' in context_page and not re.search(
+        r'data-verdict="[a-z]|\d+ (reproduced|partly|not reproduced|inconclusive)', context_page)
     plain = validation.render_html(headline, "table1")
     assert "Beside it" not in plain and page.startswith(plain.removesuffix("</body></html>\n"))

@@ -39,6 +39,23 @@ def test_committed_folder_matches_its_manifest(folder):
     assert problems == [] and checked > 0
 
 
+@pytest.mark.parametrize("folder", PUBLISHED, ids=[p.name for p in PUBLISHED])
+def test_only_a_criterion_variant_goes_without_verdicts(folder):
+    """Runs that override their scene's criterion with one departing from the source's
+    (results/drying/<scene>_C<measure>/) are a variant the source never ran: their rows keep
+    their numbers and carry no verdict. Every other archived ensemble is judged."""
+    from craquelure.drying.effects.fracture import SOURCE_MEASURE
+
+    provenance = json.loads((folder / "provenance.json").read_text())
+    doc = json.loads((folder / "validation.json").read_text())
+    if (provenance["scene"] != provenance["scene_name"]
+            and provenance["fracture_stress_measure"] != SOURCE_MEASURE):
+        assert doc["claims"] == [] and [c["name"] for c in doc["companions"]] == [folder.name]
+        assert {r["verdict"] for r in doc["companions"][0]["claims"]} == {None}
+    else:
+        assert doc["claims"] and all(c["verdict"] for c in doc["claims"])
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("folder", PUBLISHED, ids=[p.name for p in PUBLISHED])
 def test_rebuilt_from_the_committed_tables(tmp_path, folder):

@@ -4,7 +4,9 @@ rebuilt from its committed tables (results/published/<name>/) without running a 
 
 The check 14-16 rows of the companion ensembles it names (their rebuilt summaries,
 results/drying_published/<companion>/summary.json) stand beside its own in the validation
-report (craquelure.drying.claims.companion).
+report (craquelure.drying.claims.companion). An ensemble whose runs override their scene's
+criterion with one that departs from the source's (results/drying/<scene>_C<measure>/) is such
+a variant itself: its rows carry no verdict.
 
 Outside Snakemake: ``python workflow/scripts/drying_published.py PUBLISHED_DIR OUTDIR
 [COMPANION_SUMMARY ...]``.
@@ -27,7 +29,8 @@ from craquelure.provenance import WallClock, provenance_attrs
 
 def main(published: str, outdir: str, *companions: str, window: str = "paper") -> None:
     source, out = Path(published), Path(outdir)
-    profile = json.loads((source / "provenance.json").read_text()).get("profile", "")
+    provenance = json.loads((source / "provenance.json").read_text())
+    profile = provenance.get("profile", "")
     clock = WallClock()
     fragments = read_tables(source)
     paths = {}
@@ -47,6 +50,11 @@ def main(published: str, outdir: str, *companions: str, window: str = "paper") -
     claims = validation.collect({"drying": [out / "summary.json"]})
     beside = [companion(Path(p).parent.name, json.loads(Path(p).read_text()))
               for p in companions]
+    own = companion(source.name, json.loads((out / "summary.json").read_text()))
+    if not own["judged"] and provenance.get("scene") != provenance.get("scene_name"):
+        # runs of a scene with its criterion overridden (results/drying/<scene>_C<measure>/):
+        # a variant, not a scene's declared departure; its rows without verdicts
+        claims, beside = [], [own]
     validation.write_json(claims, out / "validation.json", profile,
                           {"drying": [str(out / "summary.json")]}, beside)
     validation.write_html(claims, out / "validation.html", profile,
