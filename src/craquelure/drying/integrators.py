@@ -220,16 +220,11 @@ def rkc2_step(y: np.ndarray, f0: np.ndarray, t: float, dt: float, f: Rate,
     return current
 
 
-def rkc2_error(y0: np.ndarray, y1: np.ndarray, f0: np.ndarray, f1: np.ndarray,
-               dt: float) -> np.ndarray:
-    """Local error estimate of an RKC2 step, (12 (y0 - y1) + 6 dt (f0 + f1)) / 15."""
-    return 0.8 * (y0 - y1) + (0.4 * dt) * (f0 + f1)
-
-
 def rkc2_error_norm(y0: np.ndarray, y1: np.ndarray, f0: np.ndarray, f1: np.ndarray, dt: float,
                     scale: np.ndarray, alive: np.ndarray) -> float:
-    """Scaled max-norm of :func:`rkc2_error` over the columns with ``alive`` (rows scaled by
-    ``scale``), in one pass without temporaries; inf if any scaled entry is not finite."""
+    """Scaled max-norm of the local error estimate (12 (y0 - y1) + 6 dt (f0 + f1)) / 15 of an
+    RKC2 step over the columns with ``alive`` (rows scaled by ``scale``), in one pass without
+    temporaries; inf if any scaled entry is not finite."""
     arrays = [np.ascontiguousarray(a, dtype=np.float64) for a in (y0, y1, f0, f1)]
     return float(_rkc2_error_norm(*arrays, 0.4 * dt, np.ascontiguousarray(scale, np.float64),
                                   np.ascontiguousarray(alive)))
