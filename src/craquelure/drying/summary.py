@@ -23,16 +23,12 @@ Quantities (all from data):
   variation (ddof = 1) of :math:`\langle X^2\rangle_t` over the :math:`t_k`; the raw-S KS distance
   between the first and last :math:`t_k`; and as a summary metric the mean pairwise KS distance
   between the scaled distributions of different snapshots before and after the window start.
-  The KS part only counts as a pass if the test could have failed (critical value < 1 at
-  every :math:`t_k`, i.e. enough fragments) [D].
 - Sensitivity to a minimum fragment size :math:`S_{min} = \pi h^2` (:math:`\alpha` refitted
   without the smaller fragments).
 
-Checks 14-16 as revised (statistic, bootstrap interval, power against a named alternative by
-simulation at the run's noise and counts, and a verdict that is "inconclusive" when the sample
-cannot decide) are in :mod:`craquelure.drying.ensemble`; :math:`\alpha` is descriptive. The
-spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at N = 1e4) is
-reported as well, since a pass or miss on a smaller campaign is indicative only.
+Checks 14-16 as revised are :mod:`craquelure.drying.ensemble`'s; :math:`\alpha` is
+descriptive. The spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at
+N = 1e4) is reported as well, since a pass or miss on a smaller campaign is indicative only.
 """
 
 from __future__ import annotations
