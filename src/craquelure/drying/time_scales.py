@@ -71,11 +71,6 @@ def time_scale(tstar: float) -> float:
     return tstar / paper_t_star()
 
 
-def analysis_window(tstar: float) -> tuple[float, float]:
-    scale = time_scale(tstar)
-    return PAPER_WINDOW[0] * scale, PAPER_WINDOW[1] * scale
-
-
 def collapse_times(times: np.ndarray, tstar: float) -> np.ndarray:
     """Snapshot times nearest to the rescaled :math:`t_k` (within half a snapshot interval)."""
     times = np.asarray(times, float)
@@ -111,7 +106,7 @@ def campaign_window(times: np.ndarray, n_fragments: np.ndarray, tstar: float,
     mask of snapshots inside. ``n_fragments`` has dims (seed, time)."""
     times = np.asarray(times, float)
     if mode == "paper":
-        lo, hi = analysis_window(tstar)
+        lo, hi = (t * time_scale(tstar) for t in PAPER_WINDOW)
         initial_end = PAPER_INITIAL_STAGE_END * time_scale(tstar)
         tk = collapse_times(times, tstar)
         description = (f"the paper's windows (fit/collapse t in [{PAPER_WINDOW[0]:g}, "
