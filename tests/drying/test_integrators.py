@@ -11,13 +11,18 @@ from craquelure.drying.integrators import (
     StepController,
     Stepper,
     abm4_step,
-    rkc2_error,
     rkc2_error_norm,
     rkc2_step,
     rkc_coefficients,
     rkc_stability,
     rkc_stages,
 )
+
+
+def rkc2_error(y0, y1, f0, f1, dt):
+    """Local error estimate of an RKC2 step, (12 (y0 - y1) + 6 dt (f0 + f1)) / 15: the numpy
+    form of what rkc2_error_norm fuses."""
+    return 0.8 * (y0 - y1) + (0.4 * dt) * (f0 + f1)
 
 
 def _real_stability_interval(s: int) -> float:

@@ -6,7 +6,6 @@ import pytest
 
 from craquelure.drying.summary import summarise
 from craquelure.drying.time_scales import (
-    analysis_window,
     campaign_window,
     collapse_times,
     paper_t_star,
@@ -17,8 +16,9 @@ from .synthetic_run import T_STAR, TIMES, campaign_of
 
 def test_windows_scale_with_t_star():
     assert paper_t_star() == pytest.approx(227.2727, rel=1e-5)
-    assert analysis_window(paper_t_star()) == pytest.approx((180.0, 300.0))
-    assert analysis_window(T_STAR) == pytest.approx((18.0, 30.0))
+    for tstar, window in ((paper_t_star(), (180.0, 300.0)), (T_STAR, (18.0, 30.0))):
+        paper = campaign_window(np.array([1.0]), np.ones((1, 1)), tstar)
+        assert (paper["start"], paper["end"]) == pytest.approx(window)
     paper_times = np.arange(90.0, 301.0, 10.0)
     assert collapse_times(paper_times, paper_t_star()).tolist() == list(range(180, 301, 20))
     assert collapse_times(TIMES, T_STAR).tolist() == list(range(18, 31, 2))

@@ -100,42 +100,28 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
     h, length = float(run.attrs["h"]), float(run.attrs["box_length"])
     times = run["time"].values
     bar = Progress(len(times), "fragments", unit="snapshot") if progress else None
-    areas, frag_time_index, areas_open, open_time_index = [], [], [], []
-    n_frag = np.zeros(len(times), np.int64)
-    n_open = np.zeros(len(times), np.int64)
-    mean_area = np.full(len(times), np.nan)
-    paste = np.zeros(len(times))
-    crack_length = np.zeros(len(times))
-    largest = np.zeros(len(times))
-    damage = np.zeros(len(times))
     spacing = mesh_spacing(length, spacing_h * h)
-    alive_all = run["alive"].values
+    alive = run["alive"].values.astype(bool)
+    areas, areas_open, measures = [], [], []
     for k in range(len(times)):
         image, spacing = snapshot_image(run, k, spacing_h, phi0, kernel)
         a = fragment_areas(image, spacing)
         areas.append(a)
-        frag_time_index.append(np.full(a.size, k, np.int64))
-        n_frag[k] = a.size
-        if a.size:
-            mean_area[k] = a.mean()
-        paste[k] = image.mean()
-        a_open = fragment_areas(image, spacing, periodic=False)
-        areas_open.append(a_open)
-        open_time_index.append(np.full(a_open.size, k, np.int64))
-        n_open[k] = a_open.size
-        crack_length[k] = crack_measures.crack_length_per_area(image, spacing)
-        largest[k] = crack_measures.largest_fraction(a, length)
-        damage[k] = crack_measures.damage(alive_all[k])
+        areas_open.append(fragment_areas(image, spacing, periodic=False))
+        measures.append((image.mean(), crack_measures.crack_length_per_area(image, spacing),
+                         crack_measures.largest_fraction(a, length),
+                         crack_measures.damage(alive[k])))
         if bar is not None:
             bar.update_to(k + 1, f"t={times[k]:g}: {a.size} fragments")
     if bar is not None:
         bar.close()
-    area = np.concatenate(areas) if areas else np.zeros(0)
-    index = np.concatenate(frag_time_index) if frag_time_index else np.zeros(0, np.int64)
-    area_open = np.concatenate(areas_open) if areas_open else np.zeros(0)
-    index_open = (np.concatenate(open_time_index) if open_time_index
-                  else np.zeros(0, np.int64))
-    alive = run["alive"].values.astype(bool)
+    paste, crack_length, largest, damage = np.array(measures, float).reshape(-1, 4).T
+    n_frag = np.array([a.size for a in areas], np.int64)
+    n_open = np.array([a.size for a in areas_open], np.int64)
+    mean_area = np.array([a.mean() if a.size else np.nan for a in areas], float)
+    index = np.repeat(np.arange(len(times), dtype=np.int64), n_frag)
+    index_open = np.repeat(np.arange(len(times), dtype=np.int64), n_open)
+    area, area_open = (np.concatenate([np.zeros(0), *a]) for a in (areas, areas_open))
     # bare variables get their long names and units from craquelure.cf's table on writing
     ds = xr.Dataset(
         {

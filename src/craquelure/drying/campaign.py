@@ -111,18 +111,10 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
     n_s, n_t = len(seeds), times.size
 
     count = np.stack([ds[count_key].values for ds in fragments]).astype(np.int64)
-    total = np.zeros((n_s, n_t))
-    area, f_time_index, f_seed = [], [], []
-    for s, ds in enumerate(fragments):
-        a = ds[area_key].values
-        k = ds[index_key].values.astype(np.int64)
-        total[s] = np.bincount(k, weights=a, minlength=n_t)
-        area.append(a)
-        f_time_index.append(k)
-        f_seed.append(np.full(a.size, seeds[s], np.int64))
-    area = np.concatenate(area)
-    f_time_index = np.concatenate(f_time_index)
-    f_seed = np.concatenate(f_seed)
+    area = np.concatenate([ds[area_key].values for ds in fragments])
+    f_time_index = np.concatenate([ds[index_key].values.astype(np.int64) for ds in fragments])
+    f_seed = np.repeat(np.asarray(seeds, np.int64), [ds[area_key].size for ds in fragments])
+    total, _ = _totals(area, np.searchsorted(seeds, f_seed), f_time_index, n_s, n_t)
     mean, se = pooled_mean(total, count)
     with np.errstate(invalid="ignore", divide="ignore"):
         sample_mean = np.where(count > 0, total / np.maximum(count, 1), np.nan)
@@ -138,15 +130,10 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
     x_max = float(np.nanmax(x_all[ref])) if area.size else 1.0
     s_edges = np.linspace(0.0, s_max, n_bins + 1)
     x_edges = np.linspace(0.0, x_max, n_bins + 1)
-    size_density = np.full((n_t, n_bins), np.nan)
-    scaled_density = np.full((n_t, n_bins), np.nan)
-    in_range = np.full(n_t, np.nan)
-    for k in range(n_t):
-        sel = f_time_index == k
-        size_density[k] = _density(area[sel], s_edges)
-        scaled_density[k] = _density(x_all[sel], x_edges)
-        if sel.any():
-            in_range[k] = np.mean(area[sel] <= s_max)
+    at_time = [f_time_index == k for k in range(n_t)]
+    size_density = np.reshape([_density(area[sel], s_edges) for sel in at_time], (n_t, n_bins))
+    scaled_density = np.reshape([_density(x_all[sel], x_edges) for sel in at_time], (n_t, n_bins))
+    in_range = np.array([np.mean(area[sel] <= s_max) if sel.any() else np.nan for sel in at_time])
     def per_seed(key: str) -> np.ndarray:
         return np.array([float(ds.attrs.get(key, np.nan)) for ds in fragments])
 
@@ -240,15 +227,21 @@ def campaign_from_files(paths: Sequence[str | Path], out: str | Path,
     return write_dataset(ds, out)
 
 
+def _totals(area: np.ndarray, seed_index: np.ndarray, time_index: np.ndarray, n_s: int,
+            n_t: int) -> tuple[np.ndarray, np.ndarray]:
+    """Total area and fragment count per (seed, time) of fragments given by their indices."""
+    flat = seed_index * n_t + time_index
+    total = np.bincount(flat, weights=area, minlength=n_s * n_t)
+    count = np.bincount(flat, minlength=n_s * n_t)
+    return total.reshape(n_s, n_t), count.reshape(n_s, n_t).astype(float)
+
+
 def per_sample_totals(campaign: xr.Dataset, s_min: float = 0.0
                        ) -> tuple[np.ndarray, np.ndarray]:
     """Total area and fragment count per (seed, time), fragments with S >= s_min only."""
     seeds = campaign["seed"].values
-    n_t = campaign.sizes["time"]
     area = campaign["fragment_area"].values
     keep = area >= s_min
-    seed_index = np.searchsorted(seeds, campaign["fragment_seed"].values[keep])
-    flat = seed_index * n_t + campaign["fragment_time_index"].values[keep]
-    total = np.bincount(flat, weights=area[keep], minlength=seeds.size * n_t)
-    count = np.bincount(flat, minlength=seeds.size * n_t)
-    return total.reshape(seeds.size, n_t), count.reshape(seeds.size, n_t).astype(float)
+    return _totals(area[keep], np.searchsorted(seeds, campaign["fragment_seed"].values[keep]),
+                   campaign["fragment_time_index"].values[keep], seeds.size,
+                   campaign.sizes["time"])

@@ -182,8 +182,7 @@ def collapse_claim(summary: dict, key: str = "checks") -> Claim:
 
 
 def onset_claim(summary: dict, key: str = "checks") -> Claim:
-    c16 = summary[key]["check16_onset"]
-    c16 = {**c16, "partial": True}
+    c16 = {**summary[key]["check16_onset"], "partial": True}
     verdict, note = _verdict(c16)
 
     def item(key: str) -> str:
@@ -254,14 +253,11 @@ def transition_claims(path: Path) -> list[Claim]:
     ds = open_dataset(path)
     a = ds.attrs
     setup = _transition_setup(ds)
-    first, last = [], []
-    for k in range(ds.sizes["size"]):
-        used = ds["n"].values[k] > 0
-        m = ds["m_max"].values[k][used]
-        d = ds["damage"].values[k][used]
-        cracked = d > 0
-        first.append(float(m[cracked][0]) if cracked.any() else float("nan"))
-        last.append(float(m[-1]) if m.size else float("nan"))
+    first, last = [], []  # m_max at the lowest damage with cracks and at the highest, per size
+    for n, m, d in zip(ds["n"].values, ds["m_max"].values, ds["damage"].values, strict=True):
+        m, cracked = m[n > 0], d[n > 0] > 0
+        first.append(float(m[cracked][0]) if cracked.any() else math.nan)
+        last.append(float(m[-1]) if m.size else math.nan)
     below = float(a.get("fragmented_below", 0.5))
     name_damage = f"cracked but m_max >= {below:g} at the lowest damage, every size"
     name_frag = f"m_max < {below:g} at the highest damage, every size"
@@ -293,8 +289,7 @@ def transition_claims(path: Path) -> list[Claim]:
                 f"d_c and exponents are not in the sources available to us (its abstract: "
                 f"they agree to a reasonable accuracy with the 2D Ising model's, beta/nu = "
                 f"0.125, gamma/nu = 1.75, 1/nu = 1)")
-    conditions = {}
-    undecided = {}
+    conditions, undecided = {}, {}
     if n_sizes < MIN_SIZES:
         undecided[f"finite-size scaling from {n_sizes} sizes: each exponent rests on "
                   f"{n_sizes} points, the scaling form is not tested"] = (

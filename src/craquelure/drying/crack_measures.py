@@ -17,7 +17,7 @@ snapshot of a drying run, from its particles and its paste image (:mod:`.binaris
   diagonals). Exact on average over orientations; for one straight interface at angle
   :math:`\varphi` it gives :math:`(\pi/8)(|\sin\varphi| + |\cos\varphi| +
   |\sin(\varphi - 45°)| + |\cos(\varphi - 45°)|)` times its length, 0.948 at 0° and 45°,
-  1.026 at 22.5° (:func:`crofton_factor`): within -5.2 % / +2.6 % of the true length.
+  1.026 at 22.5°: within -5.2 % / +2.6 % of the true length.
 - largest fragment's area fraction :math:`m_{max} = S_{max}/L^2` (periodic labelling), the
   order parameter of the damage-to-fragmentation transition (Szatmari et al. 2025).
 
@@ -58,14 +58,6 @@ def crack_length_per_area(image: np.ndarray, spacing: float) -> float:
     image area."""
     area = image.size * spacing * spacing
     return 0.5 * interface_length(image, spacing) / area
-
-
-def crofton_factor(angle_deg: float) -> float:
-    """Estimated over true length of one straight interface at ``angle_deg`` (docstring)."""
-    phi = math.radians(angle_deg)
-    q = math.radians(45.0)
-    return CROFTON_WEIGHT * (abs(math.sin(phi)) + abs(math.cos(phi)) + abs(math.sin(phi - q))
-                             + abs(math.cos(phi - q)))
 
 
 def largest_fraction(areas: np.ndarray, box_length: float) -> float:

@@ -139,28 +139,19 @@ class DryingEngine:
             self.controller.error_scale = self._error_scale()
 
     # -- neighbours and rates ------------------------------------------------------------
-    def _build_neighbours(self) -> None:
-        self.pairs = cluster_pairs(self.state[X], self.state[Y], self.h + self.skin, self.box,
+    def _build_neighbours(self, state: np.ndarray | None = None) -> None:
+        """The neighbour list of ``state`` (default: the current state)."""
+        state = self.state if state is None else state
+        self.pairs = cluster_pairs(state[X], state[Y], self.h + self.skin, self.box,
                                    template.LANES, self.alive)
-        self._built_x = self.state[X].copy()
-        self._built_y = self.state[Y].copy()
+        self._built_x = state[X].copy()
+        self._built_y = state[Y].copy()
         self.neighbour_builds = getattr(self, "neighbour_builds", 0) + 1
 
     def _maybe_rebuild(self, state: np.ndarray) -> None:
-        if self.skin <= 0:
-            self._rebuild_with(state)
-            return
         moved2 = (state[X] - self._built_x) ** 2 + (state[Y] - self._built_y) ** 2
-        if moved2.max(initial=0.0) > (0.5 * self.skin) ** 2:
-            self._rebuild_with(state)
-
-    def _rebuild_with(self, state: np.ndarray) -> None:
-        saved = self.state
-        self.state = state
-        try:
-            self._build_neighbours()
-        finally:
-            self.state = saved
+        if self.skin <= 0 or moved2.max(initial=0.0) > (0.5 * self.skin) ** 2:
+            self._build_neighbours(state)
 
     def evaluate(self, state: np.ndarray, t: float, stress: np.ndarray | None = None):
         """dY/dt at (state, t); the total stress goes to ``stress`` (default: self.stress)."""
@@ -285,14 +276,12 @@ class DryingEngine:
         if radius <= 0:
             return None
         limit = REAL_AXIS_LIMIT[self.stepper.name] / radius
-        changed = False
+        if self.dt <= 0.6 * limit:
+            return None
         while self.dt > 0.6 * limit:
             self.dt *= 0.5
-            changed = True
-        if changed:
-            self.stepper.restart()
-            return self.dt
-        return None
+        self.stepper.restart()
+        return self.dt
 
     # -- stepping ------------------------------------------------------------------------------
     def step(self) -> int:
@@ -301,28 +290,24 @@ class DryingEngine:
         the rate kernel uses numpy's error model (a division by zero gives inf/NaN, which
         :meth:`health` reports); an ArithmeticError raised elsewhere is caught here."""
         try:
-            return self._step()
+            removed = self._rkc_step() if self.stepper.adaptive else self._step()
         except ArithmeticError as exc:
             raise SimulationDiverged(
                 f"drying run diverged at t = {self.t:.6g} (step {self.step_count}, dt = "
                 f"{self.dt:.6g}): the state can no longer be computed ({type(exc).__name__}: "
                 f"{exc})") from exc
-
-    def _step(self) -> int:
-        if self.stepper.adaptive:
-            return self._rkc_step()
-        new = self.stepper.step(self.state, self.f_current, self.t, self.dt, self._stage_rate)
-        self.state = new
-        self.t += self.dt
-        self.step_count += 1
-        self.f_current = self.evaluate(self.state, self.t)
-        removed = 0
-        if self.fracture:
-            removed = self.remove_overstressed()
         if self.overwrite_velocity:
             self.state[VX] = self.f_current[X]
             self.state[VY] = self.f_current[Y]
         return removed
+
+    def _step(self) -> int:
+        self.state = self.stepper.step(self.state, self.f_current, self.t, self.dt,
+                                       self._stage_rate)
+        self.t += self.dt
+        self.step_count += 1
+        self.f_current = self.evaluate(self.state, self.t)
+        return self.remove_overstressed() if self.fracture else 0
 
     # -- rkc2: stages from the spectral radius, error and removal-event step control ----------
     def _error_scale(self) -> np.ndarray:
@@ -400,9 +385,6 @@ class DryingEngine:
         if removed:
             ctrl.forget()
         ctrl.dt_event = self._removal_step_limit(before, dt) if ctrl.adapt else math.inf
-        if self.overwrite_velocity:
-            self.state[VX] = self.f_current[X]
-            self.state[VY] = self.f_current[Y]
         return removed
 
     def time_tolerance(self) -> float:

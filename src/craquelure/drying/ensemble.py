@@ -109,16 +109,13 @@ def seeds_needed(n_s: int, decides) -> int | None:
 
 # --- check 14 -----------------------------------------------------------------------------
 
-def inverse_area_errors(total: np.ndarray, count: np.ndarray, weights: np.ndarray
+def inverse_area_errors(y: np.ndarray, y_boot: np.ndarray, count: np.ndarray
                         ) -> tuple[np.ndarray, np.ndarray, float]:
-    """Standard errors of 1/<S>_t per time (columns of total/count: (seed, time)): the raw
-    bootstrap ones, the pooled relative-error model ones, and the model's degrees of freedom
-    (see the module docstring)."""
-    n_s, n_times = total.shape
-    with np.errstate(invalid="ignore", divide="ignore"):
-        inv = (weights @ count) / (weights @ total)
-        y = count.sum(axis=0) / total.sum(axis=0)
-    inv = np.where(np.isfinite(inv), inv, np.nan)
+    """Standard errors of 1/<S>_t = ``y`` per time from its bootstrap replicates ``y_boot``
+    (replicate, time) and the fragment counts (seed, time): the raw bootstrap ones, the pooled
+    relative-error model ones, and the model's degrees of freedom (see the module docstring)."""
+    n_s, n_times = count.shape
+    inv = np.where(np.isfinite(y_boot), y_boot, np.nan)
     variance = np.nanvar(inv, axis=0, ddof=1) * n_s / max(n_s - 1, 1)
     n_t = count.sum(axis=0)
     k2 = float(np.mean(variance * n_t / y**2))
@@ -188,7 +185,9 @@ def check_inverse_area(t: np.ndarray, total: np.ndarray, count: np.ndarray, t_st
                         f"(has {t.size} snapshots, {n_s} samples)")
         return out
     weights = bootstrap_weights(n_s, n_boot, rng)
-    se_raw, se, nu = inverse_area_errors(total, count, weights)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        y_boot = (weights @ count) / (weights @ total)
+    se_raw, se, nu = inverse_area_errors(y, y_boot, count)
     if not np.all(np.isfinite(se) & (se > 0)):
         out["error"] = "no spread of 1/<S>_t over the bootstrap (identical samples?)"
         return out
@@ -196,9 +195,7 @@ def check_inverse_area(t: np.ndarray, total: np.ndarray, count: np.ndarray, t_st
            shape_tests(t, y, se, nu).items()}
     b, a = float(fit["b"]), float(fit["a"])
     t0 = -a / b if b != 0 else float("nan")
-    # Bootstrap intervals of b and t0: refit each replicate with the same weights.
-    with np.errstate(invalid="ignore", divide="ignore"):
-        y_boot = (weights @ count) / (weights @ total)
+    # Bootstrap intervals of b and t0: refit each replicate.
     ok = np.all(np.isfinite(y_boot) & (y_boot > 0), axis=1)
     boot = shape_tests(t, y_boot[ok], se)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -412,16 +409,15 @@ def check_collapse(area: np.ndarray, sample: np.ndarray, time: np.ndarray, n_sam
     """Check 15 on the window's fragments: ``time`` indexes the window's snapshots (0 = first,
     n_times - 1 = last), ``sample`` the campaign's samples."""
     rng = np.random.default_rng(seed)
-    out: dict[str, Any] = {"n_samples": int(n_samples), "n_times": int(n_times)}
     data = CollapseSample(area, sample, time, n_samples, n_times)
     n_first, n_last = data.first[0].size, data.last[0].size
-    out.update({"n_first": int(n_first), "n_last": int(n_last)})
+    out: dict[str, Any] = {"n_samples": int(n_samples), "n_times": int(n_times),
+                           "n_first": int(n_first), "n_last": int(n_last)}
     if n_times < 2 or n_first < 2 or n_last < 2:
         out["error"] = (f"needs >= 2 window snapshots with >= 2 fragments at both ends (has "
                         f"{n_times} snapshots, {n_first} and {n_last} fragments)")
         return out
-    ones = np.ones((1, n_samples))
-    ks, cv = (float(v[0]) for v in data.statistics(ones))
+    ks, cv = (float(v[0]) for v in data.statistics(np.ones((1, n_samples))))
     ks_hi, cv_hi = data.bounds(n_boot, rng)
     raw = float(stats.ks_2samp(data.first[0], data.last[0]).statistic)
     mean = data.s1.sum(axis=0) / data.n.sum(axis=0)

@@ -1,17 +1,5 @@
 r"""Figures of the drying-paste campaign (paper Figs. 2-6), from analysis datasets only.
 
-- :func:`fig_snapshots` (Fig. 2): crack pattern of one sample, surviving particles coloured by
-  the mean stress :math:`\bar\sigma/\sigma_Y`, at four snapshot times after the initial stage.
-  Takes the run dataset of that sample (its recorded snapshots; nothing is simulated).
-- :func:`fig_inverse_mean_area` (Fig. 3): :math:`1/\langle S\rangle_t` with its standard error
-  over seeds, the linear fit over the window and :math:`t^*`.
-- :func:`fig_size_distribution` (Fig. 4): the complementary cumulative distribution
-  :math:`P(S' > S; t)` at the window's snapshot times, with 95 % bootstrap bands over samples
-  (a histogram of ~20 fragments per snapshot is noise; a cumulative curve with its band shows
-  what the sample can resolve).
-- :func:`fig_scaled_distribution` (Figs. 5-6): the same for X = S/<S>_t, (a) inside the window
-  (collapse expected), (b) before it (no collapse expected), with check 15's numbers.
-
 Every figure carries a caption line with the profile, N, L, the number of seeds, the time unit
 (:math:`t^* = \sigma_Y/v_r`, and the profile's speed-up over the paper) and the fitted numbers
 from the summary (:func:`craquelure.drying.summary.summarise`). Each is written as PNG and
@@ -86,8 +74,10 @@ def collapse_line(summary: dict[str, Any]) -> str:
             f"{_fmt(c15.get('confirmation_rate'), '.2f')}; {c15['verdict']}")
 
 
-def _caption(fig, lines: list[str]) -> None:
+def _caption(fig, lines: list[str]):
+    """``fig`` with the caption ``lines`` at its bottom left."""
     fig.text(0.01, 0.01, "\n".join(lines), fontsize=7, va="bottom", ha="left", wrap=True)
+    return fig
 
 
 def save_figure(fig, png: str | Path) -> tuple[Path, Path]:
@@ -107,7 +97,8 @@ def _colours(n: int):
 
 def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any],
                   profile: str, n_panels: int = 4):
-    """Fig. 2: crack patterns coloured by mean stress / sigma_Y (one sample)."""
+    """Fig. 2: crack patterns of one sample at four snapshot times after the initial stage,
+    surviving particles coloured by mean stress / sigma_Y (the run's recorded snapshots)."""
     a = campaign.attrs
     sigma_y = float(a["yield_stress"])
     tstar = float(a["t_star"])
@@ -134,12 +125,12 @@ def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any]
     fig.subplots_adjust(bottom=0.2, top=0.85, left=0.02, right=0.9, wspace=0.08)
     fig.colorbar(image, cax=fig.add_axes([0.92, 0.25, 0.012, 0.55]),
                  label="mean stress / sigma_Y")
-    _caption(fig, [setup_line(campaign, profile), fit_line(summary)])
-    return fig
+    return _caption(fig, [setup_line(campaign, profile), fit_line(summary)])
 
 
 def fig_inverse_mean_area(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
-    """Fig. 3: 1/<S>_t vs t with the linear fit over the window."""
+    """Fig. 3: 1/<S>_t with its standard error over seeds vs t, the linear fit over the window
+    and t*."""
     t = campaign["time"].values
     inv = campaign["inverse_mean_area"].values
     err = campaign["inverse_mean_area_se"].values
@@ -164,8 +155,7 @@ def fig_inverse_mean_area(campaign: xr.Dataset, summary: dict[str, Any], profile
     ax.legend(fontsize=7, loc="upper left")
     ax.set_title("Inverse mean fragment area (cf. paper Fig. 3)")
     fig.subplots_adjust(bottom=0.22)
-    _caption(fig, [setup_line(campaign, profile), fit_line(summary)])
-    return fig
+    return _caption(fig, [setup_line(campaign, profile), fit_line(summary)])
 
 
 def _ccdf_panel(ax, campaign: xr.Dataset, times: np.ndarray, scaled: bool) -> None:
@@ -188,20 +178,22 @@ def _ccdf_panel(ax, campaign: xr.Dataset, times: np.ndarray, scaled: bool) -> No
 
 
 def fig_size_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
-    """Fig. 4: CCDF of S at (up to 7) snapshot times of the window, 95 % bootstrap bands."""
+    """Fig. 4: CCDF of S at (up to 7) snapshot times of the window, 95 % bootstrap bands (a
+    histogram of ~20 fragments per snapshot is noise; a cumulative curve with its band shows
+    what the sample can resolve)."""
     fig, ax = plt.subplots(figsize=(6.4, 5.2))
     _ccdf_panel(ax, campaign, campaign["time"].values[window_of(campaign)["mask"]], scaled=False)
     label_axes(ax, "S [length^2]", "P(fragment area > S; t)")
     ax.set_title("Fragment-size distribution, complementary cumulative (cf. paper Fig. 4)",
                  fontsize=9)
     fig.subplots_adjust(bottom=0.22)
-    _caption(fig, [setup_line(campaign, profile),
-                   "bands: 95 % bootstrap over samples; " + fit_line(summary)])
-    return fig
+    return _caption(fig, [setup_line(campaign, profile),
+                          "bands: 95 % bootstrap over samples; " + fit_line(summary)])
 
 
 def fig_scaled_distribution(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
-    """Figs. 5-6: CCDF of X = S/<S>_t inside and before the window, 95 % bootstrap bands."""
+    """Figs. 5-6: CCDF of X = S/<S>_t inside (collapse expected) and before the window (no
+    collapse expected), 95 % bootstrap bands, with check 15's numbers."""
     t_all = campaign["time"].values
     window = window_of(campaign)["mask"]
     start = int(np.argmax(window)) if window.any() else t_all.size
@@ -216,8 +208,8 @@ def fig_scaled_distribution(campaign: xr.Dataset, summary: dict[str, Any], profi
     fig.suptitle("Scaled fragment-size distribution, complementary cumulative "
                  "(cf. paper Figs. 5-6)")
     fig.subplots_adjust(bottom=0.24, top=0.88)
-    _caption(fig, [setup_line(campaign, profile), fit_line(summary), collapse_line(summary)])
-    return fig
+    return _caption(fig, [setup_line(campaign, profile), fit_line(summary),
+                          collapse_line(summary)])
 
 
 def make_figures(campaign: xr.Dataset, summary: dict[str, Any], run: xr.Dataset,
@@ -229,10 +221,7 @@ def make_figures(campaign: xr.Dataset, summary: dict[str, Any], run: xr.Dataset,
         "size_distribution": lambda: fig_size_distribution(campaign, summary, profile),
         "scaled_distribution": lambda: fig_scaled_distribution(campaign, summary, profile),
     }
-    written = []
-    for name in FIGURES:
-        written.extend(save_figure(makers[name](), outputs[name]))
-    return written
+    return [path for name in FIGURES for path in save_figure(makers[name](), outputs[name])]
 
 
 # Comparison of archived ensembles (a headline and its companions), one figure each:
@@ -316,10 +305,7 @@ def make_comparison(series: list[dict[str, Any]], outputs: dict[str, str | Path]
     _caption(fig, ["complementary cumulative distribution of X = S/<S>_t "
                    "over every fragment of the snapshots in each ensemble's window: curves "
                    "that lie on one another collapse across criteria and sizes"])
-    written = []
-    for name in COMPARISON:
-        written.extend(save_figure(figs[name][0], outputs[name]))
-    return written
+    return [path for name in COMPARISON for path in save_figure(figs[name][0], outputs[name])]
 
 
 def fig_accuracy(study: xr.Dataset, profile: str):
@@ -350,14 +336,13 @@ def fig_accuracy(study: xr.Dataset, profile: str):
                "relative L2 error of the final velocity field", legend={"fontsize": 7})
     a = study.attrs
     ax.set_title(f"Drying SPH: error vs wall time (profile {profile})", fontsize=9)
-    _caption(fig, [
+    return _caption(fig, [
         f"profile {profile}, scene {a.get('scene_name', '?')}: N = {int(a['n_particles'])}, "
         f"t = 0..{float(a['t_end']):g}, fracture off; labels are dt",
         f"reference: {a['reference']} at dt = {float(a['reference_dt']):g} "
         f"({float(a['reference_wall_time_s']):.3g} s); error {a['error_measure']}",
         f"wall time on {a.get('threads', '?')} numba thread(s), measured {a.get('start_time', '')}",
     ])
-    return fig
 
 
 def fig_thickness(sweep: xr.Dataset, profile: str):
@@ -396,7 +381,7 @@ def fig_thickness(sweep: xr.Dataset, profile: str):
     ax_h.set_title("<S> against H at the late snapshots", fontsize=9)
     a = sweep.attrs
     fig.suptitle(f"Drying paste: thickness sweep (profile {profile})")
-    _caption(fig, [
+    return _caption(fig, [
         f"profile {profile}, scene {a.get('scene_name', '?')}: H = "
         f"{', '.join(f'{v:g}' for v in h)}, seeds per H = "
         f"{', '.join(str(int(n)) for n in sweep['n_seeds'].values)}; same initial states",
@@ -405,7 +390,6 @@ def fig_thickness(sweep: xr.Dataset, profile: str):
         f"{_fmt(float(a['exponent_late_std']), '.2g')}; predicted "
         f"{float(a['predicted_exponent']):g} (dimensional analysis, spec eq. (29))",
     ])
-    return fig
 
 
 def fig_speed(study: xr.Dataset, profile: str):
@@ -440,16 +424,17 @@ def fig_speed(study: xr.Dataset, profile: str):
                  label="t0 <= t* (dimensional analysis)")
     ax_f.set_title("1/<S>_t = b (t - t0) over the broken snapshots", fontsize=9)
     # An undetermined value is said, not left as a silently empty point or panel.
-    unfit = [f"{p:.3g}" for p, v in zip(pi, study["t0_over_t_star"].values, strict=True)
-             if not np.isfinite(v)]
+    def undetermined(key: str) -> str:
+        return ", ".join(f"{p:.3g}" for p, v in zip(pi, study[key].values, strict=True)
+                         if not np.isfinite(v))
+
+    unfit, unbroken = undetermined("t0_over_t_star"), undetermined("all_samples_broken")
     if unfit:
-        ax_f.text(0.5, 0.3, f"no fit at Pi = {', '.join(unfit)}:\nfewer than 4 snapshots with "
+        ax_f.text(0.5, 0.3, f"no fit at Pi = {unfit}:\nfewer than 4 snapshots with "
                   "every sample broken", transform=ax_f.transAxes, ha="center", fontsize=8)
-    unbroken = [f"{p:.3g}" for p, v in zip(pi, study["all_samples_broken"].values, strict=True)
-                if not np.isfinite(v)]
     if unbroken:
-        ax_o.text(0.02, 0.02, f"not all samples broken by the run's end at Pi = "
-                  f"{', '.join(unbroken)}", transform=ax_o.transAxes, fontsize=7)
+        ax_o.text(0.02, 0.02, f"not all samples broken by the run's end at Pi = {unbroken}",
+                  transform=ax_o.transAxes, fontsize=7)
     fixed = study["fixed_time"].values
     for colour, f in zip(_colours(fixed.size), fixed, strict=True):
         bars(ax_n, "fragments_per_area", f"t = {f:g} t*", colour, data=study.sel(fixed_time=f))
@@ -466,14 +451,13 @@ def fig_speed(study: xr.Dataset, profile: str):
                    legend={"fontsize": 6})
     fig.suptitle(f"Drying paste: drying-speed study (profile {profile})")
     seeds = ", ".join(str(int(n)) for n in study["n_seeds"].values)
-    _caption(fig, [
+    return _caption(fig, [
         f"profile {profile}, scene {a.get('scene_name', '?')}: Pi = "
         f"{', '.join(f'{v:.3g}' for v in pi)} (paper {a['paper_pi']:g}); seeds per speed {seeds};"
         f" bars: 95 % bootstrap over seeds",
         "t* = sigma_Y/v_r; onset from the snapshots (>= 2 fragments = broken); t0 and b from the "
         "weighted fit of check 14 over the snapshots with every sample broken",
     ])
-    return fig
 
 
 def fig_kappa(study: xr.Dataset, profile: str):
@@ -509,14 +493,13 @@ def fig_kappa(study: xr.Dataset, profile: str):
     right.set_ylabel("predicted first removal t*/kappa_max [t*]")
     a = study.attrs
     fig.suptitle(f"Drying paste: onset set by the particles' disorder (profile {profile})")
-    _caption(fig, [
+    return _caption(fig, [
         f"profile {profile}, scene {a.get('scene_name', '?')}: L = {a.get('box_length', '?')}, "
         f"F = {float(study['drying_stress'].values[0]):.3g} held, fracture off; "
         f"{study.sizes['point']} runs; error bars: the initial stress's largest shift of kappa",
         "kappa_max: " + ", ".join(f"gap {g:g} h/D {h:.3g} {m.split('_')[0]}: {k:.2f}"
                                   for g, h, m, k in zip(gap, hd, method, kappa, strict=True)),
     ])
-    return fig
 
 
 def fig_transition(ds: xr.Dataset, profile: str):
@@ -548,7 +531,7 @@ def fig_transition(ds: xr.Dataset, profile: str):
     criterion = departure_note(str(a.get("fracture_stress_measure", SOURCE_MEASURE)))
     fig.suptitle(f"Drying paste: damage-to-fragmentation transition, beyond the source "
                  f"(profile {profile})")
-    _caption(fig, [
+    return _caption(fig, [
         f"profile {profile}, scenes {a.get('scenes', '?')} runs '{a.get('variant', '')}': "
         f"v_r = {float(a['drying_rate']):.3g} (paper 2.2e-05), L = "
         f"{', '.join(f'{s:g}' for s in sizes)}"
@@ -559,4 +542,3 @@ def fig_transition(ds: xr.Dataset, profile: str):
         f"percolation 0.104, 1.79, 0.75; with {sizes.size} sizes each exponent rests on "
         f"{sizes.size} points",
     ])
-    return fig

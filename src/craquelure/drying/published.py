@@ -46,6 +46,7 @@ COMMON_ATTRS = ("h", "box_length", "n_particles", "phi0", "mesh_spacing_h", "mes
 
 
 def _number(value) -> str:
+    """A table cell: a string as it is, a number with 17 significant digits (or nan)."""
     if isinstance(value, str):
         return value
     value = float(value)
@@ -76,18 +77,16 @@ def write_tables(fragments: Sequence[xr.Dataset], folder: str | Path) -> list[Pa
                 raise CraquelureError(f"published tables: seed {seed} differs in `{key}` from "
                                       "the first sample; publish one scene at a time")
         times = ds["time"].values
-        rows = []
-        for labelling, (area, index) in LABELLING_VARIABLES.items():
-            rows += [(_number(times[k]), labelling, _number(a))
-                     for a, k in zip(ds[area].values, ds[index].values, strict=True)]
+        rows = [(_number(times[k]), labelling, _number(a))
+                for labelling, (area, index) in LABELLING_VARIABLES.items()
+                for a, k in zip(ds[area].values, ds[index].values, strict=True)]
         written.append(write_text_atomic(tables / f"seed{seed}_fragments.csv",
                                          _csv(("time", "labelling", "area"), rows)))
         rows = [(_number(t), *(_number(ds[c].values[k]) for c in SNAPSHOT_COLUMNS))
                 for k, t in enumerate(times)]
         written.append(write_text_atomic(tables / f"seed{seed}_snapshots.csv",
                                          _csv(("time", *SNAPSHOT_COLUMNS), rows)))
-        seed_rows.append([_number(ds.attrs.get(c, "")) if c != "run_git_commit"
-                          else str(ds.attrs.get(c, "")) for c in SEED_COLUMNS])
+        seed_rows.append([_number(ds.attrs.get(c, "")) for c in SEED_COLUMNS])
     written.append(write_text_atomic(tables / "seeds.csv", _csv(SEED_COLUMNS, seed_rows)))
     common = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in common.items()}
     written.append(write_text_atomic(tables / "common.json",

@@ -39,6 +39,7 @@ ONSET_ITEMS = ("first_removal_earliest", "first_removal_median", "first_sample_b
                "half_samples_broken", "all_samples_broken")
 PAPER = {"paper_pi": 0.022, "paper_first_broken_over_t_star": 0.40,
          "paper_all_broken_over_t_star": 0.8, "paper_t0_over_t_star_max": 1.0}
+ENDS = ("", "_lo", "_hi")  # a value and its 95 % bootstrap interval
 N_BOOT = 1000
 SEED = 20261201
 
@@ -77,10 +78,8 @@ def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
                                campaign["first_removal_time"].values, tstar, pi["pi"], n_boot)
     for item in ONSET_ITEMS:
         v = onset[item]
-        out[item] = np.nan if v["over_t_star"] is None else v["over_t_star"]
-        lo, hi = v["ci95_over_t_star"]
-        out[f"{item}_lo"] = np.nan if lo is None else lo
-        out[f"{item}_hi"] = np.nan if hi is None else hi
+        for end, value in zip(ENDS, (v["over_t_star"], *v["ci95_over_t_star"]), strict=True):
+            out[item + end] = np.nan if value is None else value
     b_star = b_star_of(a)
     seeds = campaign["seed"].values
     total, count = per_sample_totals(campaign)
@@ -103,8 +102,7 @@ def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
         per_seed = count[:, k] / area_box
         boot = per_seed[picks].mean(axis=1)
         density[:, j] = per_seed.mean(), *bootstrap_interval(boot)
-    out["fragments_per_area"], out["fragments_per_area_lo"], out["fragments_per_area_hi"] = (
-        density[0], density[1], density[2])
+    out.update({f"fragments_per_area{end}": row for end, row in zip(ENDS, density, strict=True)})
     return out
 
 
@@ -119,24 +117,21 @@ def speed_study(fragments: Mapping[Any, Sequence[xr.Dataset]],
     fixed = np.asarray(fixed_over_t_star, float)
     rows = [_one_speed(sets, fixed, n_boot) for sets in fragments.values()]
     rows.sort(key=lambda r: r["pi"])
-    scalars = [k for k in rows[0] if k not in ("fragments_per_area", "fragments_per_area_lo",
-                                               "fragments_per_area_hi", "pi")]
     long = {"t_star": "t* = sigma_Y/v_r", "drying_rate": "drying rate v_r",
             "n_seeds": "samples (seeds)", "t0_over_t_star": "x-intercept t0 of 1/<S>_t, in t*",
-            "b_over_b_star": "slope b of 1/<S>_t, in b*"}
+            "b_over_b_star": "slope b of 1/<S>_t, in b*",
+            "fragments_per_area": "mean fragments per unit area at fixed t/t*"}
+    bound = {"_lo": " (2.5 % bootstrap)", "_hi": " (97.5 % bootstrap)"}
     data = {}
-    for key in scalars:
+    for key in (k for k in rows[0] if k != "pi"):
         base = key.removesuffix("_lo").removesuffix("_hi")
-        text = long.get(base, base.replace("_", " ") + ", in t*")
-        if key != base:
-            text += " (2.5 % bootstrap)" if key.endswith("_lo") else " (97.5 % bootstrap)"
-        data[key] = ("speed", np.array([r[key] for r in rows], float), {"long_name": text})
-    for key in ("fragments_per_area", "fragments_per_area_lo", "fragments_per_area_hi"):
-        data[key] = (("speed", "fixed_time"), np.stack([r[key] for r in rows]),
-                     {"long_name": "mean fragments per unit area at fixed t/t*"
-                      + ("" if key == "fragments_per_area" else
-                         f" ({'2.5' if key.endswith('lo') else '97.5'} % bootstrap)"),
-                      "units": "1/length^2"})
+        attrs = {"long_name": long.get(base, base.replace("_", " ") + ", in t*")
+                 + bound.get(key[len(base):], "")}
+        if base == "fragments_per_area":
+            data[key] = (("speed", "fixed_time"), np.stack([r[key] for r in rows]),
+                         {**attrs, "units": "1/length^2"})
+        else:
+            data[key] = ("speed", np.array([r[key] for r in rows], float), attrs)
     return xr.Dataset(
         data,
         coords={"speed": np.array([r["pi"] for r in rows], float), "fixed_time": fixed},

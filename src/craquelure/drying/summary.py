@@ -23,16 +23,12 @@ Quantities (all from data):
   variation (ddof = 1) of :math:`\langle X^2\rangle_t` over the :math:`t_k`; the raw-S KS distance
   between the first and last :math:`t_k`; and as a summary metric the mean pairwise KS distance
   between the scaled distributions of different snapshots before and after the window start.
-  The KS part only counts as a pass if the test could have failed (critical value < 1 at
-  every :math:`t_k`, i.e. enough fragments) [D].
 - Sensitivity to a minimum fragment size :math:`S_{min} = \pi h^2` (:math:`\alpha` refitted
   without the smaller fragments).
 
-Checks 14-16 as revised (statistic, bootstrap interval, power against a named alternative by
-simulation at the run's noise and counts, and a verdict that is "inconclusive" when the sample
-cannot decide) are in :mod:`craquelure.drying.ensemble`; :math:`\alpha` is descriptive. The
-spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at N = 1e4) is
-reported as well, since a pass or miss on a smaller campaign is indicative only.
+Checks 14-16 as revised are :mod:`craquelure.drying.ensemble`'s; :math:`\alpha` is
+descriptive. The spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at
+N = 1e4) is reported as well, since a pass or miss on a smaller campaign is indicative only.
 """
 
 from __future__ import annotations
@@ -168,9 +164,6 @@ def _onset(campaign: xr.Dataset, tstar: float, x_intercept: float | None,
     times = campaign["time"].values.astype(float)
     broken = np.all(campaign["n_fragments"].values >= 2, axis=0)
     all_broken = float(times[np.argmax(broken)]) if broken.any() else None
-    removal = campaign["first_removal_time"].values
-    removal = removal[np.isfinite(removal)]
-    first_removal = float(np.median(removal)) if removal.size else None
 
     def ratio(value: float | None) -> float | None:
         return None if value is None or not np.isfinite(value) else float(value / tstar)
@@ -181,6 +174,8 @@ def _onset(campaign: xr.Dataset, tstar: float, x_intercept: float | None,
         v = campaign[key].values.astype(float)
         v = v[np.isfinite(v)]
         return float(np.median(v)) if v.size else None
+
+    first_removal = median("first_removal_time")
 
     kappa = {}
     if "predicted_first_removal_time" in campaign:
@@ -289,24 +284,17 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
     ``n_power_collapse`` are the simulated draws of the power of checks 14 and 15."""
     attrs = campaign.attrs
     tstar = t_star(attrs)
-    scale = time_scale(tstar)
     win = window_of(campaign)
     lo, hi = win["start"], win["end"]
     times = campaign["time"].values.astype(float)
-    window = win["mask"]
-    total, count = per_sample_totals(campaign)
-    fits = _fits(times, total, count, window, n_boot)
     h = float(attrs["h"])
     s_min = math.pi * h * h
-    fits_smin = _fits(times, *per_sample_totals(campaign, s_min), window, n_boot)
-    b_star = b_star_of(attrs)
     # Checks 14-16 (craquelure.drying.ensemble); check 14's weighted fit is the 1/<S>_t line
     # of the summary and the figure.
     checks = checks_of(campaign, n_boot, n_power, n_power_collapse)
     c14 = checks["check14_inverse_mean_area_linear"]
     collapse = _collapse(campaign, win)
     onset = _onset(campaign, tstar, c14.get("x_intercept_t0"), collapse["collapse_onset_time"])
-    n_particles, n_seeds = int(attrs["n_particles"]), int(campaign.sizes["seed"])
     pi = drying_number(attrs)
     measure = str(attrs.get("fracture_stress_measure", SOURCE_MEASURE))
     return {
@@ -314,9 +302,9 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
         "scene": scene_name or str(attrs.get("scene_name", "")),
         "fracture_stress_measure": measure,
         "criterion_departs_from_source": departure_note(measure) or None,
-        "n_particles": n_particles,
+        "n_particles": int(attrs["n_particles"]),
         "box_length": float(attrs["box_length"]),
-        "n_seeds": n_seeds,
+        "n_seeds": int(campaign.sizes["seed"]),
         "phi0": float(attrs.get("phi0", float("nan"))),
         "mesh_spacing": float(attrs.get("mesh_spacing", float("nan"))),
         "time_units": (f"window mode {win['mode']}: {win['description']}; "
@@ -325,7 +313,7 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
                        " with tau = eta/(2 mu) "
                        f"(paper {paper_pi():.3g})"),
         "t_star": tstar,
-        "time_scale_vs_paper": scale,
+        "time_scale_vs_paper": time_scale(tstar),
         "retardation_time_tau": pi["tau"],
         "pi": pi["pi"],
         "pi_paper": pi["pi_paper"],
@@ -333,10 +321,11 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
         "window": [lo, hi],
         "window_over_t_star": [lo / tstar, hi / tstar],
         "initial_stage_end": win["initial_stage_end"],
-        "fit": fits,
-        "b_star": b_star,
+        "fit": _fits(times, *per_sample_totals(campaign), win["mask"], n_boot),
+        "b_star": b_star_of(attrs),
         "slope_over_b_star": c14.get("slope_over_b_star"),
-        "sensitivity_s_min": {"s_min": s_min, "fit": fits_smin},
+        "sensitivity_s_min": {"s_min": s_min, "fit": _fits(
+            times, *per_sample_totals(campaign, s_min), win["mask"], n_boot)},
         "onset": onset,
         "collapse": collapse,
         "labelling": str(attrs.get("labelling", "periodic")),

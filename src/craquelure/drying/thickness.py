@@ -24,6 +24,7 @@ the spread of :math:`\beta_t` there.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from functools import reduce
 
 import numpy as np
 import xarray as xr
@@ -32,6 +33,22 @@ from craquelure.drying.campaign import pooled_mean
 from craquelure.errors import CraquelureError
 
 PREDICTED_EXPONENT = 2.0
+
+
+def _times(ds: xr.Dataset) -> np.ndarray:
+    return np.round(ds["time"].values.astype(float), 9)
+
+
+def _totals_at(ds: xr.Dataset, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Total fragment area and count of one sample at ``times`` (a subset of its own)."""
+    own = _times(ds)
+    keep = np.isin(own, times)
+    remap = np.full(own.size, -1)
+    remap[keep] = np.searchsorted(times, own[keep])
+    index = remap[ds["fragment_time_index"].values.astype(np.int64)]
+    sel = index >= 0
+    total = np.bincount(index[sel], weights=ds["fragment_area"].values[sel], minlength=times.size)
+    return total, ds["n_fragments"].values[keep]
 
 
 def thickness_sweep(fragments: Mapping[float, Sequence[xr.Dataset]]) -> xr.Dataset:
@@ -45,42 +62,20 @@ def thickness_sweep(fragments: Mapping[float, Sequence[xr.Dataset]]) -> xr.Datas
     thicknesses = np.array(sorted(by_thickness))
     if np.any(thicknesses <= 0):
         raise CraquelureError(f"thickness sweep: thicknesses must be > 0, got {thicknesses}")
-    times = None
-    for sets in by_thickness.values():
-        if not sets:
-            raise CraquelureError("thickness sweep: a thickness has no fragment dataset")
-        for ds in sets:
-            t = np.round(ds["time"].values.astype(float), 9)
-            times = t if times is None else np.intersect1d(times, t)
-    if times is None or times.size == 0:
+    if not all(by_thickness.values()):
+        raise CraquelureError("thickness sweep: a thickness has no fragment dataset")
+    times = reduce(np.intersect1d, (_times(ds) for sets in by_thickness.values() for ds in sets))
+    if times.size == 0:
         raise CraquelureError("thickness sweep: the fragment datasets share no snapshot time")
-    n_h, n_t = thicknesses.size, times.size
-    mean = np.full((n_h, n_t), np.nan)
-    se = np.full((n_h, n_t), np.nan)
-    n_frag = np.zeros((n_h, n_t))
-    all_broken = np.zeros((n_h, n_t), bool)
-    n_seeds = np.zeros(n_h, np.int64)
-    for i, h in enumerate(thicknesses):
-        sets = by_thickness[h]
-        # Total fragment area and count per (seed, common time): fragment_time_index re-mapped.
-        total, count = np.zeros((len(sets), n_t)), np.zeros((len(sets), n_t))
-        for s, ds in enumerate(sets):
-            own = np.round(ds["time"].values.astype(float), 9)
-            keep = np.isin(own, times)
-            remap = np.full(own.size, -1)
-            remap[keep] = np.searchsorted(times, own[keep])
-            f_idx = remap[ds["fragment_time_index"].values.astype(np.int64)]
-            sel = f_idx >= 0
-            total[s] = np.bincount(f_idx[sel], weights=ds["fragment_area"].values[sel],
-                                   minlength=n_t)
-            count[s] = ds["n_fragments"].values[keep]
-        mean[i], se[i] = pooled_mean(total, count)
-        n_frag[i] = count.sum(axis=0)
-        all_broken[i] = np.all(count >= 2, axis=0)
-        n_seeds[i] = len(sets)
+    # (seed, total area / count, common time) per thickness
+    totals = [np.array([_totals_at(ds, times) for ds in by_thickness[h]]) for h in thicknesses]
+    mean, se = np.array([pooled_mean(t[:, 0], t[:, 1]) for t in totals]).transpose(1, 0, 2)
+    n_frag = np.array([t[:, 1].sum(axis=0) for t in totals])
+    all_broken = np.array([np.all(t[:, 1] >= 2, axis=0) for t in totals])
+    n_seeds = np.array([len(t) for t in totals], np.int64)
     usable = np.all(all_broken, axis=0) & np.all(np.isfinite(mean) & (mean > 0), axis=0)
     log_h = np.log(thicknesses)
-    exponent = np.full(n_t, np.nan)
+    exponent = np.full(times.size, np.nan)
     for k in np.flatnonzero(usable):
         exponent[k] = np.polyfit(log_h, np.log(mean[:, k]), 1)[0]
     late = usable & (times >= times[0] + 2.0 * (times[-1] - times[0]) / 3.0)

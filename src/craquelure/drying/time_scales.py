@@ -53,10 +53,10 @@ def drying_number(attrs: Any) -> dict[str, float | None]:
     :math:`\Pi = \tau/t^*` of a campaign's attributes (paper: 5, 227.3, 0.022); None where the
     dataset predates the viscosity attribute."""
     tstar = t_star(attrs)
-    if "viscosity" not in attrs:
-        return {"tau": None, "t_star": tstar, "pi": None, "pi_paper": paper_pi()}
-    tau = float(attrs["viscosity"]) / (2.0 * float(attrs["lame_mu"]))
-    return {"tau": tau, "t_star": tstar, "pi": tau / tstar, "pi_paper": paper_pi()}
+    tau = (float(attrs["viscosity"]) / (2.0 * float(attrs["lame_mu"]))
+           if "viscosity" in attrs else None)
+    return {"tau": tau, "t_star": tstar, "pi": None if tau is None else tau / tstar,
+            "pi_paper": paper_pi()}
 
 
 PAPER_RETARDATION_TIME = 1.0 / (2.0 * 0.1)  # eta/(2 mu), Table I
@@ -69,11 +69,6 @@ def paper_pi() -> float:
 def time_scale(tstar: float) -> float:
     """Factor from the paper's times to this campaign's times."""
     return tstar / paper_t_star()
-
-
-def analysis_window(tstar: float) -> tuple[float, float]:
-    scale = time_scale(tstar)
-    return PAPER_WINDOW[0] * scale, PAPER_WINDOW[1] * scale
 
 
 def collapse_times(times: np.ndarray, tstar: float) -> np.ndarray:
@@ -111,7 +106,7 @@ def campaign_window(times: np.ndarray, n_fragments: np.ndarray, tstar: float,
     mask of snapshots inside. ``n_fragments`` has dims (seed, time)."""
     times = np.asarray(times, float)
     if mode == "paper":
-        lo, hi = analysis_window(tstar)
+        lo, hi = (t * time_scale(tstar) for t in PAPER_WINDOW)
         initial_end = PAPER_INITIAL_STAGE_END * time_scale(tstar)
         tk = collapse_times(times, tstar)
         description = (f"the paper's windows (fit/collapse t in [{PAPER_WINDOW[0]:g}, "
@@ -135,13 +130,10 @@ def campaign_window(times: np.ndarray, n_fragments: np.ndarray, tstar: float,
     else:
         raise CraquelureError(f"window mode {mode!r} is not allowed; allowed values: "
                               f"{', '.join(WINDOW_MODES)}")
-    if np.isfinite(lo):
-        # Snapshots are taken at the first step past the requested time (within half a step),
-        # so the bounds get a tolerance of 0.1 % of the window length.
-        tol = 1e-3 * max(hi - lo, 1e-12)
-        mask = (times >= lo - tol) & (times <= hi + tol)
-    else:
-        mask = np.zeros(times.size, bool)
+    # Snapshots are taken at the first step past the requested time (within half a step),
+    # so the bounds get a tolerance of 0.1 % of the window length (NaN bounds: no snapshot).
+    tol = 1e-3 * max(hi - lo, 1e-12)
+    mask = (times >= lo - tol) & (times <= hi + tol)
     return {"mode": mode, "start": float(lo), "end": float(hi),
             "initial_stage_end": float(initial_end), "collapse_times": np.asarray(tk, float),
             "mask": mask, "description": description}

@@ -156,6 +156,8 @@ def transition(fragments: Mapping[str, Sequence[xr.Dataset]], variant: str = "",
                n_bins: int = N_BINS, n_boot: int = N_BOOT) -> xr.Dataset:
     """The transition dataset (dims ``size``, ``bin``) from fragment datasets grouped by scene
     (one box size per scene), with d_c and the exponents and their bootstrap intervals."""
+    from craquelure.drying.analysis import run_scene  # the run's modules: not for the claims
+
     groups = sorted(((float(ds[0].attrs["box_length"]), name, [sample_records(f) for f in ds],
                       ds) for name, ds in fragments.items()), key=lambda g: g[0])
     if len(groups) < 2:
@@ -173,16 +175,16 @@ def transition(fragments: Mapping[str, Sequence[xr.Dataset]], variant: str = "",
         resampled = [_binned([g[2][i] for i in rng.integers(0, len(g[2]), len(g[2]))], edges)
                      for g in groups]
         boot.append(scaling(lengths, resampled))
-    data: dict[str, Any] = {}
     names = {"n": ("records (sample x snapshot) in the bin", "1"),
              "damage": ("mean damage d of the bin's records", "1"),
              "m_max": ("mean largest-fragment fraction m_max = S_max/L^2", "1"),
              "m_max_sigma": ("sample-to-sample fluctuation of m_max", "1"),
              "m_2": ("average fragment area without the largest, sum' S^2/(L^2 sum' S)", "1"),
              "fragmented": ("fraction of records with m_max < 1/2", "1")}
-    for key, (long_name, units) in names.items():
-        data[key] = (("size", "bin"), np.stack([c[key] for c in curves]),
-                     {"long_name": long_name, "units": units})
+    data: dict[str, Any] = {
+        key: (("size", "bin"), np.stack([c[key] for c in curves]),
+              {"long_name": long_name, "units": units})
+        for key, (long_name, units) in names.items()}
     data["n_seeds"] = ("size", np.array([len(g[2]) for g in groups]),
                        {"long_name": "samples per size", "units": "1"})
     ds = xr.Dataset(data, coords={
@@ -198,21 +200,16 @@ def transition(fragments: Mapping[str, Sequence[xr.Dataset]], variant: str = "",
                                    else [math.nan, math.nan])
         ds.attrs[f"{key}_n_bootstrap"] = int(values.size)
     first = groups[0][3][0]
+    scene = run_scene(first)
     ds.attrs.update({
         "scenes": ",".join(g[1] for g in groups), "variant": variant,
         "fragmented_below": FRAGMENTED_BELOW, "n_bootstrap": n_boot,
         "fracture_stress_measure": str(first.attrs.get("fracture_stress_measure",
                                                         "half_trace")),
-        "drying_rate": float(_scene_value(first, "material.drying_rate")),
-        "yield_stress": float(_scene_value(first, "material.yield_stress")),
+        "drying_rate": float(scene.get("material.drying_rate")),
+        "yield_stress": float(scene.get("material.yield_stress")),
         "reference": PAPER_URL,
         "ising_exponents": ", ".join(f"{k} = {v:.4g}" for k, v in ISING.items()),
         "percolation_exponents": ", ".join(f"{k} = {v:.4g}" for k, v in PERCOLATION.items()),
     })
     return ds
-
-
-def _scene_value(fragments: xr.Dataset, path: str) -> float:
-    from craquelure.drying.analysis import run_scene
-
-    return float(run_scene(fragments).get(path))

@@ -52,6 +52,11 @@ def rebuilt_with_companions(wildcards) -> list[str]:
     return [f"results/drying_published/{name}" for name in names]
 
 
+def fragment_files(folder: str, seeds) -> list[str]:
+    """The fragment datasets of ``seeds`` in results/drying/<folder>/."""
+    return [f"results/drying/{folder}/fragments/seed{seed}.nc" for seed in seeds]
+
+
 def label(value: float) -> str:
     """A number as a wildcard value (scene wildcards have no dots): 0.25 -> 0p25."""
     return f"{value:g}".replace(".", "p")
@@ -92,7 +97,7 @@ class Jobs:
         seeds = self.seeds()
         if re.fullmatch(rf".+_C(?:{CRITERION_PATTERN})", wildcards.scene):
             seeds = seeds[: self.section["criterion"]["n_seeds"]]
-        return [f"results/drying/{wildcards.scene}/fragments/seed{seed}.nc" for seed in seeds]
+        return fragment_files(wildcards.scene, seeds)
 
     def publish_benchmarks(self, wildcards) -> dict[str, list[str]]:
         """The benchmark files of the jobs behind the tables of ``wildcards.scene`` (rule
@@ -121,8 +126,7 @@ class Jobs:
                 f"config drying.transition.n_seeds: one count per entry of scenes "
                 f"({len(study['scenes'])}), got {study['n_seeds']}")
         first = self.section["first_seed"]
-        return {scene: [f"results/drying/{scene}{study['variant']}/fragments/seed{seed}.nc"
-                        for seed in range(first, first + n)]
+        return {scene: fragment_files(f"{scene}{study['variant']}", range(first, first + n))
                 for scene, n in zip(study["scenes"], study["n_seeds"], strict=True) if n > 0}
 
     @staticmethod
@@ -143,8 +147,7 @@ class Jobs:
         for value in sweep["values"]:
             folder = (wildcards.scene if abs(value - own) < 1e-12
                       else f"{wildcards.scene}_H{label(value)}")
-            files[f"H{label(value)}"] = [f"results/drying/{folder}/fragments/seed{seed}.nc"
-                                         for seed in self.seeds()[: sweep["n_seeds"]]]
+            files[f"H{label(value)}"] = fragment_files(folder, self.seeds()[: sweep["n_seeds"]])
         return files
 
     @staticmethod
@@ -178,13 +181,9 @@ class Jobs:
     def speed_fragments(self, wildcards) -> dict[str, list[str]]:
         """Fragment datasets of the drying-speed study, grouped by Pi (inputs P<label>)."""
         study = self.section["speed"]
-        return {
-            f"P{label(pi)}": [
-                f"results/drying/{wildcards.scene}_Pi{label(pi)}/fragments/seed{seed}.nc"
-                for seed in self.seeds()[: study["n_seeds"]]
-            ]
-            for pi in study["pis"]
-        }
+        return {f"P{label(pi)}": fragment_files(f"{wildcards.scene}_Pi{label(pi)}",
+                                                self.seeds()[: study["n_seeds"]])
+                for pi in study["pis"]}
 
 
 KAPPA_SCENE = f"{SCENE_DIR}/onset_fixed_f.yaml"

@@ -158,13 +158,17 @@ def _scan(x, y, cell, start, order, nx, ny, lx, ly, periodic, r2max, offsets, in
             offsets[i + 1] = k
 
 
+def _points(x, y, active) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Coordinates as contiguous float64 arrays, and the active flags (default: all)."""
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    y = np.ascontiguousarray(y, dtype=np.float64)
+    return x, y, np.ones(x.size, np.bool_) if active is None else active
+
+
 def neighbour_list(x: np.ndarray, y: np.ndarray, radius: float, box: Box,
                    active: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """All pairs with ``|r_I - r_J| < radius`` (minimum image if periodic), as CSR arrays."""
-    x = np.ascontiguousarray(x, dtype=np.float64)
-    y = np.ascontiguousarray(y, dtype=np.float64)
-    if active is None:
-        active = np.ones(x.size, np.bool_)
+    x, y, active = _points(x, y, active)
     nx, ny = cells_per_side(box, radius)
     cell, start, order = bin_particles(x, y, active, box.lo_x, box.lo_y, box.length_x,
                                        box.length_y, nx, ny, box.periodic)
@@ -181,10 +185,8 @@ def neighbour_list(x: np.ndarray, y: np.ndarray, radius: float, box: Box,
 def cell_order(x: np.ndarray, y: np.ndarray, radius: float, box: Box) -> np.ndarray:
     """Permutation that sorts particles by cell (row-major), stable within a cell."""
     nx, ny = cells_per_side(box, radius)
-    active = np.ones(x.size, np.bool_)
-    cell, _, _ = bin_particles(np.asarray(x, np.float64), np.asarray(y, np.float64), active,
-                               box.lo_x, box.lo_y, box.length_x, box.length_y, nx, ny,
-                               box.periodic)
+    cell, _, _ = bin_particles(*_points(x, y, None), box.lo_x, box.lo_y, box.length_x,
+                               box.length_y, nx, ny, box.periodic)
     return np.argsort(cell, kind="stable")
 
 
@@ -231,10 +233,7 @@ def cluster_pairs(x: np.ndarray, y: np.ndarray, radius: float, box: Box, width: 
                   active: np.ndarray | None = None) -> ClusterPairs:
     """Clusters of ``width`` slots and the J slots each must visit: every active J closer than
     ``radius`` to one of a cluster's members (module docstring)."""
-    x = np.ascontiguousarray(x, dtype=np.float64)
-    y = np.ascontiguousarray(y, dtype=np.float64)
-    if active is None:
-        active = np.ones(x.size, np.bool_)
+    x, y, active = _points(x, y, active)
     offsets, index = neighbour_list(x, y, radius, box, active)
     n_active = max(int(active.sum()), 1)
     # square clusters: a column as wide as a cluster of `width` particles at the mean density
