@@ -183,11 +183,6 @@ def scene_values(model: str, scene: Any, names: tuple[str, ...]) -> dict[str, An
     return {name: params[name][0].value(scene, _on(scene, params[name][1])) for name in names}
 
 
-def neutral_parameters(model: str) -> dict[str, float]:
-    """``{name: neutral value}`` of every parameter an effect declares."""
-    return {name: p.neutral for name, (p, owners) in kernel_parameters(model).items() if owners}
-
-
 def energy_bound(model: str, engine: Any) -> float:
     """The energy the scene's effects can supply over a run (their ``energy`` declarations)."""
     return math.fsum(e.energy(engine) for name, e in known_effects(model).items()

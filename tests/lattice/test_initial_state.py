@@ -12,13 +12,9 @@ import yaml
 
 from craquelure.lattice.engine import PARAMS, default_params, stable_step_estimate
 from craquelure.lattice.geometry import REMOVED
-from craquelure.lattice.initial_state import (
-    block_height,
-    build_system,
-    engine_params,
-    time_step,
-)
+from craquelure.lattice.initial_state import build_system, engine_params, time_step
 from craquelure.scene import load_scene, load_scene_text
+from tests.lattice.blocks import block_height
 
 
 def test_block_loads_and_clamps_follow_the_scene():

@@ -437,16 +437,6 @@ class Engine:
     def series_array(self) -> np.ndarray:
         return np.array(self.series).reshape(-1, self.kernel.N_SERIES)
 
-    def momentum(self) -> tuple[float, float, float]:
-        """Discrete linear (x, y) and angular momentum at t - dt/2:
-        m (x - x-)/dt and sum m r- x (r - r-)/dt + J (theta - theta-)/dt."""
-        s = self.system
-        v = (self.q - self.qm) / self.dt
-        px, py = float(np.sum(s.mass * v[0])), float(np.sum(s.mass * v[1]))
-        lz = float(np.sum(s.mass * (self.qm[0] * v[1] - self.qm[1] * v[0]))
-                   + np.sum(s.inertia * v[2]))
-        return px, py, lz
-
 
 def lattice_system(x, y, L=1.0, *, kn, ka, kb, rho=1.0, period_x=0.0,  # noqa: N803
                    body=None) -> LatticeState:
