@@ -147,9 +147,9 @@ def _layer(ds):
     return np.arange(ds.sizes["particle"])
 
 
-def particle_opening(ds, x=None, y=None) -> tuple[np.ndarray, np.ndarray]:
-    """(layer indices, largest opening of each layer particle's pairs [m]) at the positions
-    ``x``, ``y`` (all particles; default the final ones), by the opening measure's pairs."""
+def _layer_openings(ds, x=None, y=None):
+    """(layer indices, the opening measure's pairs of the layer, their openings [m]) at the
+    positions ``x``, ``y`` (all particles; default the final ones)."""
     from craquelure.impact.measure import neighbour_pairs, pair_openings
 
     idx = _layer(ds)
@@ -157,33 +157,29 @@ def particle_opening(ds, x=None, y=None) -> tuple[np.ndarray, np.ndarray]:
     xs = (ds["x"].values if x is None else x)[idx]
     ys = (ds["y"].values if y is None else y)[idx]
     pairs = neighbour_pairs(x0, y0, mass, float(run_fact(ds, "spacing")))
-    w = pair_openings(pairs, x0, y0, xs, ys) if len(pairs) else np.zeros(0)
+    return idx, pairs, pair_openings(pairs, x0, y0, xs, ys)
+
+
+def particle_opening(ds, x=None, y=None) -> tuple[np.ndarray, np.ndarray]:
+    """(layer indices, largest opening of each layer particle's pairs [m]) at the positions
+    ``x``, ``y`` (all particles; default the final ones), by the opening measure's pairs."""
+    idx, pairs, w = _layer_openings(ds, x, y)
     per = np.zeros(idx.size)
-    if len(pairs):
-        np.maximum.at(per, pairs[:, 0], w)
-        np.maximum.at(per, pairs[:, 1], w)
+    np.maximum.at(per, pairs[:, 0], w)
+    np.maximum.at(per, pairs[:, 1], w)
     return idx, per
 
 
 def fragments(ds) -> np.ndarray:
     """Sizes (particle counts) of the fragments of the layer: massive particles joined by
     pairs that did not open (w <= w_c), largest first."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    from craquelure.impact.measure import full_softening_opening, neighbour_pairs, pair_openings
+    from craquelure.impact.measure import components, full_softening_opening
 
     scene = run_scene(ds)
     w_c = full_softening_opening(scene.get("material.G_F"), scene.get("material.f_t"))
-    idx = _layer(ds)
-    x0, y0, mass = (ds[k].values[idx] for k in ("x0", "y0", "mass"))
-    pairs = neighbour_pairs(x0, y0, mass, float(run_fact(ds, "spacing")))
-    w = pair_openings(pairs, x0, y0, ds["x"].values[idx], ds["y"].values[idx])
-    closed = pairs[w <= w_c]
-    n = idx.size
-    graph = coo_matrix((np.ones(len(closed)), (closed[:, 0], closed[:, 1])), shape=(n, n))
-    _, labels = connected_components(graph, directed=False)
-    sizes = np.bincount(labels[mass > 0])
+    idx, pairs, w = _layer_openings(ds)
+    _, labels = components(idx.size, pairs[w <= w_c])
+    sizes = np.bincount(labels[ds["mass"].values[idx] > 0])
     return np.sort(sizes[sizes > 0])[::-1]
 
 
