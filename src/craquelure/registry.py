@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from craquelure.errors import SceneError
 from craquelure.models import MODELS
 
 
@@ -112,8 +113,6 @@ def known_effects(model: str) -> dict[str, Effect]:
 def get_effect(model: str, name: str) -> Effect:
     effects = known_effects(model)
     if name not in effects:
-        from craquelure.errors import SceneError
-
         raise SceneError(
             f"effects: unknown effect {name!r} for model {model!r}; "
             f"known effects: {', '.join(effects) or '(none)'}"

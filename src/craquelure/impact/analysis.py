@@ -57,9 +57,8 @@ PER_RUN = ("n_main_cracks", "main_crack_angle_deg", "cracked_fraction",
 
 # Resolved numbers a run used and what only the running engine saw: attributes of the run
 # dataset (names of today's runs; older runs wrote them as metric_<legacy name>).
-RUN_FACTS = {"spacing": "spacing", "radius": "radius", "n_particles": "n_particles",
-             "as_epsilon": "as_epsilon", "crack_band_width": "crack_band_width",
-             "contact_a": "contact_a", "material_model": "material_model",
+RUN_FACTS = {**{name: name for name in ("spacing", "radius", "n_particles", "as_epsilon",
+                                         "crack_band_width", "contact_a", "material_model")},
              "dt_min": "run_dt_min", "energy_initial": "run_energy_initial",
              "max_penetration": "run_max_penetration",
              "kinematic_impulse": "run_kinematic_impulse",

@@ -24,11 +24,8 @@ against κ = 1) pair the specimens by seed (the seed alone draws the masses, so 
 same specimen at both κ) and count the seeds where κ = 0.7's value is the larger. The medians
 with their bootstrap interval and agreement are given beside each fraction.
 
-Defining conditions: the heterogeneous rows' defining condition is the spec's own
-median rule (:func:`median_rule`, decided by the bootstrap of the median), with the binomial
-test above reported beside it; the other conditions stay fractional tests. Verdicts follow
-:func:`verdict`: the defining condition decides "not reproduced" / "inconclusive", the others
-can only make a row "partly".
+Each finding's defining condition decides it (:func:`verdict`); the heterogeneous rows' is the
+spec's own median rule (:func:`median_rule`).
 
 Findings are evaluated per dimension (``dim``: "3D" or "2D"; :mod:`.analysis` groups the runs).
 Comparisons across κ report the artificial-stress coefficient ε_AS and the crack-band width ℓ_c

@@ -18,6 +18,7 @@ says from when on its class no longer changed (is the run long enough to classif
 
 from __future__ import annotations
 
+from itertools import takewhile
 from pathlib import Path
 
 from craquelure.io import open_dataset
@@ -47,14 +48,9 @@ def class_history(ds) -> list[dict]:
 
 def settled_from(history: list[dict]) -> float | None:
     """Earliest snapshot time from which on the class stays the final one (None: no snapshot)."""
-    if not history:
-        return None
-    t = history[-1]["t"]
-    for h in reversed(history):
-        if h["class"] != history[-1]["class"]:
-            break
-        t = h["t"]
-    return t
+    final = history[-1]["class"] if history else None
+    same = list(takewhile(lambda h: h["class"] == final, reversed(history)))
+    return same[-1]["t"] if same else None
 
 
 def changed_at_end(row: dict) -> bool:

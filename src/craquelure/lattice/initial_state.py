@@ -130,7 +130,7 @@ def make_engine(scene: Scene, seed: int) -> tuple[Engine, dict[str, np.ndarray]]
     system, labels = build_system(scene, seed)
     if not scene.has("beams"):
         system.state[:] = REMOVED
-    engine = Engine(system, tuple(e for e in scene.effects), engine_params(scene, system),
+    engine = Engine(system, tuple(scene.effects), engine_params(scene, system),
                     seed=seed, **engine_options(scene))
     return engine, labels
 
