@@ -331,8 +331,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
     if het[1.5]:
         n = len(het[1.5]["seeds"])
         nm = median_with_interval(_vals(het[1.5], "n_main_cracks_opening"), lambda m: m == 1)
-        ns = median_with_interval(_vals(het[1.5], "n_secondary_cracks_opening"),
-                                  lambda m: m >= 1)
+        ns = median_with_interval(_vals(het[1.5], "n_secondary_cracks_opening"), lambda m: m >= 1)
         key = "N_main = 1 in the median specimen"
         out.append(_finding(
             "heterogeneous kappa = 1.5: heterogeneity smoothed, one main crack with shorter "
@@ -341,8 +340,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
             "(>= 8 seeds, exact binomial interval above 1/2)",
             {key: median_rule(het[1.5], "n_main_cracks_opening", lambda m: m == 1),
              "shorter cracks beside it in at least half of the specimens":
-                fraction_test(_flags(het[1.5], "n_secondary_cracks_opening",
-                                     lambda m: m >= 1))},
+                fraction_test(_flags(het[1.5], "n_secondary_cracks_opening", lambda m: m >= 1))},
             {"N_main": nm, "n_secondary_cracks": ns}, _per_seed(het[1.5], keys), n,
             n >= MIN_SEEDS, dim, defining=(key,)))
     if het[0.7] and het[1.0]:
@@ -414,8 +412,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
              "no main crack elsewhere": (v["main_cracks_elsewhere_opening"] == 0
                                          if v["main_cracks_elsewhere_opening"] is not None
                                          else None)},
-            {**v, "tip_extension_min_m": tips}, {"0": v}, 1, True, dim,
-            defining=(largest, covers)))
+            {**v, "tip_extension_min_m": tips}, {"0": v}, 1, True, dim, defining=(largest, covers)))
     force = {f"{k:g}": _first(cases.get(case_key("homogeneous", "none", k)), "contact_force_peak")
              for k in SOURCE_KAPPAS}
     phi = {f"{k:g}": median_with_interval(_vals(het[k], "cracked_fraction"), lambda m: True)

@@ -85,8 +85,7 @@ def figure_precracks(runs, out: Path, label: str) -> None:
         _disc(axes[1, c], ds, _failed(ds))
         fr = m.get("precrack_cracked_fraction")
         fr = float("nan") if fr is None else fr
-        axes[1, c].set_title(f"failure; {100 * float(fr):.0f} % cracked near the line",
-                             fontsize=7)
+        axes[1, c].set_title(f"failure; {100 * float(fr):.0f} % cracked near the line", fontsize=7)
     fig.suptitle(f"pre-cracks as zero-mass lines (Figs. 11-13)\n{label}", fontsize=9)
     save(fig, out)
 
@@ -102,10 +101,8 @@ def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
             t = ds["time"].values * 1e6
             f = ds["series_contact_force"].values / 1e6
             style = "-" if distribution == "homogeneous" else ":"
-            ax.plot(t, f, style, lw=1.2 if style == "-" else 0.7,
-                    color=f"C{colour}",
-                    label=f"kappa = {kappa:g} ({distribution})"
-                    if i < 2 else None)
+            ax.plot(t, f, style, lw=1.2 if style == "-" else 0.7, color=f"C{colour}",
+                    label=f"kappa = {kappa:g} ({distribution})" if i < 2 else None)
     ax.set_xlabel("t [us]")
     ax.set_ylabel("contact force [MN/m]")
     ax.legend(fontsize=7)
@@ -277,8 +274,7 @@ def figure_energy(run: Path, out: Path, label: str) -> None:
     ax.legend(fontsize=6, loc="lower left")
     ax.set_title(f"{'3D disc' if 'z0' in ds else '2D plane'}, kappa {float(m['kappa']):g}, "
                  f"{m['distribution']}, seed {int(ds.attrs.get('seed', 0))}: max balance error "
-                 f"{err:.2%}\n{label}",
-                 fontsize=7)
+                 f"{err:.2%}\n{label}", fontsize=7)
     save(fig, out)
 
 
@@ -297,8 +293,7 @@ def figure_fragments(runs_by_kappa: dict, out: Path, label: str) -> None:
         s = np.sort(np.concatenate(sizes))
         share = np.cumsum(s[::-1])[::-1] / s.sum()
         # markers: a disc still in one piece is one point, which a step line would not show
-        ax.step(s, share, where="post", marker="o", ms=3,
-                label=f"kappa {kappa:g} (seeds {seeds})")
+        ax.step(s, share, where="post", marker="o", ms=3, label=f"kappa {kappa:g} (seeds {seeds})")
     ax.set_xscale("log")
     ax.set_xlabel("fragment size [particles of the layer]")
     ax.set_ylabel("share of particles in fragments >= size")

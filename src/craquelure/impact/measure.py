@@ -266,8 +266,7 @@ def line_frame(x0, y0, precrack):
     u = np.array([math.sin(math.radians(angle)), math.cos(math.radians(angle))])
     rel = np.column_stack([x0 - cx, y0 - cy])
     along, across = rel @ u, rel @ np.array([-u[1], u[0]])
-    return ((cx, cy), u, along, across, float(along[precrack].min()),
-            float(along[precrack].max()))
+    return ((cx, cy), u, along, across, float(along[precrack].min()), float(along[precrack].max()))
 
 
 def _line_x(cx, cy, u, centre_y) -> float:
@@ -368,8 +367,7 @@ def _row_gaps(x0, y0, x, y, mass, spacing, centre_y):
     pairs = np.column_stack([idx[:-1], idx[1:]])
     close = (x0[pairs[:, 1]] - x0[pairs[:, 0]]) <= 2.5 * spacing * (1 + 1e-9)
     pairs = pairs[close]
-    return (pairs, 0.5 * (x0[pairs[:, 0]] + x0[pairs[:, 1]]),
-            pair_openings(pairs, x0, y0, x, y))
+    return (pairs, 0.5 * (x0[pairs[:, 0]] + x0[pairs[:, 1]]), pair_openings(pairs, x0, y0, x, y))
 
 
 def _runs_of(flags: np.ndarray) -> list[np.ndarray]:

@@ -121,8 +121,7 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     ncols = max(len(s) for s in scales.values()) + 1
     fig, axes = plt.subplots(len(dims), ncols, figsize=(4.6 * ncols, 4.2 * len(dims)),
                              squeeze=False)
-    style = {"no main crack": ("s", "0.75"), "splits once": ("o", "C2"),
-             "fans out": ("X", "C3")}
+    style = {"no main crack": ("s", "0.75"), "splits once": ("o", "C2"), "fans out": ("X", "C3")}
     titles = []
     xlim = _limits([r["f_t"] / 1e6 for r in rows], 0.2, 0.2)
     ylim = _limits([r["impact_velocity"] for r in rows], 0.2, 0.5)  # room for the legend

@@ -132,8 +132,7 @@ def platelets_per_cycle(ds) -> list[dict]:
         depth = [float(top - ds.y.values[0][labels == lab].mean()) for lab in det]
         out.append({"cycle": k, "time": float(t_k), "platelets": len(det),
                     "mean_size": float(np.mean(sz[det])) if det else 0.0,
-                    "max_depth": max(depth) if depth else 0.0,
-                    "broken": int(broken_by.sum())})
+                    "max_depth": max(depth) if depth else 0.0, "broken": int(broken_by.sum())})
         k += 1
     return out
 
