@@ -94,30 +94,24 @@ def centre_line_crossings(x0, y0, damage, plastic, spacing, centre_y, cracked=0.
 
 
 def crushed_zone(x0, y0, plastic, spacing, crushed=0.0035) -> tuple[float, float]:
-    member = plastic >= crushed
     bottom = y0 <= y0.min() + 1.01 * spacing
-    area, height = 0.0, 0.0
-    chosen = [c for c in clusters(x0, y0, member, spacing) if bottom[c].any()]
-    if chosen:
-        idx = np.concatenate(chosen)
-        area = idx.size * spacing**2
-        height = float(np.ptp(y0[idx])) + spacing
-    return area, height
+    chosen = [c for c in clusters(x0, y0, plastic >= crushed, spacing) if bottom[c].any()]
+    if not chosen:
+        return 0.0, 0.0
+    idx = np.concatenate(chosen)
+    return idx.size * spacing**2, float(np.ptp(y0[idx])) + spacing
 
 
 def precrack_agreement(x0, y0, damage, precrack, spacing, cracked=0.9) -> float:
     """Fraction of particles within 1.5Δ of a pre-crack particle that are cracked."""
     if not precrack.any():
         return float("nan")
-    tree = cKDTree(np.column_stack([x0[precrack], y0[precrack]]))
-    d, _ = tree.query(np.column_stack([x0, y0]))
-    near = d <= 1.5 * spacing * (1 + 1e-9)
-    return float(np.mean(damage[near] >= cracked))
+    pts = np.column_stack([x0, y0])
+    return float(np.mean(damage[_near(pts, pts[precrack], 1.5 * spacing)] >= cracked))
 
 
 def contact_metrics(t, force, vcm_y) -> dict[str, float]:
-    t = np.asarray(t)
-    force = np.asarray(force)
+    t, force = np.asarray(t), np.asarray(force)
     peak = float(force.max()) if force.size else 0.0
     impulse = float(np.trapezoid(force, t)) if force.size > 1 else 0.0
     on = np.flatnonzero(force > 0.01 * peak) if peak > 0 else np.array([], int)
