@@ -15,13 +15,13 @@ from craquelure.impact.api import (
     derived_numbers,
     run,
     settings,
-    simulate,
     softening,
 )
 from craquelure.impact.initial_state import build_specimen
 from craquelure.io import open_dataset
 from craquelure.registry import kernel_parameters
 from craquelure.scene import load_scene, load_scene_text, project_root
+from tests.impact.runs import simulate
 
 from ..killed_run import check_message, kill_and_resume, same_dataset, stop_and_resume
 
