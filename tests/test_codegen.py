@@ -14,7 +14,7 @@ import pytest
 from craquelure import codegen, registry
 from craquelure.errors import SceneError
 from craquelure.io import open_dataset
-from craquelure.registry import kernel_parameters, known_effects
+from craquelure.registry import kernel_parameters, known_effects, parameter_vector
 
 
 def test_generated_dir_is_a_subfolder_of_the_cache_root(tmp_path, monkeypatch):
@@ -164,8 +164,7 @@ def _pack_drying(values):
 
 
 def _pack_lattice(values):
-    from craquelure.lattice.engine import default_params
-    return default_params(**values)
+    return parameter_vector("lattice", values=values)
 
 
 def _pack_softdyn(values):

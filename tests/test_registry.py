@@ -112,7 +112,8 @@ def test_a_new_effect_needs_no_list_elsewhere(tmp_path, monkeypatch):
         omega = kernel_template.PARAMS.index("omega")
         off = make_scene(effects=["elasticity", "viscosity"])
         on = make_scene(effects=["elasticity", "viscosity", "spin"])
-        assert engine.parameters(off)[omega] == registry.neutral_parameters("drying")["omega"]
+        neutral = registry.kernel_parameters("drying")["omega"][0].neutral
+        assert engine.parameters(off)[omega] == neutral
         assert engine.parameters(on)[omega] == on.get("material.rho0")
         assert engine.parameters(on)[kernel_template.P_ETA] == on.get("material.eta")
         bound = make_lattice_engine(on).energy_bound - make_lattice_engine(off).energy_bound

@@ -171,6 +171,5 @@ def verify(path: str | Path) -> tuple[list[str], int]:
             problems.append(f"missing: {name}")
         elif actual[name] != digest:
             problems.append(f"changed: {name} (SHA-256 {actual[name]}, manifest says {digest})")
-    for name in sorted(set(actual) - set(expected)):
-        problems.append(f"not in manifest: {name}")
+    problems += [f"not in manifest: {name}" for name in sorted(set(actual) - set(expected))]
     return problems, len(expected)

@@ -169,34 +169,23 @@ def _xyz_name(name: str) -> str:
 def write_extxyz(frames: Frames, out: Path) -> Path:
     """One extended-XYZ file with every frame (``species`` X, ``pos`` and every field)."""
     out = Path(out)
-    props = ["species:S:1", "pos:R:3"]
-    columns = []
+    props, fmt = ["species:S:1", "pos:R:3"], ["%s"] + ["%.17g"] * 3
     for name, values in frames.fields.items():
         kind = "I" if values.dtype.kind in "iub" else "R"
         ncol = 3 if values.ndim == 3 else 1
         props.append(f"{_xyz_name(name)}:{kind}:{ncol}")
-        columns.append((values, kind))
+        fmt += ["%d" if kind == "I" else "%.17g"] * ncol
     header = "Properties=" + ":".join(props)
-    if frames.box is not None:
-        cell = " ".join(f"{v:.17g}" for v in frames.box.ravel())
-        lattice = f'Lattice="{cell}" pbc="T T F" '
-    else:
-        lattice = ""
+    cell = "" if frames.box is None else " ".join(f"{v:.17g}" for v in frames.box.ravel())
+    lattice = f'Lattice="{cell}" pbc="T T F" ' if frames.box is not None else ""
     tmp = out.with_name(f".{out.name}.tmp-{os.getpid()}")
     n = frames.positions.shape[1]
     with open(tmp, "w") as fh:
         for k in range(frames.n_frames):
             fh.write(f"{n}\n{lattice}{header} Time={frames.times[k]:.17g}\n")
-            cols = [np.full(n, "X", dtype=object)]
-            fmt = ["%s"]
-            cols.extend(frames.positions[k].T)
-            fmt.extend(["%.17g"] * 3)
-            for values, kind in columns:
-                v = values[k]
-                parts = v.T if v.ndim == 2 else [v]
-                for part in parts:
-                    cols.append(part)
-                    fmt.append("%d" if kind == "I" else "%.17g")
+            cols = [np.full(n, "X", dtype=object), *frames.positions[k].T]
+            for values in frames.fields.values():
+                cols.extend(values[k].T if values[k].ndim == 2 else [values[k]])
             table = np.empty((n, len(cols)), dtype=object)
             for c, col in enumerate(cols):
                 table[:, c] = col

@@ -33,14 +33,9 @@ def library_versions() -> dict[str, str]:
     import scipy
     import xarray
 
-    return {
-        "version_craquelure": craquelure.__version__,
-        "version_numpy": numpy.__version__,
-        "version_numba": numba.__version__,
-        "version_scipy": scipy.__version__,
-        "version_xarray": xarray.__version__,
-        "version_python": platform.python_version(),
-    }
+    return {"version_craquelure": craquelure.__version__,
+            **{f"version_{m.__name__}": m.__version__ for m in (numpy, numba, scipy, xarray)},
+            "version_python": platform.python_version()}
 
 
 class WallClock:

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from craquelure.errors import SceneError
 from craquelure.models import MODELS
 
 
@@ -112,8 +113,6 @@ def known_effects(model: str) -> dict[str, Effect]:
 def get_effect(model: str, name: str) -> Effect:
     effects = known_effects(model)
     if name not in effects:
-        from craquelure.errors import SceneError
-
         raise SceneError(
             f"effects: unknown effect {name!r} for model {model!r}; "
             f"known effects: {', '.join(effects) or '(none)'}"
@@ -181,11 +180,6 @@ def scene_values(model: str, scene: Any, names: tuple[str, ...]) -> dict[str, An
     effect that declares it is on, else its neutral value."""
     params = kernel_parameters(model)
     return {name: params[name][0].value(scene, _on(scene, params[name][1])) for name in names}
-
-
-def neutral_parameters(model: str) -> dict[str, float]:
-    """``{name: neutral value}`` of every parameter an effect declares."""
-    return {name: p.neutral for name, (p, owners) in kernel_parameters(model).items() if owners}
 
 
 def energy_bound(model: str, engine: Any) -> float:

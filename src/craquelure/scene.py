@@ -136,8 +136,7 @@ def resolve_scene_path(ref: str | Path) -> Path:
 
 def load_scene(ref: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scene:
     path = resolve_scene_path(ref)
-    name = path.stem
-    return load_scene_text(path.read_text(), name=name, overrides=overrides, path=path)
+    return load_scene_text(path.read_text(), name=path.stem, overrides=overrides, path=path)
 
 
 def load_scene_text(
@@ -146,11 +145,9 @@ def load_scene_text(
 ) -> Scene:
     try:
         data = _load_yaml(text)
-    except yaml.YAMLError as exc:
-        raise SceneError(f"scene {name}: not valid YAML: {exc}") from exc
     except SceneError as exc:
         raise SceneError(f"scene {name}: {exc}") from exc
-    except (ValueError, TypeError, RecursionError) as exc:  # e.g. a NUL byte, a huge date
+    except (yaml.YAMLError, ValueError, TypeError, RecursionError) as exc:  # NUL byte, huge date
         raise SceneError(f"scene {name}: not valid YAML: {exc}") from exc
     if not isinstance(data, dict):
         raise SceneError(f"scene {name}: the top level must be a mapping of sections")

@@ -160,8 +160,6 @@ def fraction_power(n: int, alternative: float, threshold: float,
     ``alternative``, by simulation: the share of ``draws`` binomial samples (fixed generator
     seed) that the test decides in the alternative's direction (True when the alternative
     meets the threshold, False when it does not)."""
-    import numpy as np
-
     if n <= 0:
         return 0.0
     want = alternative >= threshold
@@ -350,11 +348,8 @@ def render_summary(claims: Sequence[Claim], profile: str,
     ``heading`` replaces the title; ``not_judged`` (why) shows the rows without verdicts."""
     counts = tally(claims)
     total = counts.get("all", dict.fromkeys(VERDICTS, 0))
-    used: dict[Path, int] = {}
-    for c in claims:
-        path = figure_for(c, figures)
-        if path is not None and path not in used:
-            used[path] = len(used)
+    shown = dict.fromkeys(p for c in claims if (p := figure_for(c, figures)) is not None)
+    used = {path: i for i, path in enumerate(shown)}  # each figure once, in claim order
     styles, ratios = [], {}
     for path, i in used.items():
         uri, ratios[i] = _figure_data(path)

@@ -15,13 +15,13 @@ from craquelure.impact.api import (
     derived_numbers,
     run,
     settings,
-    simulate,
     softening,
 )
 from craquelure.impact.initial_state import build_specimen
 from craquelure.io import open_dataset
-from craquelure.registry import neutral_parameters
+from craquelure.registry import kernel_parameters
 from craquelure.scene import load_scene, load_scene_text, project_root
+from tests.impact.runs import simulate
 
 from ..killed_run import check_message, kill_and_resume, same_dataset, stop_and_resume
 
@@ -105,7 +105,7 @@ def test_an_off_effects_strengths_are_the_neutral_ones(effects, off):
     assert st.material == st_absent.material
     assert np.array_equal(st.params(), st_absent.params())
     for name in ("f_c", "f_t", "G_F"):
-        expected = (neutral_parameters("impact")[name] if name in off
+        expected = (kernel_parameters("impact")[name][0].neutral if name in off
                     else given.get(f"material.{name}"))
         assert getattr(st.material, name) == expected, name
 

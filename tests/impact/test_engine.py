@@ -9,12 +9,13 @@ import numba
 import numpy as np
 import pytest
 
-from craquelure.impact.api import initial_state, probe_settings, settings, simulate
+from craquelure.impact.api import initial_state, probe_settings, settings
 from craquelure.impact.engine import Engine, State, kernels_for
 from craquelure.impact.initial_state import build_specimen
 from craquelure.impact.material import standard_concrete
 from craquelure.scene import load_scene
 from craquelure.sph.kernels import CUBIC, kernel_dwdr_array
+from tests.impact.runs import simulate
 from tests.impact.test_api import states_by_threads
 
 NO_CONTACT = ("[elasticity, plasticity, damage, artificial_viscosity, artificial_stress, "

@@ -12,6 +12,7 @@ from craquelure.impact.api import initial_state, settings
 from craquelure.impact.engine import Engine
 from craquelure.impact.initial_state import build_specimen
 from craquelure.scene import load_scene
+from tests.impact.runs import simulate
 
 # -- subnormals ----------------------------------------------------------------------------
 # No subnormal stalls: the impact kernels flush accelerations, stresses and pair powers below
@@ -62,7 +63,7 @@ def test_default_run_summary_equal_with_and_without_the_flush(monkeypatch):
             return dataclasses.replace(settings(sc), flush_below=flush)
 
         monkeypatch.setattr(api, "settings", patched)
-        sp, eng, series, snaps = api.simulate(scene, 0, progress=False)
+        sp, eng, series, snaps = simulate(scene, 0, progress=False)
         runs[flush] = api.run_dataset(scene, 0, sp, eng, series, snaps)
         # what write_run adds: the stored scene and the runner's step count
         runs[flush].attrs.update(scene=scene.text, run_steps=eng.step_count)

@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from craquelure.lattice import glen
-from craquelure.lattice.initial_state import block_height, make_engine
+from craquelure.lattice.initial_state import make_engine
 from craquelure.scene import Scene, load_scene
+from tests.lattice.blocks import block_height
 
 SMALL = ["domain.nx=12", "domain.ny=10"]
 

@@ -10,15 +10,12 @@ import numpy as np
 import pytest
 import yaml
 
-from craquelure.lattice.engine import PARAMS, default_params, stable_step_estimate
+from craquelure.lattice.engine import PARAMS, stable_step_estimate
 from craquelure.lattice.geometry import REMOVED
-from craquelure.lattice.initial_state import (
-    block_height,
-    build_system,
-    engine_params,
-    time_step,
-)
+from craquelure.lattice.initial_state import build_system, engine_params, time_step
+from craquelure.registry import parameter_vector
 from craquelure.scene import load_scene, load_scene_text
+from tests.lattice.blocks import block_height
 
 
 def test_block_loads_and_clamps_follow_the_scene():
@@ -79,12 +76,13 @@ def test_time_step_is_the_fraction_of_the_stiffest_oscillator():
 
 def packed_params(scene):
     system, _ = build_system(scene, 0)
-    return default_params(**{**engine_params(scene, system), "period_x": system.period_x})
+    return parameter_vector("lattice", values={**engine_params(scene, system),
+                                               "period_x": system.period_x})
 
 
 def test_buoyancy_off_leaves_its_densities_unread():
     """Without buoyancy the kernel's parameter vector is the same whether or not the scene
-    gives material.rho and rho_w (default_params' neutral values, no fallback to the disc
+    gives material.rho and rho_w (their declared neutral values, no fallback to the disc
     density); with buoyancy it holds the scene's."""
     small = ["domain.nx=30", "domain.ny=8"]
     on = load_scene("lattice/calving", small)
@@ -93,8 +91,9 @@ def test_buoyancy_off_leaves_its_densities_unread():
     del data["material"]["rho"], data["material"]["rho_w"]
     p = packed_params(given)
     assert np.array_equal(p, packed_params(load_scene_text(yaml.safe_dump(data), "absent")))
-    assert p[PARAMS.index("rho")] == default_params()[PARAMS.index("rho")]
-    assert p[PARAMS.index("rho_w")] == default_params()[PARAMS.index("rho_w")]
+    neutral = parameter_vector("lattice")
+    assert p[PARAMS.index("rho")] == neutral[PARAMS.index("rho")]
+    assert p[PARAMS.index("rho_w")] == neutral[PARAMS.index("rho_w")]
     assert packed_params(on)[PARAMS.index("rho")] == on.get("material.rho")
 
 

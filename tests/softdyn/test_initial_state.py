@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import yaml
 
-from craquelure.registry import neutral_parameters
+from craquelure.registry import kernel_parameters
 from craquelure.scene import load_scene, load_scene_text
 from craquelure.softdyn.engine import run
 from craquelure.softdyn.initial_state import (
@@ -211,9 +211,10 @@ def test_an_off_effects_constants_are_the_neutral_ones(effects, off):
     a, b = build(given), build(absent)
     assert np.array_equal(a.system.p, b.system.p) and a.tau == b.tau
     assert predictions(given) == predictions(absent)
-    constants, neutral = material_constants(given), neutral_parameters("softdyn")
+    constants, declared = material_constants(given), kernel_parameters("softdyn")
     for key in ("k_n", "k_t", "c_t"):
-        assert constants[key] == (neutral[key] if key in off else given.get(f"material.{key}"))
+        assert constants[key] == (declared[key][0].neutral if key in off
+                                  else given.get(f"material.{key}"))
 
 
 def test_young_is_the_force_unit_whenever_given():

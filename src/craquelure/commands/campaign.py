@@ -34,12 +34,11 @@ def main(args) -> int:
         raise CraquelureError(f"fragment datasets not found: {', '.join(missing)}")
     if args.bins < 2:
         raise CraquelureError(f"--bins {args.bins} is not allowed; must be >= 2")
-    if args.window not in windows.WINDOW_MODES:
-        raise CraquelureError(f"--window {args.window} is not allowed; allowed values: "
-                              f"{', '.join(windows.WINDOW_MODES)}")
-    if args.labelling not in campaign.LABELLINGS:
-        raise CraquelureError(f"--labelling {args.labelling} is not allowed; allowed values: "
-                              f"{', '.join(campaign.LABELLINGS)}")
+    for option, value, allowed in (("--window", args.window, windows.WINDOW_MODES),
+                                   ("--labelling", args.labelling, campaign.LABELLINGS)):
+        if value not in allowed:
+            raise CraquelureError(f"{option} {value} is not allowed; allowed values: "
+                                  f"{', '.join(allowed)}")
     out = campaign.campaign_from_files(args.fragments, args.out, args.bins, args.window,
                                        args.labelling)
     print(f"wrote {out}")

@@ -2,19 +2,12 @@
 to ``results/impact/summary.json``.
 
 A run dataset holds state, time series and provenance only (:mod:`.api`); every measurement is
-made here, from its final fields and series, with the thresholds of the scene stored in the
-dataset, read back as it was written (:func:`craquelure.scene.stored_scene`, no re-validation):
-:func:`run_metrics`. Older datasets that still carry the ``metric_*`` attributes of the days when
-the run measured itself are analysed the same way: their metrics are recomputed from the state
-and the stale attributes are ignored; only the resolved numbers a run used and what only the
-running engine saw (ε_AS, ℓ_c, the penalty scale, the geometry, ``dt_min``, ...) are read from
-``metric_*`` when the newer attribute is absent.
-
-:func:`summarise` groups runs by dimension (attribute ``dim``, 2 when absent) and case (masses,
-pre-crack, κ), gives per-seed values, medians and spread (min, max, interquartile range), and
-evaluates each of the source's qualitative findings per dimension as a criterion with the
-measured numbers and a verdict, per seed (:mod:`.check12`, check 12 as revised). The figures
-are :mod:`.figures`.
+made here (:func:`run_metrics`), from its final fields and series, with the thresholds of the
+scene stored in the dataset, read back as it was written (:func:`craquelure.scene.stored_scene`,
+no re-validation); an older dataset's ``metric_*`` attributes are recomputed the same way, not
+read (:func:`run_fact` aside). :func:`summarise` groups the runs by dimension and case, with
+per-seed values, medians and spread, and judges check 12's findings (:mod:`.check12`); the
+figures are :mod:`.figures`.
 """
 
 from __future__ import annotations
@@ -57,9 +50,8 @@ PER_RUN = ("n_main_cracks", "main_crack_angle_deg", "cracked_fraction",
 
 # Resolved numbers a run used and what only the running engine saw: attributes of the run
 # dataset (names of today's runs; older runs wrote them as metric_<legacy name>).
-RUN_FACTS = {"spacing": "spacing", "radius": "radius", "n_particles": "n_particles",
-             "as_epsilon": "as_epsilon", "crack_band_width": "crack_band_width",
-             "contact_a": "contact_a", "material_model": "material_model",
+RUN_FACTS = {**{name: name for name in ("spacing", "radius", "n_particles", "as_epsilon",
+                                         "crack_band_width", "contact_a", "material_model")},
              "dt_min": "run_dt_min", "energy_initial": "run_energy_initial",
              "max_penetration": "run_max_penetration",
              "kinematic_impulse": "run_kinematic_impulse",
@@ -107,8 +99,7 @@ def run_metrics(ds) -> dict:
     (contact force, centre-of-mass velocity, energy balance) and the stored scene's thresholds
     and variant (κ, masses, pre-crack). The measurements use the reference (x0, y0) positions;
     a 3D dataset (with ``z0``) is measured on its mid-thickness layer, its cracked fraction over
-    the whole body (:func:`craquelure.impact.measure.run_metrics`). ``metric_*`` attributes of
-    older runs are not read (:func:`run_fact` aside)."""
+    the whole body (:func:`craquelure.impact.measure.run_metrics`)."""
     scene = run_scene(ds)
     g = scene.get
     cracked = g("material.cracked_threshold")
@@ -197,8 +188,9 @@ def _cases(runs: list[dict]) -> dict:
 def summarise(paths, profile: str, scene: str, distribution: str,
               fixed_across_kappa: dict | None = None) -> dict:
     """summary.json of a campaign: cases and check-12 findings per dimension ("3D" then
-    "2D"). 2D cases keep their keys ``<masses>/<pre-crack>/kappa<k>``, 3D ones are prefixed
-    ``3D/``. ``fixed_across_kappa``: the config's ε_AS and ℓ_c held fixed across κ."""
+    "2D", from each run's ``dim`` attribute, 2 when absent). 2D cases keep their keys
+    ``<masses>/<pre-crack>/kappa<k>``, 3D ones are prefixed ``3D/``. ``fixed_across_kappa``:
+    the config's ε_AS and ℓ_c held fixed across κ."""
     runs = [read_metrics(Path(p)) for p in paths]
     by_dim: dict[str, list] = defaultdict(list)
     for m in runs:

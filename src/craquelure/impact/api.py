@@ -316,15 +316,6 @@ class ImpactRun(runner.EngineRun):
                 "time_unit": "us", "time_scale": 1e6}
 
 
-def simulate(scene: Scene, seed: int, progress: bool = True):
-    """Run a scene through the runner without output files; returns (specimen, engine, series
-    dict, snapshots: lists of the times and of each field by name)."""
-    model = ImpactRun(scene, seed)
-    runner.run(model, scene, seed, progress=progress, **model.options())
-    model.finish()
-    return model.result()
-
-
 def run(scene: Scene, out: Path, seed: int, init: Path | None = None, **checkpoints) -> Path:
     """Simulate ``scene`` and write the run dataset to ``out`` (through the runner;
     ``checkpoints``: the options of :func:`craquelure.runner.run_to_file`)."""

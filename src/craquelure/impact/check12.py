@@ -24,11 +24,8 @@ against κ = 1) pair the specimens by seed (the seed alone draws the masses, so 
 same specimen at both κ) and count the seeds where κ = 0.7's value is the larger. The medians
 with their bootstrap interval and agreement are given beside each fraction.
 
-Defining conditions: the heterogeneous rows' defining condition is the spec's own
-median rule (:func:`median_rule`, decided by the bootstrap of the median), with the binomial
-test above reported beside it; the other conditions stay fractional tests. Verdicts follow
-:func:`verdict`: the defining condition decides "not reproduced" / "inconclusive", the others
-can only make a row "partly".
+Each finding's defining condition decides it (:func:`verdict`); the heterogeneous rows' is the
+spec's own median rule (:func:`median_rule`).
 
 Findings are evaluated per dimension (``dim``: "3D" or "2D"; :mod:`.analysis` groups the runs).
 Comparisons across κ report the artificial-stress coefficient ε_AS and the crack-band width ℓ_c
@@ -73,6 +70,11 @@ def _missing(v) -> bool:
 
 def _vals(case: dict | None, q: str) -> list:
     return [v for v in case["per_seed"].get(q, []) if not _missing(v)] if case else []
+
+
+def _first(case: dict | None, q: str):
+    """The first seed's value of ``q`` (None when there is none)."""
+    return next(iter(_vals(case, q)), None)
 
 
 def median_with_interval(values, decide, seed: int = 12) -> dict:
@@ -147,7 +149,7 @@ def undecided_note(test: dict) -> str:
     if "power" not in test:
         return lead + test.get("needs", "")
     power = ", ".join(f"{p:.2f} against {name}" for name, p in test["power"].items())
-    more = {m for m in test["seeds_for_power"].values()}
+    more = set(test["seeds_for_power"].values())
     need = (f"about {max(more)} seeds for power {POWER_NEEDED:g}" if None not in more else
             f"more than 200 seeds for power {POWER_NEEDED:g}")
     lo, hi = test["ci95_exact"]
@@ -264,15 +266,10 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
     out = []
     homo = cases.get(case_key("homogeneous", "none", 1.0))
     het = {k: cases.get(case_key(dist, "none", k)) for k in SOURCE_KAPPAS}
-    spacing = None
-    for c in cases.values():
-        sp = _vals(c, "spacing")
-        if sp:
-            spacing = sp[0]
-            break
+    spacing = next((_first(c, "spacing") for c in cases.values() if _vals(c, "spacing")), None)
     phi_het1 = _vals(het[1.0], "cracked_fraction")
     if homo:
-        g = {q: (_vals(homo, q) or [None])[0] for q in (
+        g = {q: _first(homo, q) for q in (
             "n_main_cracks_opening", "main_run_x_mid", "main_crack_theta_opening_deg",
             "main_run_share", "main_run_opening", "main_run_opening_half",
             "main_run_opening_growth", "crushed_area", "main_crack_length_opening",
@@ -316,7 +313,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
             "n_main_cracks_revised", "as_epsilon", "crack_band_width")
     if het[1.0]:
         n = len(het[1.0]["seeds"])
-        phi_h = (_vals(homo, "cracked_fraction") or [None])[0]
+        phi_h = _first(homo, "cracked_fraction")
         nm = median_with_interval(_vals(het[1.0], "n_main_cracks_opening"), lambda m: m >= 2)
         ph = median_with_interval(phi_het1, lambda m: phi_h is not None and m > phi_h)
         key = "N_main >= 2 in the median specimen"
@@ -334,8 +331,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
     if het[1.5]:
         n = len(het[1.5]["seeds"])
         nm = median_with_interval(_vals(het[1.5], "n_main_cracks_opening"), lambda m: m == 1)
-        ns = median_with_interval(_vals(het[1.5], "n_secondary_cracks_opening"),
-                                  lambda m: m >= 1)
+        ns = median_with_interval(_vals(het[1.5], "n_secondary_cracks_opening"), lambda m: m >= 1)
         key = "N_main = 1 in the median specimen"
         out.append(_finding(
             "heterogeneous kappa = 1.5: heterogeneity smoothed, one main crack with shorter "
@@ -344,19 +340,15 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
             "(>= 8 seeds, exact binomial interval above 1/2)",
             {key: median_rule(het[1.5], "n_main_cracks_opening", lambda m: m == 1),
              "shorter cracks beside it in at least half of the specimens":
-                fraction_test(_flags(het[1.5], "n_secondary_cracks_opening",
-                                     lambda m: m >= 1))},
+                fraction_test(_flags(het[1.5], "n_secondary_cracks_opening", lambda m: m >= 1))},
             {"N_main": nm, "n_secondary_cracks": ns}, _per_seed(het[1.5], keys), n,
             n >= MIN_SEEDS, dim, defining=(key,)))
     if het[0.7] and het[1.0]:
         n = min(len(het[0.7]["seeds"]), len(het[1.0]["seeds"]))
         nm = median_with_interval(_vals(het[0.7], "n_main_cracks_opening"), lambda m: m == 1)
-        near = {k: median_with_interval(_vals(het[k], "cracked_fraction_near_main"),
-                                        lambda m: True) for k in (0.7, 1.0)}
-        area = {k: median_with_interval(_vals(het[k], "crushed_area"), lambda m: True)
-                for k in (0.7, 1.0)}
-        force = {k: median_with_interval(_vals(het[k], "contact_force_peak"), lambda m: True)
-                 for k in (0.7, 1.0)}
+        spread = {q: {str(k): median_with_interval(_vals(het[k], q), lambda _: True)
+                      for k in (0.7, 1.0)}
+                  for q in ("cracked_fraction_near_main", "crushed_area", "contact_force_peak")}
         same_eps, eps = _same({"0.7": het[0.7], "1.0": het[1.0]}, "as_epsilon")
         same_band, band = _same({"0.7": het[0.7], "1.0": het[1.0]}, "crack_band_width")
         fixed = dict(fixed_across_kappa or {})
@@ -383,10 +375,8 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
                                        lambda a, b: abs(a - b) > FORCE_DIFFERENCE * abs(b))),
              "eps_AS the same at kappa = 0.7 and 1": same_eps,
              "l_c the same at kappa = 0.7 and 1": same_band},
-            {"N_main": nm, "cracked_fraction_near_main": {str(k): v for k, v in near.items()},
-             "crushed_area": {str(k): v for k, v in area.items()},
-             "contact_force_peak": {str(k): v for k, v in force.items()}, "as_epsilon": eps,
-             "crack_band_width": band, "eps_AS and l_c": held},
+            {"N_main": nm, **spread, "as_epsilon": eps, "crack_band_width": band,
+             "eps_AS and l_c": held},
             {"0.7": _per_seed(het[0.7], keys), "1.0": _per_seed(het[1.0], keys)}, n,
             n >= MIN_SEEDS, dim, defining=(key,)))
     pkeys = ("precrack_coverage_opening", "precrack_largest_opening_on_line",
@@ -403,7 +393,7 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
                            "note": "beyond the source (its pre-crack figures are of "
                                    "homogeneous discs): reported without a verdict"})
             continue
-        v = {q: (_vals(c, q) or [None])[0] for q in pkeys}
+        v = {q: _first(c, q) for q in pkeys}
         tips = (None if v["precrack_tip_extension_low"] is None
                 or v["precrack_tip_extension_high"] is None
                 else min(v["precrack_tip_extension_low"], v["precrack_tip_extension_high"]))
@@ -422,10 +412,9 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
              "no main crack elsewhere": (v["main_cracks_elsewhere_opening"] == 0
                                          if v["main_cracks_elsewhere_opening"] is not None
                                          else None)},
-            {**v, "tip_extension_min_m": tips}, {"0": v}, 1, True, dim,
-            defining=(largest, covers)))
-    force = {f"{k:g}": (_vals(cases.get(case_key("homogeneous", "none", k)),
-                               "contact_force_peak") or [None])[0] for k in SOURCE_KAPPAS}
+            {**v, "tip_extension_min_m": tips}, {"0": v}, 1, True, dim, defining=(largest, covers)))
+    force = {f"{k:g}": _first(cases.get(case_key("homogeneous", "none", k)), "contact_force_peak")
+             for k in SOURCE_KAPPAS}
     phi = {f"{k:g}": median_with_interval(_vals(het[k], "cracked_fraction"), lambda m: True)
            for k in (1.0, 1.5) if het[k]}
     # the contact force of a plane slice is per unit thickness, the 3D disc's a force

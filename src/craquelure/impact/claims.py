@@ -19,6 +19,7 @@ MODEL = "impact"
 # Spec check 9's energy-balance tolerance, applied to every run of the campaign.
 ENERGY_BALANCE_MAX = 0.02
 DIMENSIONS = ("3D", "2D")  # check 12's rows: the source's 3D runs beside the 2D baseline
+SOURCE = "impact spec section 7; check 12 (revised 2026-12)"
 
 
 def _number(value) -> str:
@@ -143,10 +144,9 @@ def finding_claim(finding: dict, caveat: str, rate: bool = False) -> Claim:
     elif status not in VERDICTS:  # a finding whose case did not run
         status = "inconclusive"
         notes.insert(0, "not run")
-    return Claim(MODEL, f"[{dim}, {rate_label(rate)}] {finding['finding']}", "impact spec "
-                 "section 7; check 12 (revised 2026-12)", finding["criterion"], measured, status,
-                 "; ".join(notes), deciding=deciding_number(finding),
-                 figure=figure_of(finding, rate))
+    return Claim(MODEL, f"[{dim}, {rate_label(rate)}] {finding['finding']}", SOURCE,
+                 finding["criterion"], measured, status, "; ".join(notes),
+                 deciding=deciding_number(finding), figure=figure_of(finding, rate))
 
 
 def rate_label(rate: bool) -> str:
@@ -162,9 +162,8 @@ def with_rate(summary: dict) -> bool:
 
 def not_run_claim(finding: dict, dim: str, profile: str, rate: bool = False) -> Claim:
     """The row of a dimension the profile did not run, beside the other dimension's."""
-    return Claim(MODEL, f"[{dim}, {rate_label(rate)}] {finding['finding']}", "impact spec "
-                 "section 7; check 12 "
-                 "(revised 2026-12)", finding["criterion"], f"no {dim} runs", "inconclusive",
+    return Claim(MODEL, f"[{dim}, {rate_label(rate)}] {finding['finding']}", SOURCE,
+                 finding["criterion"], f"no {dim} runs", "inconclusive",
                  f"not run: profile {profile} has no {dim} runs of this case",
                  deciding=f"no {dim} runs")
 

@@ -155,19 +155,15 @@ class State:
 
     def __post_init__(self):
         n = self.x.size
-        if self.z is None:
-            self.z = np.zeros(n)
-        if self.vz is None:
-            self.vz = np.zeros(n)
-        for name in ("x", "y", "z", "vx", "vy", "vz", "m", "rho", "h", "h0"):
-            # always a private copy: the engine updates these arrays in place
-            setattr(self, name, np.array(getattr(self, name), dtype=np.float64, copy=True))
         ncomp = 4 if self.dim == 2 else 6
         for name, shape in (("sig", (n, ncomp)), ("nom", (n, ncomp)), ("eps_max", n), ("dmg", n),
                             ("epsp", n), ("wp", n), ("epsv", n), ("eint", n), ("eel", n),
-                            ("wd", n)):
+                            ("wd", n), ("z", n), ("vz", n)):
             if getattr(self, name) is None:
                 setattr(self, name, np.zeros(shape))
+        for name in ("x", "y", "z", "vx", "vy", "vz", "m", "rho", "h", "h0"):
+            # always a private copy: the engine updates these arrays in place
+            setattr(self, name, np.array(getattr(self, name), dtype=np.float64, copy=True))
 
     @classmethod
     def grid(cls, x, y, vx, vy, m, rho0, h0, z=None, vz=0.0):
@@ -190,25 +186,17 @@ class Engine:
                              settings.plane_stress, settings.dim)
         self.prm = self.s.params()
         n = state.x.size
-        self.ax = np.zeros(n)
-        self.ay = np.zeros(n)
-        self.az = np.zeros(n)
-        self.pav = np.zeros(n)
-        self.pas = np.zeros(n)
-        self.mumax = np.zeros(n)
+        self.ax, self.ay, self.az, self.pav, self.pas, self.mumax = (np.zeros(n) for _ in range(6))
         self.rst = np.zeros((n, 3 if settings.dim == 2 else 6))
         self.kinematic = np.zeros(n, np.bool_)
         self.t = 0.0
         self.step_count = 0
-        self.e_av = 0.0
-        self.e_as = 0.0
-        self.e_pen = 0.0
+        self.e_av = self.e_as = self.e_pen = 0.0
         self.e_kin = 0.0          # kinetic energy removed by the kinematic constraint
         self.impulse = 0.0        # total momentum (y) given by the base
         self.impulse_kin = 0.0
         self.force = 0.0          # penalty force at the current positions
-        self.force_peak = 0.0
-        self.max_penetration = 0.0
+        self.force_peak = self.max_penetration = 0.0
         self.dt = self.s.dt_max
         self._neighbours()
         self._forces(self.dt)

@@ -50,8 +50,7 @@ def crack_band_bar(spacing: float, height_cells: int, kappa: float = 1.0, speed:
 
     def drive():
         st.vx[left], st.vx[right], st.vy[ends] = -speed, speed, 0.0
-        eng.ax[ends] = 0.0
-        eng.ay[ends] = 0.0
+        eng.ax[ends] = eng.ay[ends] = 0.0
 
     drive()
     t_end = 1.3 * (2 * mat.G_F / mat.f_t + 1.5 * mat.eps_0 * length) / (2 * speed)

@@ -85,8 +85,7 @@ def figure_precracks(runs, out: Path, label: str) -> None:
         _disc(axes[1, c], ds, _failed(ds))
         fr = m.get("precrack_cracked_fraction")
         fr = float("nan") if fr is None else fr
-        axes[1, c].set_title(f"failure; {100 * float(fr):.0f} % cracked near the line",
-                             fontsize=7)
+        axes[1, c].set_title(f"failure; {100 * float(fr):.0f} % cracked near the line", fontsize=7)
     fig.suptitle(f"pre-cracks as zero-mass lines (Figs. 11-13)\n{label}", fontsize=9)
     save(fig, out)
 
@@ -102,10 +101,8 @@ def figure_contact(runs_by_kappa: dict, out: Path, label: str) -> None:
             t = ds["time"].values * 1e6
             f = ds["series_contact_force"].values / 1e6
             style = "-" if distribution == "homogeneous" else ":"
-            ax.plot(t, f, style, lw=1.2 if style == "-" else 0.7,
-                    color=f"C{colour}",
-                    label=f"kappa = {kappa:g} ({distribution})"
-                    if i < 2 else None)
+            ax.plot(t, f, style, lw=1.2 if style == "-" else 0.7, color=f"C{colour}",
+                    label=f"kappa = {kappa:g} ({distribution})" if i < 2 else None)
     ax.set_xlabel("t [us]")
     ax.set_ylabel("contact force [MN/m]")
     ax.legend(fontsize=7)
@@ -147,9 +144,9 @@ def _layer(ds):
     return np.arange(ds.sizes["particle"])
 
 
-def particle_opening(ds, x=None, y=None) -> tuple[np.ndarray, np.ndarray]:
-    """(layer indices, largest opening of each layer particle's pairs [m]) at the positions
-    ``x``, ``y`` (all particles; default the final ones), by the opening measure's pairs."""
+def _layer_openings(ds, x=None, y=None):
+    """(layer indices, the opening measure's pairs of the layer, their openings [m]) at the
+    positions ``x``, ``y`` (all particles; default the final ones)."""
     from craquelure.impact.measure import neighbour_pairs, pair_openings
 
     idx = _layer(ds)
@@ -157,33 +154,29 @@ def particle_opening(ds, x=None, y=None) -> tuple[np.ndarray, np.ndarray]:
     xs = (ds["x"].values if x is None else x)[idx]
     ys = (ds["y"].values if y is None else y)[idx]
     pairs = neighbour_pairs(x0, y0, mass, float(run_fact(ds, "spacing")))
-    w = pair_openings(pairs, x0, y0, xs, ys) if len(pairs) else np.zeros(0)
+    return idx, pairs, pair_openings(pairs, x0, y0, xs, ys)
+
+
+def particle_opening(ds, x=None, y=None) -> tuple[np.ndarray, np.ndarray]:
+    """(layer indices, largest opening of each layer particle's pairs [m]) at the positions
+    ``x``, ``y`` (all particles; default the final ones), by the opening measure's pairs."""
+    idx, pairs, w = _layer_openings(ds, x, y)
     per = np.zeros(idx.size)
-    if len(pairs):
-        np.maximum.at(per, pairs[:, 0], w)
-        np.maximum.at(per, pairs[:, 1], w)
+    np.maximum.at(per, pairs[:, 0], w)
+    np.maximum.at(per, pairs[:, 1], w)
     return idx, per
 
 
 def fragments(ds) -> np.ndarray:
     """Sizes (particle counts) of the fragments of the layer: massive particles joined by
     pairs that did not open (w <= w_c), largest first."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    from craquelure.impact.measure import full_softening_opening, neighbour_pairs, pair_openings
+    from craquelure.impact.measure import components, full_softening_opening
 
     scene = run_scene(ds)
     w_c = full_softening_opening(scene.get("material.G_F"), scene.get("material.f_t"))
-    idx = _layer(ds)
-    x0, y0, mass = (ds[k].values[idx] for k in ("x0", "y0", "mass"))
-    pairs = neighbour_pairs(x0, y0, mass, float(run_fact(ds, "spacing")))
-    w = pair_openings(pairs, x0, y0, ds["x"].values[idx], ds["y"].values[idx])
-    closed = pairs[w <= w_c]
-    n = idx.size
-    graph = coo_matrix((np.ones(len(closed)), (closed[:, 0], closed[:, 1])), shape=(n, n))
-    _, labels = connected_components(graph, directed=False)
-    sizes = np.bincount(labels[mass > 0])
+    idx, pairs, w = _layer_openings(ds)
+    _, labels = components(idx.size, pairs[w <= w_c])
+    sizes = np.bincount(labels[ds["mass"].values[idx] > 0])
     return np.sort(sizes[sizes > 0])[::-1]
 
 
@@ -281,8 +274,7 @@ def figure_energy(run: Path, out: Path, label: str) -> None:
     ax.legend(fontsize=6, loc="lower left")
     ax.set_title(f"{'3D disc' if 'z0' in ds else '2D plane'}, kappa {float(m['kappa']):g}, "
                  f"{m['distribution']}, seed {int(ds.attrs.get('seed', 0))}: max balance error "
-                 f"{err:.2%}\n{label}",
-                 fontsize=7)
+                 f"{err:.2%}\n{label}", fontsize=7)
     save(fig, out)
 
 
@@ -301,8 +293,7 @@ def figure_fragments(runs_by_kappa: dict, out: Path, label: str) -> None:
         s = np.sort(np.concatenate(sizes))
         share = np.cumsum(s[::-1])[::-1] / s.sum()
         # markers: a disc still in one piece is one point, which a step line would not show
-        ax.step(s, share, where="post", marker="o", ms=3,
-                label=f"kappa {kappa:g} (seeds {seeds})")
+        ax.step(s, share, where="post", marker="o", ms=3, label=f"kappa {kappa:g} (seeds {seeds})")
     ax.set_xscale("log")
     ax.set_xlabel("fragment size [particles of the layer]")
     ax.set_ylabel("share of particles in fragments >= size")

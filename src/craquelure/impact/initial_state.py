@@ -58,14 +58,13 @@ class Specimen:
 
 def grid(shape: str, cells: int, height_cells: int, spacing: float) -> tuple[np.ndarray, ...]:
     """Cell-centred grid points relative to the body centre."""
+    rows = cells if shape == "disc" else height_cells
+    cx = (np.arange(cells) - (cells - 1) / 2.0) * spacing
+    cy = (np.arange(rows) - (rows - 1) / 2.0) * spacing
+    gx, gy = np.meshgrid(cx, cy, indexing="xy")
     if shape == "disc":
-        c = (np.arange(cells) - (cells - 1) / 2.0) * spacing
-        gx, gy = np.meshgrid(c, c, indexing="xy")
         keep = gx**2 + gy**2 <= (cells * spacing / 2.0) ** 2 * (1 + 1e-12)
         return gx[keep], gy[keep]
-    cx = (np.arange(cells) - (cells - 1) / 2.0) * spacing
-    cy = (np.arange(height_cells) - (height_cells - 1) / 2.0) * spacing
-    gx, gy = np.meshgrid(cx, cy, indexing="xy")
     return gx.ravel(), gy.ravel()
 
 

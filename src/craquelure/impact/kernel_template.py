@@ -187,15 +187,7 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, eps_max, dmg, ep
     rho_start = rho.copy()
     h_start = h.copy()
     for i in prange(n):
-        lxx = 0.0
-        lxy = 0.0
-        lyx = 0.0
-        lyy = 0.0
-        lxz = 0.0
-        lyz = 0.0
-        lzx = 0.0
-        lzy = 0.0
-        lzz = 0.0
+        lxx = lxy = lyx = lyy = lxz = lyz = lzx = lzy = lzz = 0.0
         for p in range(offsets[i], offsets[i + 1]):
             j = index[p]
             if m[j] == 0.0:
@@ -305,12 +297,7 @@ def force_pass(x, y, z, vx, vy, vz, m, rho, h, nom, rst, offsets, index, prm, ax
     max |μ_ij| for the time step."""
     n = x.size
     for i in prange(n):
-        axi = 0.0
-        ayi = 0.0
-        azi = 0.0
-        pa = 0.0
-        ps = 0.0
-        mu_max = 0.0
+        axi = ayi = azi = pa = ps = mu_max = 0.0
         ri2 = 1.0 / (rho[i] * rho[i])
         ixx, iyy, ixy = nom[i, 0] * ri2, nom[i, 1] * ri2, nom[i, 2] * ri2
         izz = ixz = iyz = 0.0
@@ -415,8 +402,7 @@ def artificial_stress_pass(nom, rho, prm, rst):
 def contact_pass(y, m, ay, dt, prm, kinematic):
     """Penalty forces of the rigid base (added to ay); returns (total force, penalty energy).
     ``kinematic[i]`` marks particles left to the kinematic constraint (bulk contact)."""
-    force = 0.0
-    energy = 0.0
+    force = energy = 0.0
     limit = prm[P_BASE] + prm[P_RC]
     for i in range(y.size):
         kinematic[i] = False
@@ -455,8 +441,7 @@ def kinematic_velocity(y, vy, m, kinematic, prm, arrival):
     it: the particle does not move, so the reaction does no work and no energy is logged;
     logging the kick's ½ m (a Δt/2)² would count energy the drift never took from the
     stress)."""
-    mom = 0.0
-    ke = 0.0
+    mom = ke = 0.0
     limit = prm[P_BASE] + prm[P_RC]
     for i in range(y.size):
         if kinematic[i] and y[i] < limit and vy[i] < 0.0:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from craquelure.errors import SceneError
 from craquelure.impact.effects.cap_plasticity import CapSurface, surface_constants
 from craquelure.impact.effects.compressive_damage import softening_strain
 from craquelure.impact.effects.plasticity import dp_constants
@@ -85,8 +86,6 @@ class Concrete:
         return self.young * self.G_F / self.f_t**2
 
     def validate(self) -> None:
-        from craquelure.errors import SceneError
-
         if self.eps_f <= self.eps_0:
             raise SceneError(
                 f"material.crack_band_width: the crack band width {self.band:g} m is >= 2 l_ch "

@@ -38,6 +38,13 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 
+def components(n: int, pairs: np.ndarray) -> tuple[int, np.ndarray]:
+    """(count, label of each point) of the connected components of n points joined by the
+    index ``pairs`` (m, 2)."""
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    return connected_components(graph, directed=False)
+
+
 def clusters(x0: np.ndarray, y0: np.ndarray, member: np.ndarray, spacing: float,
              link: float = 1.5) -> list[np.ndarray]:
     """Index arrays of the connected clusters of ``member`` particles."""
@@ -46,9 +53,7 @@ def clusters(x0: np.ndarray, y0: np.ndarray, member: np.ndarray, spacing: float,
         return []
     pts = np.column_stack([x0[idx], y0[idx]])
     pairs = cKDTree(pts).query_pairs(link * spacing * (1 + 1e-9), output_type="ndarray")
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])) if len(pairs) else
-                       ([], ([], [])), shape=(idx.size, idx.size))
-    n, labels = connected_components(graph, directed=False)
+    n, labels = components(idx.size, pairs)
     return [idx[labels == c] for c in range(n)]
 
 
@@ -89,30 +94,24 @@ def centre_line_crossings(x0, y0, damage, plastic, spacing, centre_y, cracked=0.
 
 
 def crushed_zone(x0, y0, plastic, spacing, crushed=0.0035) -> tuple[float, float]:
-    member = plastic >= crushed
     bottom = y0 <= y0.min() + 1.01 * spacing
-    area, height = 0.0, 0.0
-    chosen = [c for c in clusters(x0, y0, member, spacing) if bottom[c].any()]
-    if chosen:
-        idx = np.concatenate(chosen)
-        area = idx.size * spacing**2
-        height = float(np.ptp(y0[idx])) + spacing
-    return area, height
+    chosen = [c for c in clusters(x0, y0, plastic >= crushed, spacing) if bottom[c].any()]
+    if not chosen:
+        return 0.0, 0.0
+    idx = np.concatenate(chosen)
+    return idx.size * spacing**2, float(np.ptp(y0[idx])) + spacing
 
 
 def precrack_agreement(x0, y0, damage, precrack, spacing, cracked=0.9) -> float:
     """Fraction of particles within 1.5Δ of a pre-crack particle that are cracked."""
     if not precrack.any():
         return float("nan")
-    tree = cKDTree(np.column_stack([x0[precrack], y0[precrack]]))
-    d, _ = tree.query(np.column_stack([x0, y0]))
-    near = d <= 1.5 * spacing * (1 + 1e-9)
-    return float(np.mean(damage[near] >= cracked))
+    pts = np.column_stack([x0, y0])
+    return float(np.mean(damage[_near(pts, pts[precrack], 1.5 * spacing)] >= cracked))
 
 
 def contact_metrics(t, force, vcm_y) -> dict[str, float]:
-    t = np.asarray(t)
-    force = np.asarray(force)
+    t, force = np.asarray(t), np.asarray(force)
     peak = float(force.max()) if force.size else 0.0
     impulse = float(np.trapezoid(force, t)) if force.size > 1 else 0.0
     on = np.flatnonzero(force > 0.01 * peak) if peak > 0 else np.array([], int)
@@ -261,8 +260,12 @@ def line_frame(x0, y0, precrack):
     u = np.array([math.sin(math.radians(angle)), math.cos(math.radians(angle))])
     rel = np.column_stack([x0 - cx, y0 - cy])
     along, across = rel @ u, rel @ np.array([-u[1], u[0]])
-    return ((cx, cy), u, along, across, float(along[precrack].min()),
-            float(along[precrack].max()))
+    return ((cx, cy), u, along, across, float(along[precrack].min()), float(along[precrack].max()))
+
+
+def _line_x(cx, cy, u, centre_y) -> float:
+    """x where the line through (cx, cy) along u crosses the height centre_y."""
+    return cx + (centre_y - cy) * (u[0] / u[1]) if abs(u[1]) > 1e-9 else cx
 
 
 def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, cracked=0.9,
@@ -285,7 +288,7 @@ def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, crac
             beyond_hi = max(beyond_hi, float(along[c].max()) - s_hi)
             beyond_lo = max(beyond_lo, s_lo - float(along[c].min()))
     rc = revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked, crushed)
-    line_x = cx + (centre_y - cy) * (u[0] / u[1]) if abs(u[1]) > 1e-9 else cx
+    line_x = _line_x(cx, cy, u, centre_y)
     xs = [float(v) * 1e-3 for v in rc["main_crossings_x_mm"].split(",") if v]
     elsewhere = sum(abs(x - line_x) > 3 * spacing for x in xs)
     return {"precrack_coverage": float(np.mean(covered)) if covered else float("nan"),
@@ -358,8 +361,7 @@ def _row_gaps(x0, y0, x, y, mass, spacing, centre_y):
     pairs = np.column_stack([idx[:-1], idx[1:]])
     close = (x0[pairs[:, 1]] - x0[pairs[:, 0]]) <= 2.5 * spacing * (1 + 1e-9)
     pairs = pairs[close]
-    return (pairs, 0.5 * (x0[pairs[:, 0]] + x0[pairs[:, 1]]),
-            pair_openings(pairs, x0, y0, x, y))
+    return (pairs, 0.5 * (x0[pairs[:, 0]] + x0[pairs[:, 1]]), pair_openings(pairs, x0, y0, x, y))
 
 
 def _runs_of(flags: np.ndarray) -> list[np.ndarray]:
@@ -381,12 +383,11 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
         centre_y = 0.5 * (y0.min() + y0.max())
     diameter = float(np.ptp(y0)) + spacing
     pairs = neighbour_pairs(x0, y0, mass, spacing)
-    w = pair_openings(pairs, x0, y0, x, y) if len(pairs) else np.zeros(0)
-    crushed_p = plastic >= crushed
+    w = pair_openings(pairs, x0, y0, x, y)
     opened = w > w_c
-    mid = (0.5 * (np.column_stack([x0, y0])[pairs[:, 0]] + np.column_stack([x0, y0])[pairs[:, 1]])
-           if len(pairs) else np.zeros((0, 2)))
-    zone_pts = contact_zone(x0, y0, crushed_p, spacing)
+    pts = np.column_stack([x0, y0])
+    mid = 0.5 * (pts[pairs[:, 0]] + pts[pairs[:, 1]])
+    zone_pts = contact_zone(x0, y0, plastic >= crushed, spacing)
     # centre row gaps and their runs
     gpairs, gx, gw = _row_gaps(x0, y0, x, y, mass, spacing, centre_y)
     runs = _runs_of(gw > w_c)
@@ -420,7 +421,7 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
     n_main = sum(count(r) for r in runs if id(r) in main_ids)
     largest = max((float(gw[r].sum()) for r in runs), default=0.0)
     main = next((c for c in cracks if c["main"]), None)
-    main_run = max((r for r in main_runs), key=lambda r: float(gw[r].sum()), default=None)
+    main_run = max(main_runs, key=lambda r: float(gw[r].sum()), default=None)
     out = {
         "opening_w_c": float(w_c),
         "n_main_cracks_opening": int(n_main),
@@ -444,12 +445,10 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
         "max_opening": float(w.max()) if len(w) else 0.0,
     }
     if precrack is not None and np.asarray(precrack).any():
-        out.update(_line_opening(x0, y0, pairs, w, w_c, np.asarray(precrack, bool), spacing))
         line = np.asarray(precrack, bool)
-        _, angle, _ = principal_axis(x0[line], y0[line])
-        u0, u1 = math.sin(math.radians(angle)), math.cos(math.radians(angle))
-        line_x = (x0[line].mean() + (centre_y - y0[line].mean()) * u0 / u1
-                  if abs(u1) > 1e-9 else x0[line].mean())
+        out.update(_line_opening(x0, y0, pairs, w, w_c, line, spacing))
+        (cx, cy), u, *_ = line_frame(x0, y0, line)
+        line_x = _line_x(cx, cy, u, centre_y)
         out["main_cracks_elsewhere_opening"] = sum(
             count(r) for r in runs
             if id(r) in main_ids and abs(float(gx[r].mean()) - line_x) > 3 * spacing)
@@ -492,21 +491,16 @@ def opening_metrics(x0, y0, x, y, mass, plastic, precrack, spacing, w_c, centre_
     layer (``z0``), plus the main crack's opening at an earlier instant: ``half`` = (x, y) of
     that snapshot (all particles) gives ``main_run_opening_half`` and the ratio
     ``main_run_opening_growth`` = opening now / opening then, from the same gaps."""
-    arrays = [np.asarray(a) for a in (x0, y0, x, y, mass, plastic, precrack)]
-    hx = hy = None
-    if half is not None:
-        hx, hy = (np.asarray(a) for a in half)
+    arrays = [np.asarray(a) for a in (x0, y0, x, y, mass, plastic, precrack, *(half or ()))]
     if z0 is not None:
         slab = mid_slab(np.asarray(z0), spacing)
         arrays = [a[slab] for a in arrays]
-        if half is not None:
-            hx, hy = hx[slab], hy[slab]
-    x0, y0, x, y, mass, plastic, precrack = arrays
+    x0, y0, x, y, mass, plastic, precrack, *then = arrays
     out = opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y,
                          precrack=precrack.astype(bool) if precrack.any() else None)
     out.pop("_cracks")
     if half is not None and math.isfinite(out["main_run_x_mid"]):
-        then = row_opening_near(x0, y0, hx, hy, mass, spacing, centre_y, out["main_run_x_mid"])
+        then = row_opening_near(x0, y0, *then, mass, spacing, centre_y, out["main_run_x_mid"])
         now = row_opening_near(x0, y0, x, y, mass, spacing, centre_y, out["main_run_x_mid"])
         out["main_run_opening_half"] = then
         out["main_run_opening_growth"] = now / then if then > 0 else float("inf")

@@ -18,6 +18,7 @@ says from when on its class no longer changed (is the run long enough to classif
 
 from __future__ import annotations
 
+from itertools import takewhile
 from pathlib import Path
 
 from craquelure.io import open_dataset
@@ -47,14 +48,9 @@ def class_history(ds) -> list[dict]:
 
 def settled_from(history: list[dict]) -> float | None:
     """Earliest snapshot time from which on the class stays the final one (None: no snapshot)."""
-    if not history:
-        return None
-    t = history[-1]["t"]
-    for h in reversed(history):
-        if h["class"] != history[-1]["class"]:
-            break
-        t = h["t"]
-    return t
+    final = history[-1]["class"] if history else None
+    same = list(takewhile(lambda h: h["class"] == final, reversed(history)))
+    return same[-1]["t"] if same else None
 
 
 def changed_at_end(row: dict) -> bool:
@@ -125,8 +121,7 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
     ncols = max(len(s) for s in scales.values()) + 1
     fig, axes = plt.subplots(len(dims), ncols, figsize=(4.6 * ncols, 4.2 * len(dims)),
                              squeeze=False)
-    style = {"no main crack": ("s", "0.75"), "splits once": ("o", "C2"),
-             "fans out": ("X", "C3")}
+    style = {"no main crack": ("s", "0.75"), "splits once": ("o", "C2"), "fans out": ("X", "C3")}
     titles = []
     xlim = _limits([r["f_t"] / 1e6 for r in rows], 0.2, 0.2)
     ylim = _limits([r["impact_velocity"] for r in rows], 0.2, 0.5)  # room for the legend

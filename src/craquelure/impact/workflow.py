@@ -152,8 +152,7 @@ def judged_runs(section: dict) -> dict:
     }
 
 
-FIXED_KEYS = {"as_epsilon": "numerics.as_epsilon",
-              "crack_band_width": "material.crack_band_width"}
+FIXED_KEYS = {"as_epsilon": "numerics.as_epsilon", "crack_band_width": "material.crack_band_width"}
 
 
 def variant_overrides(section: dict):

@@ -50,11 +50,9 @@ def column_period(n_free_rows: int, nx: int = 4, ks_over_kn: float = 0.2,
     y0 = s.y - s.y.min()
     shape = np.sin(0.5 * math.pi * y0 / height)
     eng.q[1] = s.y + u0 * shape
-    eng.qm[1] = eng.q[1].copy()
-    eng.set_velocity(0.0, 0.0, 0.0)
+    eng.set_velocity(0.0, 0.0, 0.0)  # at rest: x(t - dt) = x
     eng.run(1)  # compile / load the cached kernel outside the timing
     eng.q[1] = s.y + u0 * shape
-    eng.qm[1] = eng.q[1].copy()
     eng.set_velocity(0.0, 0.0, 0.0)
     eng.step = 0
     top = row == row.max()

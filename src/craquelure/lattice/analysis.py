@@ -95,23 +95,19 @@ def calving_summary(ds, out_json) -> dict:
     sz = fragments.sizes(labels)
     slope, decades = fragments.fit_slope(*fragments.size_distribution(sz))
     tau, cut = fragments.fit_cutoff_power_law(sz[1:])
-    summary = {"fragments": int(sz.size - 1), "slope": slope, "decades": decades,
-               "ml_exponent": tau, "ml_cutoff": cut, "broken": int(ds.broken.values[-1]),
-               "calved_particles": int(sz[1:].sum())}
-    summary.update({
-        "labelled_particles": int(sz.sum()),
+    return _write_json(out_json, {
+        "fragments": int(sz.size - 1), "slope": slope, "decades": decades, "ml_exponent": tau,
+        "ml_cutoff": cut, "broken": int(ds.broken.values[-1]),
+        "calved_particles": int(sz[1:].sum()), "labelled_particles": int(sz.sum()),
         "body_particles": int((ds.body.values == 0).sum()),
         # exponent in [1.2, 1.9] (the spec's band for the slope) from the
         # maximum-likelihood fit of s^-tau exp(-s/s*) (the spec's form); the log-binned
         # straight-line slope and its verdict are reported next to it
-        "check11_slope_pass": bool(1.2 <= summary["ml_exponent"] <= 1.9
-                                   and summary["fragments"] >= 20),
-        "binned_slope_in_band": bool(-1.9 <= summary["slope"] <= -1.2
-                                     and summary["decades"] >= 1.0),
+        "check11_slope_pass": bool(1.2 <= tau <= 1.9 and sz.size - 1 >= 20),
+        "binned_slope_in_band": bool(-1.9 <= slope <= -1.2 and decades >= 1.0),
         "energy_budget_error": float(np.abs(ds.total - ds.total[0]).max()
                                      / max(float(ds.damping[-1]), 1e-300)),
     })
-    return _write_json(out_json, summary)
 
 
 def platelets_per_cycle(ds) -> list[dict]:
@@ -136,8 +132,7 @@ def platelets_per_cycle(ds) -> list[dict]:
         depth = [float(top - ds.y.values[0][labels == lab].mean()) for lab in det]
         out.append({"cycle": k, "time": float(t_k), "platelets": len(det),
                     "mean_size": float(np.mean(sz[det])) if det else 0.0,
-                    "max_depth": max(depth) if depth else 0.0,
-                    "broken": int(broken_by.sum())})
+                    "max_depth": max(depth) if depth else 0.0, "broken": int(broken_by.sum())})
         k += 1
     return out
 

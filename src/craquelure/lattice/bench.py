@@ -68,6 +68,5 @@ def scaling(particles, steps: int, effects=("beams",)) -> list[dict]:
                      "time_per_step_per_particle": t / eng.system.n,
                      "bond_updates_per_s": nb / t, "cpu_per_step": cpu,
                      "cpu_per_thread_per_step_per_particle": cpu / threads / eng.system.n,
-                     "bond_updates_per_cpu_s": nb / cpu, "threads": threads,
-                     "parallel": parallel})
+                     "bond_updates_per_cpu_s": nb / cpu, "threads": threads, "parallel": parallel})
     return rows

@@ -42,8 +42,7 @@ def glen_claims(s: dict) -> list[Claim]:
         "lattice spec check 9", "strain rate in the second half of the run within 10 % of the "
         "first", f"largest deviation {s['max_steadiness_deviation']:.1%}",
         {"steady within 10 %": s["check9_steady_pass"]},
-        deciding=f"deviation {s['max_steadiness_deviation']:.1%} (<= 10 %)",
-        figure="glen/glen.png")
+        deciding=f"deviation {s['max_steadiness_deviation']:.1%} (<= 10 %)", figure="glen/glen.png")
     return [glen, steady]
 
 

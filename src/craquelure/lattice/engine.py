@@ -73,18 +73,12 @@ class LatticeState:
         n, nb = self.x.size, self.bi.size
         self.x = np.ascontiguousarray(self.x, np.float64)
         self.y = np.ascontiguousarray(self.y, np.float64)
-        if self.theta is None:
-            self.theta = np.zeros(n)
-        if self.fix is None:
-            self.fix = np.zeros((3, n), np.uint8)
-        if self.drive is None:
-            self.drive = np.zeros((2, n), np.uint8)
-        if self.load is None:
-            self.load = np.zeros((2, n))
-        if self.unbreakable is None:
-            self.unbreakable = np.zeros(nb, np.uint8)
-        if self.state is None:
-            self.state = np.full(nb, INTACT, np.int8)
+        for name, default in (("theta", np.zeros(n)), ("fix", np.zeros((3, n), np.uint8)),
+                              ("drive", np.zeros((2, n), np.uint8)), ("load", np.zeros((2, n))),
+                              ("unbreakable", np.zeros(nb, np.uint8)),
+                              ("state", np.full(nb, INTACT, np.int8))):
+            if getattr(self, name) is None:
+                setattr(self, name, default)
 
     @property
     def n(self) -> int:
@@ -175,15 +169,6 @@ def stable_step_estimate(system: LatticeState) -> float:
     return 2.0 / math.sqrt(w2) if w2 > 0 else math.inf
 
 
-def default_params(**values) -> np.ndarray:
-    """The kernel's parameter vector: ``values`` over the neutral values the effects declare
-    (an effect that is off, a unit block for a probe). The parameters whose value the schema
-    owns (neutral NaN, :func:`schema_owned`) stay NaN unless given, so a caller that forgets
-    them stops at :func:`require_schema_owned` instead of running on a second copy of the
-    default."""
-    return parameter_vector("lattice", values=values)
-
-
 def schema_owned() -> dict[str, str]:
     """``{parameter: scene path}`` of the kernel parameters whose default the schema holds
     (declared with a NaN neutral value)."""
@@ -194,7 +179,8 @@ def schema_owned() -> dict[str, str]:
 def require_schema_owned(p: np.ndarray, effects) -> None:
     """The schema-owned parameters the effect set reads (contact's skin and friction
     regularisation with contact, the energy check's tolerance always) must come from the scene
-    (or the schema for a probe)."""
+    (or the schema for a probe): their neutral value is NaN, so a caller that forgets one stops
+    here instead of running on a second copy of the default."""
     missing = [name for name, (prm, owners) in kernel_parameters("lattice").items()
                if math.isnan(prm.neutral) and math.isnan(p[PARAMS.index(name)])
                and (not owners or owners & set(effects))]
@@ -230,7 +216,7 @@ class Engine:
         self.flags = kernel_flags(self.effects, s.period_x > 0, self.node_averaged,
                                   self.bending, parallel)
         self.kernel = specialise(KERNEL_TEMPLATE, self.flags, "lattice")
-        self.p = default_params(**{**self.params, "period_x": s.period_x})
+        self.p = parameter_vector("lattice", values={**self.params, "period_x": s.period_x})
         require_schema_owned(self.p, self.effects)
         self.dt = float(self.p[PARAMS.index("dt")])
         self.q = np.ascontiguousarray(np.vstack([s.x, s.y, s.theta]))
@@ -436,16 +422,6 @@ class Engine:
 
     def series_array(self) -> np.ndarray:
         return np.array(self.series).reshape(-1, self.kernel.N_SERIES)
-
-    def momentum(self) -> tuple[float, float, float]:
-        """Discrete linear (x, y) and angular momentum at t - dt/2:
-        m (x - x-)/dt and sum m r- x (r - r-)/dt + J (theta - theta-)/dt."""
-        s = self.system
-        v = (self.q - self.qm) / self.dt
-        px, py = float(np.sum(s.mass * v[0])), float(np.sum(s.mass * v[1]))
-        lz = float(np.sum(s.mass * (self.qm[0] * v[1] - self.qm[1] * v[0]))
-                   + np.sum(s.inertia * v[2]))
-        return px, py, lz
 
 
 def lattice_system(x, y, L=1.0, *, kn, ka, kb, rho=1.0, period_x=0.0,  # noqa: N803

@@ -55,8 +55,7 @@ def strain_rate(time: np.ndarray, ux: np.ndarray, height: float, fit_from: float
     half = t.size // 2
     r1 = np.polyfit(t[:half], u[:half], 1)[0] / height
     r2 = np.polyfit(t[half:], u[half:], 1)[0] / height
-    return {"gamma_dot": float(rate), "gamma_dot_first": float(r1),
-            "gamma_dot_second": float(r2)}
+    return {"gamma_dot": float(rate), "gamma_dot_first": float(r1), "gamma_dot_second": float(r2)}
 
 
 def viscosity(tau: float, gamma_dot: float) -> float:

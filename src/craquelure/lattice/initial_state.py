@@ -29,7 +29,7 @@ from craquelure.lattice.engine import (
     schema_owned,
     stable_step_estimate,
 )
-from craquelure.lattice.geometry import REMOVED, ROW, half_disc, remove_fraction, triangular_block
+from craquelure.lattice.geometry import REMOVED, half_disc, remove_fraction, triangular_block
 from craquelure.registry import parameter_vector
 from craquelure.scene import Scene, load_scene_text, schema_default
 
@@ -130,7 +130,7 @@ def make_engine(scene: Scene, seed: int) -> tuple[Engine, dict[str, np.ndarray]]
     system, labels = build_system(scene, seed)
     if not scene.has("beams"):
         system.state[:] = REMOVED
-    engine = Engine(system, tuple(e for e in scene.effects), engine_params(scene, system),
+    engine = Engine(system, tuple(scene.effects), engine_params(scene, system),
                     seed=seed, **engine_options(scene))
     return engine, labels
 
@@ -157,8 +157,3 @@ def probe_engine(system: LatticeState, effects, params: dict, **options) -> Engi
     probe = engine_options(load_scene_text(PROBE_SCENE, "probe"))
     owned = {name: schema_default("lattice", path) for name, path in schema_owned().items()}
     return Engine(system, tuple(effects), {**owned, **params}, **{**probe, **options})
-
-
-def block_height(scene: Scene) -> float:
-    """Height of the block between the bottom and top rows' centres."""
-    return (scene.get("domain.ny") - 1) * ROW * scene.get("particles.spacing")

@@ -258,12 +258,9 @@ def _bond_chunk(lo, hi, nlo, nhi, q, qm, bi, bj, bref, bk, state, unbreak, bprev
             bforce[2, b] = -m1
             bforce[3, b] = -m2
         u_beams += u
-    out[B_U] = u_beams
-    out[B_DAMP] = e_damp
-    out[B_FRACT] = e_fract
-    out[B_MELT] = e_melt
-    out[B_BROKEN] = n_broken
-    out[B_MELTED] = n_melted
+    sums = (u_beams, e_damp, e_fract, e_melt, n_broken, n_melted)  # in the order of B_*
+    for r in range(N_BPART):
+        out[r] = sums[r]
 
 
 @njit(cache=True, fastmath=FASTMATH)
@@ -358,21 +355,10 @@ def _particle_chunk(lo, hi, qm, q, qref, qbuild, mass, inertia, diam, fix, drive
         q[0, i] = xn
         q[1, i] = yn
         q[2, i] = tn
-    out[P_KIN] = kin
-    out[P_ROT] = rot
-    out[P_UEXT] = u_ext
-    out[P_WORK] = work
-    out[P_DISS] = diss
-    out[P_DISS_FWD] = diss_fwd
-    out[P_WORK_FWD] = work_fwd
-    out[P_LUX] = lux
-    out[P_LUY] = luy
-    out[P_NLOAD] = nload
-    out[P_DFX] = dfx
-    out[P_DFY] = dfy
-    out[P_MOVED] = moved
-    out[P_ROUND_KIN] = round_kin
-    out[P_ROUND_WORK] = round_work
+    sums = (kin, rot, u_ext, work, diss, diss_fwd, work_fwd, lux, luy, nload, dfx, dfy, moved,
+            round_kin, round_work)  # in the order of P_*
+    for r in range(N_PPART):
+        out[r] = sums[r]
 
 
 @njit(cache=True, parallel=PARALLEL)
@@ -395,16 +381,11 @@ def advance(qm, q, qref, qbuild, mass, inertia, diam, fix, drive, load,
     rows = 0
     status = OK
     done = 0
-    # per-chunk partial sums, zeroed by plain loops: np.zeros in a parallel function is a
-    # parallel region of its own (two extra fork/joins per call for 48 + 120 numbers)
+    # per-chunk partial sums, each row written whole by its chunk before it is read (np.zeros
+    # in a parallel function would be a parallel region of its own)
     bpart = np.empty((NCHUNK, N_BPART))
     ppart = np.empty((NCHUNK, N_PPART))
     psum = np.empty(N_PPART)
-    for c in range(NCHUNK):
-        for r in range(N_BPART):
-            bpart[c, r] = 0.0
-        for r in range(N_PPART):
-            ppart[c, r] = 0.0
     for k in range(n_steps):
         gstep = step0 + k
         t = gstep * dt

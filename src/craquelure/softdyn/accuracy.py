@@ -81,9 +81,7 @@ def run_accuracy(scene) -> xr.Dataset:
                      "reference_n_rhs": n_ref, "probe_time": probe,
                      "h0": scene.get("particles.h0"),
                      "reduced_force": scene.get("loads.reduced_force")})
-    order = heun_order(ds)
-    ds.attrs["heun_duration_order"] = order[0]
-    ds.attrs["heun_state_order"] = order[1]
+    ds.attrs["heun_duration_order"], ds.attrs["heun_state_order"] = heun_order(ds)
     return ds
 
 

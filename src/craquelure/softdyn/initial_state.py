@@ -203,13 +203,10 @@ def series_dataset(setup: Setup, result: Result) -> xr.Dataset:
 
 def run_attrs(setup: Setup, result: Result) -> dict[str, object]:
     sc = setup.scene
-    pred = predictions(sc)
     return {
         "tau": setup.tau, "force_unit": setup.force, "F_v": setup.f_v, "F_h": setup.f_h,
         "h0": setup.h0, "reduced_force": sc.get("loads.reduced_force"),
-        "h_star": pred["h_star"], "h0_over_h_star": pred["h0_over_h_star"],
-        "T_P": pred["T_P"], "T_H": pred["T_H"], "T_sep": pred["T_sep"],
-        "regime": pred["regime"], "stop": sc.get("outputs.stop"),
+        **predictions(sc), "stop": sc.get("outputs.stop"),
         "stopped": int(result.stopped), "duration": result.t_stop / setup.tau,
         "integrator": sc.get("numerics.integrator"), "n_steps": result.n_steps,
         "n_rhs": result.n_rhs, "n_rejected": result.n_rejected,

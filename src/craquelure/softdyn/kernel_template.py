@@ -238,8 +238,7 @@ def rates(v, pi, pj, nv, r, a, zn, zt, s, q, p, n_part, d):
     vij = np.empty(d)
     for k in range(n_pair):
         i, j = pi[k], pj[k]
-        vn = 0.0
-        qv = 0.0
+        vn = qv = 0.0
         for e in range(d):
             vij[e] = v[i * d + e] - v[j * d + e]
             vn += nv[k, e] * vij[e]

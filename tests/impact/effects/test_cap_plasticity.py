@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from craquelure.errors import SceneError
-from craquelure.impact.api import simulate
 from craquelure.impact.effects.cap_plasticity import cap_position, murray_fits, willam_warnke
 from craquelure.impact.effects.compressive_damage import DC_MAX
 from craquelure.impact.material import standard_concrete
 from craquelure.scene import load_scene
 from tests.impact.material_point import drive
+from tests.impact.runs import simulate
 
 MAT = standard_concrete(band=0.008)  # l_c = 2 Delta, the default at kappa = 1
 CAP = MAT.cap

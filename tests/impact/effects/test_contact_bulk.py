@@ -5,9 +5,9 @@ the kinematic constraint's energy balance. Small discs."""
 import numpy as np
 import pytest
 
-from craquelure.impact.api import simulate
 from craquelure.impact.initial_state import build_specimen
 from craquelure.scene import load_scene
+from tests.impact.runs import simulate
 
 ELASTIC = "[elasticity, artificial_viscosity, {contact}]"
 

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from craquelure.impact.api import simulate
 from craquelure.impact.effects.damage import damage_update, principal
 from craquelure.impact.material import standard_concrete
 from craquelure.scene import load_scene
+from tests.impact.runs import simulate
 
 from .tensors import matrix, random_stress, rotate
 

@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from craquelure.impact.api import simulate
 from craquelure.impact.effects.rate_effects import increase_factor, rate_constants, viscoplastic
 from craquelure.impact.material import standard_concrete
 from craquelure.scene import load_scene
 from tests.impact.material_point import drive
+from tests.impact.runs import simulate
 
 from .test_cap_plasticity import SMALL
 

@@ -8,7 +8,7 @@ import pytest
 
 from craquelure.lattice import beam
 from craquelure.lattice.effects.beams import deformation
-from craquelure.lattice.effects.fracture import beam_ratio, node_ratio
+from craquelure.lattice.effects.fracture import beam_ratio_scaled, node_ratio
 from craquelure.lattice.engine import lattice_system
 from craquelure.lattice.geometry import triangular_block
 from craquelure.lattice.initial_state import probe_engine
@@ -67,11 +67,13 @@ def test_broken_beam_energy_is_booked_and_budget_closes():
 
 
 def test_criterion_functions():
-    assert beam_ratio(2.0, 0.0, 0.0, 0.0, 2.0, 1.0, 1.0, 1.0, 1.0, False) == pytest.approx(1.0)
-    assert beam_ratio(-5.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0, False) == 0.0  # compression
-    assert beam_ratio(0.0, 3.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 3.0, False) == pytest.approx(1.0)
-    # bending adds M w/(2 I) to sigma
-    assert beam_ratio(0.0, 0.0, 2.0, -1.0, 1.0, 1.0, 1.0, 1.0, 1.0, True) == pytest.approx(1.0)
+    # factors 1/A, w/(2I), 1/sigma0, 1/tau0
+    ratio = beam_ratio_scaled
+    assert ratio(2.0, 0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, False) == pytest.approx(1.0)  # A = 2
+    assert ratio(-5.0, 0.0, 0.0, 0.0, 1.0, 0.5, 1.0, 1.0, False) == 0.0  # compression
+    assert ratio(0.0, 3.0, 0.0, 0.0, 1.0, 0.5, 1.0, 1.0 / 3.0, False) == pytest.approx(1.0)
+    # bending adds M w/(2 I) to sigma (w = I = 1)
+    assert ratio(0.0, 0.0, 2.0, -1.0, 1.0, 0.5, 1.0, 1.0, True) == pytest.approx(1.0)
     # uniaxial tension sigma: p = sigma/2, tau = sigma/2
     sig = 0.8
     assert node_ratio(sig, 0.0, 0.0, 1.0, 2.0) == pytest.approx((sig / 2) ** 2 + (sig / 4) ** 2)

@@ -4,8 +4,9 @@ with it."""
 import pytest
 
 from craquelure.lattice import beam, glen
-from craquelure.lattice.initial_state import beam_constants, block_height, make_engine
+from craquelure.lattice.initial_state import beam_constants, make_engine
 from craquelure.scene import load_scene
+from tests.lattice.blocks import block_height
 
 SMALL = ["domain.nx=12", "domain.ny=10"]
 

@@ -87,8 +87,10 @@ beyond X0, so the equibiaxial strength is reached only as the cap hardens
 import math
 from dataclasses import dataclass
 
+import numpy as np
 from numba import njit
 
+from craquelure.errors import SceneError
 from craquelure.impact.effects import F_C
 from craquelure.registry import Effect, Param
 
@@ -121,8 +123,6 @@ def murray_fits(f_c: float) -> dict[str, float]:
 
 def meridian(i1, alpha, lam, beta, theta):
     """F_f(I1') (compression positive), works on floats and arrays."""
-    import numpy as np
-
     return alpha - lam * np.exp(-beta * i1) + theta * i1
 
 
@@ -151,8 +151,6 @@ class CapSurface:
 
     def F_c(self, i1, x=None):
         """CSCM's cap function at I1' for the cap at X (default: the initial cap X0)."""
-        import numpy as np
-
         x = self.X0 if x is None else x
         left = cap_left(x, self.R, self.alpha, self.lam, self.beta, self.theta)
         d = np.maximum(np.asarray(i1, float) - left, 0.0)
@@ -160,16 +158,12 @@ class CapSurface:
 
     def shear_limit(self, i1, x=None):
         """√J2 limit on TXC with the cap: F_f √F_c (compression positive, Pa)."""
-        import numpy as np
-
         return self.F_f(i1) * np.sqrt(self.F_c(i1, x))
 
 
 def surface_constants(f_c: float, f_bc_ratio: float = 1.16) -> CapSurface:
     """Murray's fits at f_c, X0 as fitted, and the Willam-Warnke ratio e through the
     equibiaxial point (f_bc/sqrt3 at I1' = 2 f_bc) on the uncoupled shear surface."""
-    from craquelure.errors import SceneError
-
     m = murray_fits(f_c)
     f_bc = f_bc_ratio * f_c
     e = (f_bc / math.sqrt(3.0)) / float(meridian(2 * f_bc, m["alpha"], m["lambda"], m["beta"],

@@ -52,22 +52,11 @@ def jaumann_trial(s, d, w, bulk, shear, dt):
 
 
 @njit(inline="always", cache=True)
-def elastic_energy_density(s, bulk, shear):
-    """p^2/(2K) + s:s/(4G) of an effective stress s = (xx, yy, xy, zz, xz, yz) (J/m^3)."""
-    sxx, syy, sxy, szz, sxz, syz = s
-    p = -(sxx + syy + szz) / 3.0
-    dxx, dyy, dzz = sxx + p, syy + p, szz + p
-    ss = dxx * dxx + dyy * dyy + dzz * dzz + 2.0 * sxy * sxy + 2.0 * sxz * sxz \
-        + 2.0 * syz * syz
-    return 0.5 * p * p / bulk + 0.25 * ss / shear
-
-
-@njit(inline="always", cache=True)
 def secant_energy_density(nom, s, bulk, shear):
     """Recoverable (secant) elastic energy density ½ σ : C⁻¹σ̃ of a damaged point (J/m³):
     the nominal stress σ = ``nom`` times the effective elastic strain C⁻¹σ̃ of the effective
     stress σ̃ = ``s`` (both (xx, yy, xy, zz, xz, yz)). Unloading is secant (to the origin), so
-    this is what the point gives back; with no damage it is :func:`elastic_energy_density`, a
+    this is what the point gives back; with no damage it is p²/(2K) + s:s/(4G), a
     fully open crack stores nothing across it, and a cracked point in compression keeps its
     whole compressive energy (damage acts on the tensile principal stresses only)."""
     pn = -(nom[0] + nom[1] + nom[3]) / 3.0

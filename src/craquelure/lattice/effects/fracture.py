@@ -30,16 +30,10 @@ EFFECT = Effect("lattice", "fracture", "FRACTURE",
 
 
 @njit(inline="always", cache=True)
-def beam_ratio(n, v, m1, m2, area, inertia, width, sigma0, tau0, bending):
-    """(sigma/sigma0)^2 + (tau/tau0)^2 of one beam (tension positive, compression -> 0)."""
-    return beam_ratio_scaled(n, v, m1, m2, 1.0 / area, width / (2.0 * inertia), 1.0 / sigma0,
-                             1.0 / tau0, bending)
-
-
-@njit(inline="always", cache=True)
 def beam_ratio_scaled(n, v, m1, m2, inv_area, bend, inv_sigma0, inv_tau0, bending):
-    """:func:`beam_ratio` with the constant factors precomputed (1/A, w/(2I), 1/sigma0,
-    1/tau0): no division per beam in the kernel."""
+    """(sigma/sigma0)^2 + (tau/tau0)^2 of one beam (tension positive, compression -> 0), with
+    the constant factors precomputed (1/A, w/(2I), 1/sigma0, 1/tau0): no division per beam in
+    the kernel."""
     sigma = n * inv_area
     if bending:
         sigma += max(abs(m1), abs(m2)) * bend
