@@ -7,7 +7,7 @@ A benchmark file times the last job of a run only, so a run resumed from a check
 (``run_resumed_at_step`` > 0) adds its counts but not its CPU. Runs made before the cluster pair
 kernel (commit 2b0c038) are rows of their own.
 
-    python benchmarks/drying_run_cost.py [--scenes table1_trace table1_rkc2] [--write PATH]
+    python benchmarks/drying_run_cost.py [--scenes SCENE ...] [--write PATH]
 """
 
 from __future__ import annotations
@@ -35,6 +35,7 @@ def cpu_time(rule: str, scene: str, seed: str) -> float | None:
 
 
 def kernel(commit: str) -> str:
+    commit = commit.removesuffix("-dirty")  # a run from a checkout with uncommitted edits
     after = subprocess.run(["git", "merge-base", "--is-ancestor", CLUSTER_KERNEL, commit],
                            cwd=ROOT, capture_output=True).returncode == 0
     return "cluster" if after else "gather"
@@ -92,7 +93,8 @@ def table(found: list[dict]) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scenes", nargs="+", default=["table1_trace", "table1_rkc2"])
+    parser.add_argument("--scenes", nargs="+", default=["table1_trace", "table1_rkc2",
+                                                         "paper_speed", "paper_speed_Ctrace"])
     parser.add_argument("--write", type=Path, help="also write the Markdown table here")
     args = parser.parse_args()
     text = table(rows(args.scenes))
