@@ -247,7 +247,9 @@ def test_explicit_seeds_and_the_archived_ones(tmp_path, monkeypatch):
 def test_companion_overlays_archive_their_own_ensembles(tmp_path, monkeypatch):
     """Each companion overlay grows its own archived ensemble from its own scene (the L = 5
     tr(sigma) one from the criterion runs of the faithful states, whose mass solves are the
-    scene's); the headline names the companions, and those archived are shown beside it."""
+    scene's); the headline names the companions, and those archived are shown beside it.
+    Run in an empty tree: seeds archived under results/published/ are not run again."""
+    monkeypatch.chdir(tmp_path)
     seeds = {}
     for name, scene, folder in (("table1_source_ensemble.yaml", "table1_rkc2", "table1_rkc2"),
                                 ("l5_source_ensemble.yaml", "paper_speed", "paper_speed"),
@@ -271,7 +273,6 @@ def test_companion_overlays_archive_their_own_ensembles(tmp_path, monkeypatch):
         (root / name / "tables/common.json").write_text("{}")
     (root / "drying-table1/provenance.json").write_text(
         '{"companions": ["drying-table1-source", "drying-l5-trace", "drying-table1"]}')
-    monkeypatch.chdir(tmp_path)
     assert workflow.published_companions("drying-table1") == ["drying-l5-trace"]
     assert workflow.published_companions("drying-l5-trace") == []
     assert workflow.rebuilt_with_companions(SimpleNamespace(name="drying-table1")) == [

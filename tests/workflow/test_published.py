@@ -60,9 +60,13 @@ def test_only_a_criterion_variant_goes_without_verdicts(folder):
 @pytest.mark.parametrize("folder", PUBLISHED, ids=[p.name for p in PUBLISHED])
 def test_rebuilt_from_the_committed_tables(tmp_path, folder):
     """The figures, summary and rows rebuilt by target `published` from the committed tables
-    decide as the committed ones do, number for number."""
+    decide as the committed ones do, number for number; with the companions the folder names
+    (committed beside it), so that the figures comparing them are rebuilt too."""
     work = workflow_copy(tmp_path)
-    shutil.copytree(folder, work / "results/published" / folder.name)
+    companions = json.loads((folder / "provenance.json").read_text()).get("companions", [])
+    for name in [folder.name, *companions]:
+        if (folder.parent / name).is_dir():
+            shutil.copytree(folder.parent / name, work / "results/published" / name)
     proc = snakemake(work, "published", "--cores", "1", timeout=1800)
     assert proc.returncode == 0, proc.stderr[-3000:]
     rebuilt = work / "results/drying_published" / folder.name
