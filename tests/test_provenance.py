@@ -36,6 +36,18 @@ def test_wall_clock():
     assert clock.elapsed >= t0 + 0.009
 
 
+def test_a_job_records_the_commit_it_started_with(monkeypatch):
+    """A run that outlives a commit ran the code it started with: the dataset names that
+    commit, not the one checked out when it is written."""
+    from craquelure import provenance
+
+    monkeypatch.setattr(provenance, "git_commit", lambda: "a" * 40)
+    clock = WallClock()
+    monkeypatch.setattr(provenance, "git_commit", lambda: "b" * 40)
+    attrs = provenance_attrs(load_scene("drying/ci"), 1, clock)
+    assert attrs["git_commit"] == "a" * 40
+
+
 def test_provenance_attrs():
     scene = load_scene("drying/ci", ["numerics.dt=2e-3"])
     clock = WallClock()

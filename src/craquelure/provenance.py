@@ -39,10 +39,12 @@ def library_versions() -> dict[str, str]:
 
 
 class WallClock:
-    """Start time (ISO, UTC) and elapsed wall time of a job."""
+    """Start time (ISO, UTC), elapsed wall time and code (the commit at the start: a job that
+    outlives a commit ran the code it started with) of a job."""
 
     def __init__(self) -> None:
         self.start_iso = datetime.now(UTC).isoformat(timespec="seconds")
+        self.git_commit = git_commit()
         self._t0 = time.perf_counter()
 
     @property
@@ -63,7 +65,7 @@ def provenance_attrs(scene, seed: int | None, clock: WallClock, effects=None,
         "scene_source": scene.source_text,
         "scene_overrides": " ".join(scene.overrides),
         "effects": ",".join(scene.effects if effects is None else effects),
-        "git_commit": git_commit(),
+        "git_commit": clock.git_commit,
         "start_time": clock.start_iso,
         "wall_time_s": float(clock.elapsed + extra_wall_time),
         "host": platform.node(),
