@@ -147,3 +147,15 @@ def test_companion_rows_name_their_setting_and_a_departing_variant_has_no_verdic
         r'data-verdict="[a-z]|\d+ (reproduced|partly|not reproduced|inconclusive)', context_page)
     plain = validation.render_html(headline, "table1")
     assert "Beside it" not in plain and page.startswith(plain.removesuffix("</body></html>\n"))
+
+
+def test_a_criterion_variant_is_an_overridden_departing_criterion():
+    """Only runs that override their scene's criterion with a departing one are a variant; a
+    scene that declares the departure (the headline) and the source's criterion are judged."""
+    assert claims.criterion_variant({"scene": "paper_speed_Ctrace", "scene_name": "paper_speed",
+                                     "fracture_stress_measure": "trace"})
+    assert not claims.criterion_variant({"scene": "table1_trace", "scene_name": "table1_trace",
+                                         "fracture_stress_measure": "trace"})
+    assert not claims.criterion_variant({"scene": "paper_speed_Chalf_trace",
+                                         "scene_name": "paper_speed",
+                                         "fracture_stress_measure": "half_trace"})

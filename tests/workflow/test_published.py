@@ -44,12 +44,11 @@ def test_only_a_criterion_variant_goes_without_verdicts(folder):
     """Runs that override their scene's criterion with one departing from the source's
     (results/drying/<scene>_C<measure>/) are a variant the source never ran: their rows keep
     their numbers and carry no verdict. Every other archived ensemble is judged."""
-    from craquelure.drying.effects.fracture import SOURCE_MEASURE
+    from craquelure.drying.claims import criterion_variant
 
     provenance = json.loads((folder / "provenance.json").read_text())
     doc = json.loads((folder / "validation.json").read_text())
-    if (provenance["scene"] != provenance["scene_name"]
-            and provenance["fracture_stress_measure"] != SOURCE_MEASURE):
+    if criterion_variant(provenance):
         assert doc["claims"] == [] and [c["name"] for c in doc["companions"]] == [folder.name]
         assert {r["verdict"] for r in doc["companions"][0]["claims"]} == {None}
     else:

@@ -19,7 +19,7 @@ from pathlib import Path
 from craquelure import validation
 from craquelure.drying.analysis import run_scene
 from craquelure.drying.campaign import LABELLINGS, build_campaign
-from craquelure.drying.claims import companion
+from craquelure.drying.claims import companion, criterion_variant
 from craquelure.drying.figures import FIGURES, make_figures
 from craquelure.drying.published import read_tables
 from craquelure.drying.summary import write_summary
@@ -50,11 +50,9 @@ def main(published: str, outdir: str, *companions: str, window: str = "paper") -
     claims = validation.collect({"drying": [out / "summary.json"]})
     beside = [companion(Path(p).parent.name, json.loads(Path(p).read_text()))
               for p in companions]
-    own = companion(source.name, json.loads((out / "summary.json").read_text()))
-    if not own["judged"] and provenance.get("scene") != provenance.get("scene_name"):
-        # runs of a scene with its criterion overridden (results/drying/<scene>_C<measure>/):
-        # a variant, not a scene's declared departure; its rows without verdicts
-        claims, beside = [], [own]
+    if criterion_variant(provenance):  # its rows without verdicts, as beside a headline
+        claims = []
+        beside = [companion(source.name, json.loads((out / "summary.json").read_text()))]
     validation.write_json(claims, out / "validation.json", profile,
                           {"drying": [str(out / "summary.json")]}, beside)
     validation.write_html(claims, out / "validation.html", profile,

@@ -345,6 +345,14 @@ def setting(summary: dict) -> str:
             f"{summary['n_seeds']} seed{'s' * (summary['n_seeds'] != 1)}")
 
 
+def criterion_variant(provenance: dict) -> bool:
+    """Whether an archived ensemble's runs override their scene's criterion with one that
+    departs from the source's (results/drying/<scene>_C<measure>/): a variant the source never
+    ran, whose rows carry no verdict (not a scene's declared departure, as the headline's)."""
+    return (provenance.get("scene") != provenance.get("scene_name")
+            and provenance.get("fracture_stress_measure", SOURCE_MEASURE) != SOURCE_MEASURE)
+
+
 def companion(name: str, summary: dict) -> dict:
     """The rows of a companion ensemble (archived as ``name``) shown beside the headline's
     (``companions`` of :func:`craquelure.validation.write_json`), each naming the ensemble's
