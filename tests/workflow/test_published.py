@@ -1,7 +1,7 @@
 """Archived ensembles (results/published/<name>/): every committed folder matches its manifest
-and its figures, summary and validation rows are rebuilt from its committed tables by target
-`published` without a simulation; and the publishing steps, end to end on the CI run's drying
-ensemble."""
+and its figures, summary and validation rows are rebuilt from its committed tables (check 12:
+decided again from its summaries) by target `published` without a simulation; and the
+publishing steps, end to end on the CI run's drying ensemble and on check 12's summaries."""
 
 from __future__ import annotations
 
@@ -20,6 +20,8 @@ from craquelure.archive import verify
 from craquelure.drying.figures import COMPARISON
 from craquelure.drying.figures import FIGURES as DRYING_FIGURES
 from craquelure.drying.published import publish
+from craquelure.impact.published import publish as publish_check12
+from tests.impact.test_published import _inputs as check12_inputs
 from tests.workflow.test_snakemake import snakemake, workflow_copy
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -60,7 +62,8 @@ def test_only_a_criterion_variant_goes_without_verdicts(folder):
 def test_rebuilt_from_the_committed_tables(tmp_path, folder):
     """The figures, summary and rows rebuilt by target `published` from the committed tables
     decide as the committed ones do, number for number; with the companions the folder names
-    (committed beside it), so that the figures comparing them are rebuilt too."""
+    (committed beside it), so that the figures comparing them are rebuilt too. Check 12's
+    folder is decided again from its summaries' per-run measurements, row for row."""
     work = workflow_copy(tmp_path)
     companions = json.loads((folder / "provenance.json").read_text()).get("companions", [])
     for name in [folder.name, *companions]:
@@ -68,6 +71,11 @@ def test_rebuilt_from_the_committed_tables(tmp_path, folder):
             shutil.copytree(folder.parent / name, work / "results/published" / name)
     proc = snakemake(work, "published", "--cores", "1", timeout=1800)
     assert proc.returncode == 0, proc.stderr[-3000:]
+    if (folder / "summary_rate.json").is_file():  # check 12 of the impact campaign
+        rebuilt = work / "results/impact_published" / folder.name
+        rows = json.loads((rebuilt / "validation.json").read_text())["claims"]
+        assert rows == json.loads((folder / "validation.json").read_text())["claims"]
+        return
     rebuilt = work / "results/drying_published" / folder.name
     summary = json.loads((rebuilt / "summary.json").read_text())
     assert _judged(summary) == _judged(json.loads((folder / "summary.json").read_text()))
@@ -75,6 +83,18 @@ def test_rebuilt_from_the_committed_tables(tmp_path, folder):
     assert rows == json.loads((folder / "validation.json").read_text())["claims"]
     for png in (folder / "figures").glob("*.png"):
         assert (rebuilt / "figures" / png.name).stat().st_size > 10_000
+
+
+def test_check12_folder_decided_again_by_target_published(tmp_path):
+    """A check-12 folder installed in the workflow is decided again by target `published`
+    (rule impact_published), row for row, beside no drying archive."""
+    work = workflow_copy(tmp_path)
+    dest = publish_check12(*check12_inputs(tmp_path), work / "results/published/check12-ci")
+    proc = snakemake(work, "published", "--cores", "1")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    rebuilt = work / "results/impact_published/check12-ci/validation.json"
+    assert (json.loads(rebuilt.read_text())["claims"]
+            == json.loads((dest / "validation.json").read_text())["claims"])
 
 
 @pytest.fixture(scope="module")

@@ -321,15 +321,45 @@ if IMPACT_RATE:
         script:
             "../scripts/impact_judged_figures.py"
 
-    # results/published/impact-check12/: both summaries, check 12's report rows (with and
-    # without rate effects) and the judged-run pictures, with a SHA-256 manifest
-    # (craquelure verify results/published/impact-check12).
+    # results/published/impact-check12/: both summaries (every run's measurements per case),
+    # check 12's rows with and without rate effects, the judged-run pictures, the
+    # static-strength sensitivity, the runs' commits and CPU time, and a SHA-256 manifest
+    # (craquelure.impact.published; craquelure verify results/published/impact-check12).
+    IMPACT_CHECK12_RUNS = (
+        impact_workflow.campaign_runs(IMPACT)
+        + impact_workflow.campaign_runs_3d(IMPACT)
+        + IMPACT_RATE_RUNS
+    )
+
     rule impact_publish_check12:
         input:
             summaries=["results/impact/summary.json", "results/impact/summary_rate.json"],
-            figures=[*IMPACT_JUDGED_PNG.values(), *IMPACT_RATE_PNG.values()],
+            figures=[
+                *IMPACT_JUDGED_PNG.values(),
+                *IMPACT_RATE_PNG.values(),
+                *(
+                    ["results/impact/figures/impact_strength_sweep.png"]
+                    if impact_workflow.strength_runs(IMPACT)
+                    else []
+                ),
+            ],
+            extra=(
+                ["results/impact/strength_sweep.json"]
+                if impact_workflow.strength_runs(IMPACT)
+                else []
+            ),
+            runs=IMPACT_CHECK12_RUNS,
         output:
             directory("results/published/impact-check12"),
+        params:
+            profile=config["profile"],
+            distribution=IMPACT["distribution"],
+            scenes=[IMPACT_SCENE, IMPACT_RATE["scene"]]
+            + sorted(impact_workflow.three_d_scenes(IMPACT)),
+            benchmarks=[
+                run.replace("results/impact/", "benchmarks/results/impact_run/", 1)[:-3] + ".tsv"
+                for run in IMPACT_CHECK12_RUNS
+            ],
         log:
             "logs/impact_publish_check12.log",
         threads: 1

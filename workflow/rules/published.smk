@@ -9,6 +9,9 @@
 from craquelure.drying.figures import COMPARISON
 
 PUBLISHED_DRYING = glob_wildcards("results/published/{name}/tables/common.json").name
+# Archived check 12 of the impact campaign (craquelure.impact.published): rule impact_published
+# decides it again from the committed summaries' per-run measurements.
+PUBLISHED_IMPACT = glob_wildcards("results/published/{name}/summary_rate.json").name
 PUBLISHED_OUTPUTS = ["summary.json", "validation.json", "validation.html"] + [
     f"figures/drying_{name}.png" for name in DRYING_FIGURES
 ]
@@ -21,6 +24,7 @@ localrules:
     drying_published,
     drying_published_companions,
     drying_publish_tables,
+    impact_published,
     published,
 
 
@@ -74,8 +78,32 @@ rule drying_published_companions:
         "../scripts/drying_published_companions.py"
 
 
+rule impact_published:
+    input:
+        "results/published/{name}/summary.json",
+        "results/published/{name}/summary_rate.json",
+        "results/published/{name}/provenance.json",
+    output:
+        [
+            f"results/impact_published/{{name}}/{path}"
+            for path in ("summary.json", "summary_rate.json", "validation.json")
+        ],
+    params:
+        published=lambda wildcards, input: Path(input[0]).parent,
+        outdir=lambda wildcards, output: Path(output[0]).parent,
+    log:
+        "logs/impact_published/{name}.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    script:
+        "../scripts/impact_published.py"
+
+
 rule published:
     input:
+        [f"results/impact_published/{name}/validation.json" for name in PUBLISHED_IMPACT],
         [
             f"results/drying_published/{name}/{path}"
             for name in PUBLISHED_DRYING

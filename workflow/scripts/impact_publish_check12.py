@@ -1,36 +1,29 @@
-"""Publish check 12 (with and without CSCM's rate effects): both summaries, the report rows of
-both tallies (CHECK12.md, rendered from the summaries), the judged-run pictures and a SHA-256
-manifest (``craquelure verify results/published/impact-check12``)."""
+"""Snakemake script of rule impact_publish_check12: check 12's archive
+(craquelure.impact.published): both summaries, their rows, the judged-run pictures, the
+static-strength sensitivity, the runs' commits and measured cost, and a SHA-256 manifest
+(``craquelure verify results/published/impact-check12``)."""
 
-import shutil
 import sys
-from pathlib import Path
 
-from craquelure.archive import MANIFEST, manifest_text, sha256_file
-from craquelure.impact.claims import claims
+from craquelure.impact.published import cpu_seconds, publish
+from craquelure.io import open_dataset
+from craquelure.provenance import git_commit
 
 if "snakemake" in globals():
     smk = snakemake  # noqa: F821
     sys.stderr = sys.stdout = open(smk.log[0], "w")  # noqa: SIM115
-    out = Path(smk.output[0])
-    (out / "figures").mkdir(parents=True, exist_ok=True)
-    for src in smk.input.summaries:
-        shutil.copyfile(src, out / Path(src).name)
-    for src in smk.input.figures:
-        shutil.copyfile(src, out / "figures" / Path(src).name)
-    rows = claims([Path(p) for p in smk.input.summaries])
-    tally: dict[str, dict[str, int]] = {}
-    lines = ["| claim | verdict | deciding number | figure |", "|---|---|---|---|"]
-    for c in rows:
-        group = c.claim.split("]")[0].lstrip("[")
-        tally.setdefault(group, {})
-        tally[group][c.verdict] = tally[group].get(c.verdict, 0) + 1
-        lines.append(f"| {c.claim} | {c.verdict} | {c.deciding} | {c.figure} |")
-    head = ["# Check 12, with and without CSCM's rate effects", ""]
-    head += [f"- {group}: " + ", ".join(f"{n} {s}" for s, n in sorted(t.items()))
-             for group, t in tally.items()]
-    (out / "CHECK12.md").write_text("\n".join([*head, "", *lines]) + "\n")
-    files = sorted(p for p in out.rglob("*") if p.is_file() and p.name != MANIFEST)
-    (out / MANIFEST).write_text(manifest_text(
-        {p.relative_to(out).as_posix(): sha256_file(p) for p in files}))
-    print(f"published {len(files)} files to {out}")
+    commits, dims = set(), {}
+    for path in smk.input.runs:
+        with open_dataset(path) as ds:
+            commits.add(str(ds.attrs.get("git_commit", "")))
+            dim = f"{int(ds.attrs.get('dim', 2))}D"
+            dims[dim] = dims.get(dim, 0) + 1
+    seconds = cpu_seconds(smk.params.benchmarks)
+    provenance = {"profile": smk.params.profile, "distribution": smk.params.distribution,
+                  "scenes": smk.params.scenes, "git_commit": git_commit(),
+                  "run_git_commits": sorted(commits), "n_runs": len(smk.input.runs),
+                  "n_runs_by_dim": dims, "cpu_seconds": seconds,
+                  "cpu_hours_total": seconds / 3600.0}
+    dest = publish(smk.input.summaries, [*smk.input.figures], provenance, smk.output[0],
+                   smk.input.extra)
+    print(f"published {dest}: {len(smk.input.runs)} runs, {seconds / 3600:.2f} CPU-hours")

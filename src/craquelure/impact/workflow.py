@@ -80,7 +80,7 @@ def with_rate_effects(section: dict) -> dict | None:
             "three_d": {**section.get("three_d", {}), **rate.get("three_d", {})}}
 
 
-def _three_d_scenes(section: dict) -> set[str]:
+def three_d_scenes(section: dict) -> set[str]:
     """The 3D campaign's scene and, with ``impact.rate``, its rate-effects twin."""
     cfgs = (three_d(section), three_d(with_rate_effects(section) or {"dims": []}))
     return {cfg["scene"] for cfg in cfgs if cfg is not None}
@@ -89,7 +89,7 @@ def _three_d_scenes(section: dict) -> set[str]:
 def three_d_overrides(section: dict):
     """`--set` arguments of the 3D campaign's own scene overrides (``three_d.set``, e.g. a
     shorter ``outputs.t_end`` in a small profile) for runs of its scenes; none otherwise."""
-    cfg, scenes = three_d(section), _three_d_scenes(section)
+    cfg, scenes = three_d(section), three_d_scenes(section)
 
     def overrides(wildcards) -> str:
         if wildcards.scene not in scenes:
@@ -101,7 +101,7 @@ def three_d_overrides(section: dict):
 def run_resource(section: dict, key: str):
     """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_run: the 3D campaign's
     value for runs of its scenes, the 2D section's otherwise (a function of the wildcards)."""
-    cfg, scenes = three_d(section), _three_d_scenes(section)
+    cfg, scenes = three_d(section), three_d_scenes(section)
 
     def value(wildcards) -> int:
         return cfg[key] if wildcards.scene in scenes else section[key]
