@@ -121,5 +121,10 @@ def test_rows_with_rate_effects_say_so_and_show_their_pictures(tmp_path):
                                    "[with rate effects]")) for c in out)
     assert {c.figure for c in out if c.claim.startswith("[3D")} <= {
         "impact_judged_rate_opening_maps.png", "impact_judged_rate_time_sequence.png"}
+    # the 2D and contact-force figures draw the runs without rate effects: no picture here
+    two = [dict(f, dim="2D") for f in SUMMARY["findings"]]
+    path.write_text(json.dumps(dict(SUMMARY, findings=two, material_model_by_dim={
+        "2D": ["cap+rate_effects"]})))
+    assert {c.figure for c in claims.claims([path]) if not c.claim.startswith("[3D")} == {""}
     with pytest.raises(ValueError, match="unexpected source"):
         claims.claims([tmp_path / "other.json"])

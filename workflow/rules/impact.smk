@@ -322,7 +322,7 @@ if IMPACT_RATE:
             "../scripts/impact_judged_figures.py"
 
     # results/published/impact-check12/: both summaries (every run's measurements per case),
-    # check 12's rows with and without rate effects, the judged-run pictures, the
+    # check 12's rows with and without rate effects, the report and judged-run pictures, the
     # static-strength sensitivity, the runs' commits and CPU time, and a SHA-256 manifest
     # (craquelure.impact.published; craquelure verify results/published/impact-check12).
     IMPACT_CHECK12_RUNS = (
@@ -335,6 +335,7 @@ if IMPACT_RATE:
         input:
             summaries=["results/impact/summary.json", "results/impact/summary_rate.json"],
             figures=[
+                *IMPACT_PNG.values(),
                 *IMPACT_JUDGED_PNG.values(),
                 *IMPACT_RATE_PNG.values(),
                 *(
