@@ -317,6 +317,27 @@ def test_verdicts_show_the_figures_beside_the_report(hooks, tmp_path, monkeypatc
     assert hooks.marked_figures() == [report.parent / "figures" / "a.png"]
 
 
+def test_verdicts_show_the_figures_named_by_also(hooks, tmp_path, monkeypatch):
+    """`also=` shows figures beside the report that no row names (and copies them into the
+    site); one that is not there fails the build."""
+    import json
+
+    monkeypatch.setattr(hooks, "ROOT", tmp_path)
+    report = tmp_path / "results" / "published" / "x" / "validation.json"
+    (report.parent / "figures").mkdir(parents=True)
+    (report.parent / "figures" / "sweep.png").write_bytes(b"\x89PNG")
+    rows = [{"model": "impact", "claim": "c1", "verdict": "partly", "figure": ""}]
+    report.write_text(json.dumps({"profile": "p", "claims": rows}))
+    (tmp_path / "docs").mkdir()
+    marker = "{{ verdicts: results/published/x/validation.json model=impact also=sweep.png }}\n"
+    (tmp_path / "docs" / "impact.md").write_text(marker)
+    out = hooks.expand_markers(marker, "impact.md")
+    assert out.rstrip().endswith("(figures/results/published/x/figures/sweep.png)")
+    assert hooks.marked_figures() == [report.parent / "figures" / "sweep.png"]
+    with pytest.raises(hooks.PluginError, match="figure gone.png"):
+        hooks.expand_markers(marker.replace("sweep.png", "gone.png"), "impact.md")
+
+
 def test_companions_show_their_rows_and_the_comparison_figures(hooks, tmp_path, monkeypatch):
     """`{{ companions: ... }}` shows each companion ensemble of a report with its setting and
     rows (a verdict, or "not judged" and why) and the comparison figures beside the report

@@ -20,7 +20,8 @@
   retyped: a line ``{{ include: path/from/repo.md }}`` is replaced by that Markdown file (a
   ``.json`` file becomes a table: a list of rows, or a mapping of names to values), and
   ``{{ verdicts: path/to/validation.json model=drying }}`` by the model's rows of a validation
-  report (claim, verdict, what was measured, the figure when it lies beside the report);
+  report (claim, verdict, what was measured, the figure when it lies beside the report; with
+  ``also=a.png,b.png`` those figures beside it below the rows);
   ``{{ companions: path/to/validation.json }}`` by the rows of the companion ensembles shown
   beside that report's (each with its setting, verdicts or why it has none) and the comparison
   figures beside it (``figures/drying_companions_*.png``). A marker whose file does not exist
@@ -259,8 +260,22 @@ def figure_path(report: Path, name: str) -> Path | None:
     return None
 
 
-def verdicts_table(report: Path, model: str, site_path: str) -> str:
-    """A validation report's rows of ``model``: a tally line, then one row per claim."""
+def also_figures(report: Path, also: str) -> list[Path]:
+    """The figures a ``{{ verdicts: ... also=a.png,b.png }}`` marker shows below the rows
+    (beside the report, named by no row: e.g. a sensitivity's); one that is not there fails."""
+    found = []
+    for name in filter(None, also.split(",")):
+        fig = figure_path(report, name)
+        if fig is None:
+            raise PluginError(f"{report.relative_to(ROOT)}: figure {name} (also=) is not beside "
+                              "the report")
+        found.append(fig)
+    return found
+
+
+def verdicts_table(report: Path, model: str, site_path: str, also: str = "") -> str:
+    """A validation report's rows of ``model``: a tally line, then one row per claim, then
+    the ``also`` figures (:func:`also_figures`)."""
     data = json.loads(report.read_text())
     rows = [c for c in data.get("claims", []) if c.get("model") == model]
     if not rows:
@@ -280,7 +295,8 @@ def verdicts_table(report: Path, model: str, site_path: str) -> str:
         table.append({"claim (source)": plain(f"{row['claim']} ({row.get('source', '')})"),
                       "verdict": f"**{row['verdict']}**",
                       "measured": plain(row.get("measured", "")), "figure": shown})
-    return head + ".\n\n" + markdown_table(table)
+    return "\n\n".join([head + ".", markdown_table(table)]
+                       + [_figure_link(f, site_path) for f in also_figures(report, also)])
 
 
 def _figure_link(fig: Path, site_path: str) -> str:
@@ -321,7 +337,7 @@ def expand_markers(markdown: str, site_path: str) -> str:
         if kind == "verdicts":
             if "model" not in options:
                 raise PluginError(f"{site_path}: {{{{ verdicts: {path} }}}} needs model=<model>")
-            return verdicts_table(full, options["model"], site_path)
+            return verdicts_table(full, options["model"], site_path, options.get("also", ""))
         if kind == "companions":
             return companions_section(full, site_path)
         if full.suffix == ".json":
@@ -342,6 +358,8 @@ def marked_figures() -> list[Path]:
             if m.group(1) == "verdicts" and report.is_file():
                 found += [f for c in json.loads(report.read_text()).get("claims", [])
                           if (f := figure_path(report, c.get("figure", ""))) is not None]
+                options = dict(o.split("=", 1) for o in m.group(3).split())
+                found += also_figures(report, options.get("also", ""))
             if m.group(1) == "companions" and report.is_file():
                 found += companion_figures(report)
     return sorted(set(found))
