@@ -64,7 +64,8 @@ def readme(summaries: Sequence[dict], rows: list, provenance: dict) -> str:
         sub = [c for c in rows if label in c.claim]
         counts = ", ".join(f"{n} {v}" for v, n in tally(sub).get("impact", {}).items() if n)
         lines.append(f"- {label}: scene {summary['scene']}, {summary['n_runs']} runs; {counts}")
-    lines += [f"- runs of commit(s) {', '.join(provenance['run_git_commits'])}; "
+    lines += [f"- the check-12 runs (the sensitivity's not counted): commit(s) "
+              f"{', '.join(provenance['run_git_commits'])}; "
               f"{provenance['cpu_hours_total']:.2f} CPU-hours", "",
               "| claim | verdict | deciding number | figure |", "|---|---|---|---|"]
     lines += [f"| {c.claim} | {c.verdict} | {c.deciding} | {c.figure} |" for c in rows]
