@@ -13,7 +13,6 @@ kernel (commit 2b0c038) are rows of their own.
 from __future__ import annotations
 
 import argparse
-import csv
 import subprocess
 from collections import defaultdict
 from pathlib import Path
@@ -21,17 +20,15 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from craquelure.archive import benchmark_cpu_seconds
+
 ROOT = Path(__file__).resolve().parent.parent
 CLUSTER_KERNEL = "2b0c038"
 CAMPAIGN_SEEDS = 100
 
 
 def cpu_time(rule: str, scene: str, seed: str) -> float | None:
-    path = ROOT / "benchmarks" / "results" / rule / scene / f"{seed}.tsv"
-    if not path.is_file():
-        return None
-    with open(path, newline="") as fh:
-        return float(next(csv.DictReader(fh, delimiter="\t"))["cpu_time"])
+    return benchmark_cpu_seconds(ROOT / "benchmarks" / "results" / rule / scene / f"{seed}.tsv")
 
 
 def kernel(commit: str) -> str:

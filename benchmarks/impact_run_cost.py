@@ -12,22 +12,16 @@ A benchmark file times the last job of a run only, so a run resumed from a check
 from __future__ import annotations
 
 import argparse
-import csv
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
+from craquelure.archive import benchmark_cpu_seconds
+
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "results" / "impact"
-
-
-def cpu_time(benchmark: Path) -> float | None:
-    if not benchmark.is_file():
-        return None
-    with open(benchmark, newline="") as fh:
-        return float(next(csv.DictReader(fh, delimiter="\t"))["cpu_time"])
 
 
 def benchmark_of(run: Path) -> Path:
@@ -59,7 +53,7 @@ def rows() -> list[dict]:
         g = groups[(scene, overrides.get("numerics.kappa", "-"))]
         g["steps"].append(int(a["run_steps"]))
         if int(a.get("run_resumed_at_step", 0)) == 0:
-            cpu = cpu_time(benchmark_of(run))
+            cpu = benchmark_cpu_seconds(benchmark_of(run))
             if cpu is not None:
                 g["cpu"].append(cpu)
     return [{"scene": scene, "kappa": kappa, **g} for (scene, kappa), g in sorted(groups.items())]

@@ -127,3 +127,12 @@ def test_bad_paths(project):
         build_archive(project / "a.tar.gz", ["results/none.nc"])
     with pytest.raises(CraquelureError, match="relative path"):
         build_archive(project / "a.tar.gz", [str(project / "config/ci.yaml")])
+
+
+def test_benchmark_cpu_seconds_reads_the_jobs_cpu_time(tmp_path):
+    from craquelure.archive import benchmark_cpu_seconds
+
+    path = tmp_path / "job.tsv"
+    path.write_text("s\th:m:s\tmax_rss\tcpu_time\n12.5\t0:00:12\t100.0\t11.25\n")
+    assert benchmark_cpu_seconds(path) == 11.25
+    assert benchmark_cpu_seconds(tmp_path / "absent.tsv") is None

@@ -14,6 +14,7 @@ what lets anyone check later that nothing changed.
 
 from __future__ import annotations
 
+import csv
 import hashlib
 import io
 import os
@@ -28,6 +29,15 @@ MANIFEST = "MANIFEST.sha256"
 # Snakemake's marker in a directory() output written after the job (an archived folder made by
 # a rule carries it): no part of the result, never in a manifest.
 SNAKEMAKE_MARKER = ".snakemake_timestamp"
+
+
+def benchmark_cpu_seconds(path: str | Path) -> float | None:
+    """CPU seconds of the job a Snakemake benchmark file times (its ``cpu_time``), or None
+    when the file does not exist (a job run outside Snakemake)."""
+    if not Path(path).is_file():
+        return None
+    with open(path, newline="") as fh:
+        return float(next(csv.DictReader(fh, delimiter="\t"))["cpu_time"])
 
 
 def sha256_file(path: str | Path) -> str:

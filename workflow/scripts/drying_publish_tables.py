@@ -7,13 +7,13 @@ drying.companions).
 Outside Snakemake: ``python workflow/scripts/drying_publish_tables.py OUTDIR RUN.nc FRAG1.nc ...``.
 """
 
-import csv
 import json
 import sys
 from pathlib import Path
 
 import numpy as np
 
+from craquelure.archive import benchmark_cpu_seconds
 from craquelure.drying.published import write_tables
 from craquelure.io import open_dataset, write_dataset, write_text_atomic
 from craquelure.provenance import git_commit
@@ -25,13 +25,7 @@ SNAPSHOT_VARIABLES = ("x", "y", "alive", "mean_stress")
 
 def cpu_seconds(paths: list[str]) -> dict[str, float]:
     """CPU seconds of each Snakemake benchmark file that exists (the jobs' measured cost)."""
-    out = {}
-    for path in paths:
-        if Path(path).is_file():
-            with open(path, newline="") as fh:
-                row = next(csv.DictReader(fh, delimiter="\t"))
-            out[Path(path).stem] = float(row["cpu_time"])
-    return out
+    return {Path(p).stem: cpu for p in paths if (cpu := benchmark_cpu_seconds(p)) is not None}
 
 
 def main(outdir: str, run: str, fragments: list[str], benchmarks: dict[str, list[str]],

@@ -10,13 +10,13 @@ simulation (target ``published``), and the rows it writes must equal the committ
 
 from __future__ import annotations
 
-import csv
 import json
 import shutil
 from collections import defaultdict
 from collections.abc import Sequence
 from pathlib import Path
 
+from craquelure.archive import benchmark_cpu_seconds
 from craquelure.errors import CraquelureError
 from craquelure.impact import check12
 from craquelure.impact.claims import claims, with_rate
@@ -43,12 +43,7 @@ def findings_from_cases(summary: dict, distribution: str) -> list[dict]:
 
 def cpu_seconds(benchmarks: Sequence[str | Path]) -> float:
     """CPU seconds of the Snakemake benchmark files that exist (the runs' measured cost)."""
-    total = 0.0
-    for path in map(Path, benchmarks):
-        if path.is_file():
-            with open(path, newline="") as fh:
-                total += float(next(csv.DictReader(fh, delimiter="\t"))["cpu_time"])
-    return total
+    return sum(filter(None, map(benchmark_cpu_seconds, benchmarks)))
 
 
 def readme(summaries: Sequence[dict], rows: list, provenance: dict) -> str:
