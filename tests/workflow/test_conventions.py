@@ -25,7 +25,7 @@ LOCAL_RULES = {
     "drying_validation", "drying_transition", "drying_transition_figure",
     "drying_transition_study", "drying_kappa_figure",
     "drying_published", "drying_published_companions", "drying_publish_tables", "published",
-    "impact_summary", "impact_figures", "impact_judged_figures",
+    "impact_summary", "impact_figures", "impact_judged_figures", "impact_published",
     "lattice_glen_figure", "lattice_scene_figure",
     "softdyn_sweep", "softdyn_fig4", "softdyn_fig3", "softdyn_pair_figure", "softdyn_summary",
 }
