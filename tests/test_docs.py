@@ -293,7 +293,8 @@ def test_model_pages_read_as_a_manual():
         for heading in ("## The model", "## Scenes and keys", "## How to run it",
                         "## What it shows now", "## Departures from the source", "## Cost"):
             assert heading in text, (model, heading)
-        assert re.search(rf"^\{{\{{ verdicts: \S+ model={model}( \w+=\S+)* \}}\}}$", text, re.M), model
+        marker = rf"^\{{\{{ verdicts: \S+ model={model}( \w+=\S+)* \}}\}}$"
+        assert re.search(marker, text, re.M), model
         assert not re.search(r"20\d\d-\d\d-\d\d|measured on|under load", text), model
 
 
