@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 from craquelure.impact.analysis import run_metrics
-from craquelure.impact.figures import _opening_panel, _wrapped
+from craquelure.impact.figures import MAP_DPI, _opening_panel, _wrapped
 from craquelure.impact.regime import MAIN_CRACKS
 from craquelure.io import open_dataset, write_text_atomic
 from craquelure.plotting import plt, save
@@ -48,7 +48,7 @@ def figure_strength_sweep(rows: list[dict], out: Path, label: str) -> None:
         fig.colorbar(sc, ax=axes, shrink=0.6, label="largest pair opening [mm]")
     fig.suptitle(_wrapped(f"static f_t sensitivity, opening maps at the end (3D mid-layer); "
                           f"{label}", len(keys)), fontsize=8)
-    save(fig, out, tight=False)
+    save(fig, out, dpi=MAP_DPI, tight=False)
 
 
 if "snakemake" in globals():

@@ -180,6 +180,10 @@ def fragments(ds) -> np.ndarray:
     return np.sort(sizes[sizes > 0])[::-1]
 
 
+# The opening-map figures hold tens of scatter panels: at the default 120 dpi each was 2-3 MB.
+MAP_DPI = 80
+
+
 def _opening_panel(ax, ds, x=None, y=None, vmax=2.0):
     idx, per = particle_opening(ds, x, y)
     xs = (ds["x"].values if x is None else x)[idx]
@@ -228,7 +232,7 @@ def figure_opening_maps(runs_by_kappa: dict, out: Path, label: str) -> None:
         fig.colorbar(sc, ax=axes, shrink=0.6, label="largest pair opening [mm]")
     fig.suptitle(_wrapped(f"opening maps at the end, {', '.join(sorted(dims))}; {label}", cols),
                  fontsize=8)
-    save(fig, out, tight=False)
+    save(fig, out, dpi=MAP_DPI, tight=False)
 
 
 def figure_time_sequence(runs, out: Path, label: str) -> None:
@@ -252,7 +256,7 @@ def figure_time_sequence(runs, out: Path, label: str) -> None:
                               fontsize=6)
     fig.colorbar(sc, ax=axes, shrink=0.7, label="largest pair opening [mm]")
     fig.suptitle(_wrapped(f"time sequence, {_dim_label(rows[0])}; {label}", cols), fontsize=8)
-    save(fig, out, tight=False)
+    save(fig, out, dpi=MAP_DPI, tight=False)
 
 
 ENERGY_TERMS = ("kinetic", "elastic", "plastic", "damage", "unattributed", "viscous",
