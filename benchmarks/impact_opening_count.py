@@ -9,14 +9,17 @@ opening over two gaps is one crack.
 
 The independent count is compared with the project's main-crack count; with ``--threshold w_c``
 (the project's own threshold) it is compared with the project's count over all the centre row's
-runs, main cracks or not, which it must equal. With several runs the output ends with a tally.
+runs, main cracks or not, which it must equal. With several runs the output ends with a tally
+per threshold (``--tally FILE.json`` writes it as rows).
 
-    .venv/bin/python benchmarks/impact_opening_count.py RUN.nc [RUN.nc ...] [--threshold 2e-4 | w_c]
-        [--brief] [--out FILE]
+    .venv/bin/python benchmarks/impact_opening_count.py RUN.nc [RUN.nc ...]
+        [--threshold 2e-4 | w_c ...] [--brief] [--out FILE] [--tally FILE.json]
 """
 
 import argparse
+import json
 import math
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -58,8 +61,9 @@ def independent_count(ds, threshold: float) -> tuple[int, list[tuple[float, floa
     return cracks, runs
 
 
-def report(path: Path, threshold: str, brief: bool = False) -> tuple[list[str], bool]:
-    """The lines comparing one run's counts (one line if ``brief``), and whether they agree."""
+def report(path: Path, threshold: str, brief: bool = False) -> tuple[list[str], int, int, str]:
+    """The lines comparing one run's counts (one line if ``brief``), the independent count, the
+    project's count it is compared with, and which count that is."""
     ds = open_dataset(path)
     m = run_metrics(ds)
     cut = m["opening_w_c"] if threshold == "w_c" else float(threshold)
@@ -72,7 +76,8 @@ def report(path: Path, threshold: str, brief: bool = False) -> tuple[list[str], 
     agree = n == against
     if brief:
         return [f"{path}: project {m['n_main_cracks_opening']} main cracks, {row_total} in the "
-                f"centre row's runs; independent {n}; agree {agree}"], agree
+                f"centre row's runs; independent {n} (> {1e3 * cut:.4g} mm); agree {agree}"], \
+            n, against, what
     lines = [f"run {path} (scene impact/{ds.attrs.get('scene_name')}, seed "
              f"{ds.attrs.get('seed')}, kappa {m['kappa']:g}, {ds.attrs.get('material_model')}, "
              f"commit {str(ds.attrs.get('git_commit', ''))[:7]}, t_end "
@@ -91,30 +96,42 @@ def report(path: Path, threshold: str, brief: bool = False) -> tuple[list[str], 
              f"{1e-3 * float(ds['series_contact_force'].values.max()):.1f} kN"
              + (f", strength-to-load ratio {float(ds['strength_to_load']):.3f}"
                 if "strength_to_load" in ds else "")]
-    return lines, agree
+    return lines, n, against, what
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("runs", type=Path, nargs="+")
-    ap.add_argument("--threshold", default="2e-4",
-                    help="opening threshold [m], or w_c for the project's own (default 2e-4)")
+    ap.add_argument("--threshold", action="append",
+                    help="opening threshold [m], or w_c for the project's own (default 2e-4); "
+                         "repeat for several")
     ap.add_argument("--brief", action="store_true", help="one line per run")
     ap.add_argument("--out", type=Path, help="also write the lines to this file")
+    ap.add_argument("--tally", type=Path, help="write the tally per threshold to this JSON file")
     args = ap.parse_args()
-    lines, disagree = [], []
-    for path in args.runs:
-        block, agree = report(path, args.threshold, args.brief)
-        lines += block if args.brief else block + [""]
-        if not agree:
-            disagree.append(path.as_posix())
-    if len(args.runs) > 1:
-        lines.append(f"agree in {len(args.runs) - len(disagree)} of {len(args.runs)} runs"
-                     + (f"; not in {', '.join(disagree)}" if disagree else ""))
+    lines, tally = [], []
+    for threshold in args.threshold or ["2e-4"]:
+        differences, what = Counter(), ""
+        for path in args.runs:
+            block, n, against, what = report(path, threshold, args.brief)
+            lines += block if args.brief else block + [""]
+            differences[n - against] += 1
+        tally.append({"threshold": threshold if threshold == "w_c"
+                      else f"{1e3 * float(threshold):g} mm",
+                      "compared with the project's": what, "runs": len(args.runs),
+                      "agree": differences[0],
+                      "independent minus project: runs": ", ".join(
+                          f"{d:+d}: {k}" for d, k in sorted(differences.items()))})
+        if len(args.runs) > 1:
+            lines.append(f"threshold {tally[-1]['threshold']}: agree in {differences[0]} of "
+                         f"{len(args.runs)} runs; independent minus project: "
+                         f"{tally[-1]['independent minus project: runs']}")
     print("\n".join(lines))
-    if args.out:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text("\n".join(lines) + "\n")
+    for path, text in ((args.out, "\n".join(lines) + "\n"),
+                       (args.tally, json.dumps(tally, indent=1) + "\n")):
+        if path:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(text)
 
 
 if __name__ == "__main__":
