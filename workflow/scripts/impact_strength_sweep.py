@@ -16,13 +16,15 @@ from craquelure.scene import load_scene
 def strength_row(path: Path, base_f_t: float) -> dict:
     """One run of the static-strength sensitivity (``impact.strength_sweep``): its f_t factor
     over ``base_f_t`` (the scene's), specimen, main cracks by opening and where they cross the
-    centre row, the main run's share and the strength-to-load ratio."""
+    centre row (a run of k opened gaps counts ceil(k/2): one wide band counts many), the main
+    run's share and the strength-to-load ratio."""
     ds = open_dataset(path)
     m = run_metrics(ds)
     return {"factor": round(float(m["f_t"]) / base_f_t, 6),
             "masses": str(m["distribution"]),
             "seed": int(ds.attrs.get("seed", 0)), "n_main_cracks": int(m[MAIN_CRACKS]),
-            "main_runs_x_mm": m["row_runs_x_mm"], "main_run_share": m["main_run_share"],
+            "main_runs_x_mm": m["row_runs_x_mm"], "row_runs_cracks": m["row_runs_cracks"],
+            "row_runs_opening_mm": m["row_runs_opening_mm"], "main_run_share": m["main_run_share"],
             "strength_to_load": float(ds["strength_to_load"]),
             "energy_balance_error_max": float(m["energy_balance_error_max"]),
             "path": str(path)}
@@ -42,8 +44,10 @@ def figure_strength_sweep(rows: list[dict], out: Path, label: str) -> None:
         ax = axes[factors.index(r["factor"]), keys.index((r["masses"] != "homogeneous",
                                                          r["seed"]))]
         sc = _opening_panel(ax, open_dataset(r["path"]))
-        ax.set_title(f"f_t x{r['factor']:g}, {r['masses']} seed {r['seed']}: N = "
-                     f"{r['n_main_cracks']}, F/F_s = {r['strength_to_load']:.2f}", fontsize=6)
+        runs = len([k for k in r["row_runs_cracks"].split(",") if k])
+        ax.set_title(f"f_t x{r['factor']:g}, {r['masses']} seed {r['seed']}, F/F_s = "
+                     f"{r['strength_to_load']:.2f}\nN = {r['n_main_cracks']} in {runs} "
+                     f"row run{'s' * (runs != 1)}", fontsize=6)
     if sc is not None:
         fig.colorbar(sc, ax=axes, shrink=0.6, label="largest pair opening [mm]")
     fig.suptitle(_wrapped(f"static f_t sensitivity, opening maps at the end (3D mid-layer); "
