@@ -110,8 +110,8 @@ def test_rows_off_the_source_configuration_say_they_are_sensitivities():
 
 
 def test_rows_with_rate_effects_say_so_and_show_their_pictures(tmp_path):
-    """summary_rate.json (runs with CSCM's rate effects): every row says 'with rate effects',
-    its 3D rows point at the rate campaign's judged-run pictures."""
+    """summary_rate.json (runs with CSCM's rate effects): every row says 'with rate effects'
+    and points at the rate campaign's pictures, never at those of the runs without them."""
     three = [dict(f, dim="3D") for f in SUMMARY["findings"]]
     path = tmp_path / "summary_rate.json"
     path.write_text(json.dumps(dict(SUMMARY, findings=three, material_model_by_dim={
@@ -121,10 +121,13 @@ def test_rows_with_rate_effects_say_so_and_show_their_pictures(tmp_path):
                                    "[with rate effects]")) for c in out)
     assert {c.figure for c in out if c.claim.startswith("[3D")} <= {
         "impact_judged_rate_opening_maps.png", "impact_judged_rate_time_sequence.png"}
-    # the 2D and contact-force figures draw the runs without rate effects: no picture here
     two = [dict(f, dim="2D") for f in SUMMARY["findings"]]
     path.write_text(json.dumps(dict(SUMMARY, findings=two, material_model_by_dim={
         "2D": ["cap+rate_effects"]})))
-    assert {c.figure for c in claims.claims([path]) if not c.claim.startswith("[3D")} == {""}
+    rate_figures = {c.figure for c in claims.claims([path])}
+    assert rate_figures - {""} and all(f.startswith("impact_rate_") for f in rate_figures - {""})
+    path.with_name("summary.json").write_text(json.dumps(dict(SUMMARY, findings=two)))
+    plain = {c.figure for c in claims.claims([path.with_name("summary.json")])}
+    assert rate_figures == {f.replace("impact_", "impact_rate_", 1) for f in plain}
     with pytest.raises(ValueError, match="unexpected source"):
         claims.claims([tmp_path / "other.json"])

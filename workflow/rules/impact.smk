@@ -272,6 +272,10 @@ IMPACT_RATE_PNG = {
     name: f"results/impact/figures/impact_judged_rate_{name}.png"
     for name in ("opening_maps", "time_sequence", "energy", "fragments")
 }
+# The report figures (2D runs) again for the campaign with rate effects.
+IMPACT_RATE_FIGURE_PNG = {
+    name: f"results/impact/figures/impact_rate_{name}.png" for name in IMPACT_FIGURES
+}
 
 if IMPACT_RATE:
     IMPACT_RATE_JUDGED = impact_workflow.judged_runs(IMPACT_RATE)
@@ -294,6 +298,32 @@ if IMPACT_RATE:
             runtime=10,
         script:
             "../scripts/impact_summary.py"
+
+    rule impact_figures_rate:
+        input:
+            **impact_workflow.figure_runs(IMPACT_RATE),
+            summary="results/impact/summary_rate.json",
+        output:
+            **{
+                name: report(
+                    path,
+                    caption="../report/impact_figures_rate.rst",
+                    category="Concrete impact",
+                    labels={"figure": f"2D runs with rate effects: {name}"},
+                )
+                for name, path in IMPACT_RATE_FIGURE_PNG.items()
+            },
+        params:
+            profile=config["profile"],
+            scene=IMPACT_RATE["scene"],
+        log:
+            "logs/impact_figures_rate.log",
+        threads: 1
+        resources:
+            mem_mb=IMPACT["mem_mb"],
+            runtime=10,
+        script:
+            "../scripts/impact_figures.py"
 
     rule impact_judged_figures_rate:
         input:
@@ -338,6 +368,7 @@ if IMPACT_RATE:
                 *IMPACT_PNG.values(),
                 *IMPACT_JUDGED_PNG.values(),
                 *IMPACT_RATE_PNG.values(),
+                *IMPACT_RATE_FIGURE_PNG.values(),
                 *(
                     ["results/impact/figures/impact_strength_sweep.png"]
                     if impact_workflow.strength_runs(IMPACT)
@@ -438,7 +469,11 @@ TARGETS["impact"] = [
     "results/impact/figures/impact_regime_map.png",
 ]
 if IMPACT_RATE:
-    TARGETS["impact"] += ["results/impact/summary_rate.json", *IMPACT_RATE_PNG.values()]
+    TARGETS["impact"] += [
+        "results/impact/summary_rate.json",
+        *IMPACT_RATE_PNG.values(),
+        *IMPACT_RATE_FIGURE_PNG.values(),
+    ]
 if IMPACT_STRENGTH_RUNS:
     TARGETS["impact"] += [
         "results/impact/strength_sweep.json",

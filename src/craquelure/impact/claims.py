@@ -93,14 +93,13 @@ FIGURES_3D = (("pf", "impact_judged_time_sequence.png"), ("", "impact_judged_ope
 
 
 def figure_of(finding: dict, rate: bool = False) -> str:
-    """The row's picture; none for a 2D row with rate effects (the 2D figures draw the runs
-    without them)."""
+    """The row's picture, of the rate campaign's runs for a row with rate effects
+    (``impact_judged_rate_*``, ``impact_rate_*``)."""
     if finding.get("dim", "2D") != "2D":
         name = next(name for prefix, name in FIGURES_3D if finding["finding"].startswith(prefix))
         return name.replace("judged_", "judged_rate_") if rate else name
-    if rate:
-        return ""
-    return next((name for prefix, name in FIGURES if finding["finding"].startswith(prefix)), "")
+    name = next((name for prefix, name in FIGURES if finding["finding"].startswith(prefix)), "")
+    return name.replace("impact_", "impact_rate_", 1) if rate and name else name
 
 
 def deciding_number(finding: dict) -> str:
@@ -224,8 +223,8 @@ def robustness_claim(summary: dict) -> Claim:
                          f"energy balance error < {ENERGY_BALANCE_MAX:.0%}":
                          err < ENERGY_BALANCE_MAX},
                         deciding=f"max energy error {err:.2%} (< {ENERGY_BALANCE_MAX:.0%})",
-                        # the contact-force figure draws the runs without rate effects
-                        figure="" if with_rate(summary) else "impact_contact_force.png")
+                        figure=("impact_rate_contact_force.png" if with_rate(summary)
+                                else "impact_contact_force.png"))
 
 
 def claims(sources: list[Path]) -> list[Claim]:
