@@ -8,9 +8,7 @@ The paste indicator is the SPH Shepard field on a periodic square mesh of spacin
 summed over the particles still alive, and a mesh point is paste (pixel 1) where
 :math:`\phi \ge \phi_0` (paper: :math:`\phi_0 = 0.8`, :math:`\Delta x = 0.01 h`), crack (0)
 otherwise. The image is :func:`craquelure.drying.field.mesh_image`: the direct sum (neighbour
-search), not the FFT deposition the spec also allows [D: exact], evaluated only in the blocks
-of mesh points where :math:`\phi` can cross :math:`\phi_0` (the others are classified whole
-from bounds of :math:`\phi`); the image equals that of the sum at every point, bit for bit.
+search), not the FFT deposition the spec also allows [D: exact].
 
 Edge bias: at a straight free edge of uniform paste :math:`\phi` falls to 1/2, and reaches
 :math:`\phi_0` only a depth :math:`d^*` inside the material, with
@@ -50,11 +48,9 @@ from craquelure.sph.kernels import w as kernel_w
 
 def snapshot_image(run: xr.Dataset, time_index: int, spacing_h: float, phi0: float,
                    kernel: str) -> tuple[np.ndarray, float]:
-    """Paste image of snapshot ``time_index`` of a run dataset, and the mesh spacing used
-    (``spacing_h``, ``phi0``, ``kernel``: the scene's, :func:`.analysis.analyse_run`).
-
-    Uses the particles with ``alive == 1`` and :math:`V_J = m_J/\\rho_J` at that time.
-    """
+    """Paste image of snapshot ``time_index`` of a run dataset (the live particles,
+    :math:`V_J = m_J/\\rho_J` at that time), and the mesh spacing used (``spacing_h``,
+    ``phi0``, ``kernel``: the scene's, :func:`.analysis.analyse_run`)."""
     snap = run.isel(time=time_index)
     h = float(run.attrs["h"])
     length = float(run.attrs["box_length"])
@@ -125,11 +121,8 @@ def _periodic_numbers(image: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
 
 
 def label_periodic(image: np.ndarray) -> tuple[np.ndarray, int]:
-    """4-connected labels of the 1-pixels of a periodic 2D image.
-
-    Returns ``(labels, n)``: ``labels`` is 0 on background and 1..n on fragments, numbered in
-    raster order of their first pixel.
-    """
+    """``(labels, n)``: 4-connected labels of the 1-pixels of a periodic 2D image, 0 on
+    background and 1..n on fragments, numbered in raster order of their first pixel."""
     labels, number, n = _periodic_numbers(image)
     return number[labels], n
 

@@ -105,9 +105,7 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
                                       f"{seeds[0]} in `{key}`; aggregate one scene at a time")
     if len(set(seeds)) != len(seeds):
         raise CraquelureError(f"campaign: repeated seeds {sorted(seeds)}")
-    order = np.argsort(seeds)
-    fragments = [fragments[i] for i in order]
-    seeds = [seeds[i] for i in order]
+    fragments, seeds = sorted(fragments, key=lambda ds: int(ds.attrs["seed"])), sorted(seeds)
     n_s, n_t = len(seeds), times.size
 
     count = np.stack([ds[count_key].values for ds in fragments]).astype(np.int64)
@@ -128,8 +126,7 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
         ref = np.ones(area.size, bool)
     s_max = float(area[ref].max()) if area.size else 1.0
     x_max = float(np.nanmax(x_all[ref])) if area.size else 1.0
-    s_edges = np.linspace(0.0, s_max, n_bins + 1)
-    x_edges = np.linspace(0.0, x_max, n_bins + 1)
+    s_edges, x_edges = (np.linspace(0.0, top, n_bins + 1) for top in (s_max, x_max))
     at_time = [f_time_index == k for k in range(n_t)]
     size_density = np.reshape([_density(area[sel], s_edges) for sel in at_time], (n_t, n_bins))
     scaled_density = np.reshape([_density(x_all[sel], x_edges) for sel in at_time], (n_t, n_bins))

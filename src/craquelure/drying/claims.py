@@ -211,9 +211,8 @@ def onset_claim(summary: dict, key: str = "checks") -> Claim:
 
 def thickness_claim(path: Path) -> Claim:
     ds = open_dataset(path)
-    beta = float(ds.attrs["exponent_late_mean"])
-    spread = float(ds.attrs["exponent_late_std"])
-    predicted = float(ds.attrs["predicted_exponent"])
+    beta, spread, predicted = (float(ds.attrs[key]) for key in (
+        "exponent_late_mean", "exponent_late_std", "predicted_exponent"))
     n = int(ds.attrs["n_late_times"])
     name = f"|beta - {predicted:g}| <= {THICKNESS_SIGMAS:g} s.d."
     if n > 0 and math.isfinite(beta):
@@ -238,21 +237,16 @@ TRANSITION_SOURCE = ("Szatmari, Nakahara, Kitsunezaki & Kun, arXiv:2503.06177 (a
 MIN_SIZES = 3  # finite-size scaling tests its form only with >= 3 sizes
 
 
-def _transition_setup(ds) -> str:
-    a = ds.attrs
-    sizes = ", ".join(f"L = {s:g} x {int(n)}" for s, n in
-                      zip(ds["size"].values, ds["n_seeds"].values, strict=True))
-    criterion = departure_note(str(a.get("fracture_stress_measure", SOURCE_MEASURE)))
-    return (f"runs '{a.get('variant', '')}' of {a.get('scenes', '?')} ({sizes} seeds), "
-            f"v_r = {float(a['drying_rate']):.3g} (paper 2.2e-05)"
-            + (f"; {criterion}" if criterion else ""))
-
-
 def transition_claims(path: Path) -> list[Claim]:
     """Rows against arXiv:2503.06177: the two phases, and d_c with the exponents."""
     ds = open_dataset(path)
     a = ds.attrs
-    setup = _transition_setup(ds)
+    sizes = ", ".join(f"L = {s:g} x {int(n)}" for s, n in
+                      zip(ds["size"].values, ds["n_seeds"].values, strict=True))
+    criterion = departure_note(str(a.get("fracture_stress_measure", SOURCE_MEASURE)))
+    setup = (f"runs '{a.get('variant', '')}' of {a.get('scenes', '?')} ({sizes} seeds), "
+             f"v_r = {float(a['drying_rate']):.3g} (paper 2.2e-05)"
+             + (f"; {criterion}" if criterion else ""))
     first, last = [], []  # m_max at the lowest damage with cracks and at the highest, per size
     for n, m, d in zip(ds["n"].values, ds["m_max"].values, ds["damage"].values, strict=True):
         m, cracked = m[n > 0], d[n > 0] > 0

@@ -42,8 +42,7 @@ def damage(alive: np.ndarray) -> float:
 
 
 def interface_length(image: np.ndarray, spacing: float) -> float:
-    """Length of the 0/1 interface of a periodic image (module docstring), in the units of
-    ``spacing``."""
+    """Length of the 0/1 interface of a periodic image (module docstring), in spacing's units."""
     a = np.asarray(image, dtype=bool)
     axis = (np.count_nonzero(a != np.roll(a, 1, axis=0))
             + np.count_nonzero(a != np.roll(a, 1, axis=1)))
@@ -54,8 +53,7 @@ def interface_length(image: np.ndarray, spacing: float) -> float:
 
 
 def crack_length_per_area(image: np.ndarray, spacing: float) -> float:
-    """Crack length per unit area: half the interface length (two faces per crack) over the
-    image area."""
+    """Crack length per unit area: half the interface length (two faces per crack) / area."""
     area = image.size * spacing * spacing
     return 0.5 * interface_length(image, spacing) / area
 

@@ -89,9 +89,8 @@ POWER_SEED = 20261201
 def bootstrap_weights(n_samples: int, n_boot: int, rng: np.random.Generator) -> np.ndarray:
     """(n_boot, n_samples) multiplicities of each sample in each replicate."""
     draws = rng.integers(0, n_samples, size=(n_boot, n_samples))
-    weights = np.zeros((n_boot, n_samples))
-    np.add.at(weights, (np.repeat(np.arange(n_boot), n_samples), draws.ravel()), 1.0)
-    return weights
+    return np.array([np.bincount(d, minlength=n_samples) for d in draws],
+                    float).reshape(n_boot, n_samples)
 
 
 def seeds_needed(n_s: int, decides) -> int | None:
@@ -122,11 +121,6 @@ def inverse_area_errors(y: np.ndarray, y_boot: np.ndarray, count: np.ndarray
     return np.sqrt(variance), np.sqrt(k2 / n_t) * y, float((n_s - 1) * n_times)
 
 
-def _design(t: np.ndarray, quadratic: bool) -> np.ndarray:
-    cols = [np.ones_like(t), t] + ([(t - t.mean()) ** 2] if quadratic else [])
-    return np.stack(cols, axis=1)
-
-
 def shape_tests(t: np.ndarray, y: np.ndarray, se: np.ndarray, dof_scale: float = math.inf
                 ) -> dict[str, np.ndarray]:
     """Tests (a) and (b) on data rows ``y`` (..., n_t): weighted linear and quadratic fits,
@@ -136,7 +130,7 @@ def shape_tests(t: np.ndarray, y: np.ndarray, se: np.ndarray, dof_scale: float =
     w = 1.0 / se**2
     out: dict[str, Any] = {}
     for quadratic in (False, True):
-        x = _design(t, quadratic)
+        x = np.stack([np.ones_like(t), t] + ([(t - t.mean()) ** 2] if quadratic else []), axis=1)
         cov = np.linalg.inv(x.T @ (x * w[:, None]))
         coef = y @ (cov @ (x * w[:, None]).T).T
         if not quadratic:
@@ -259,11 +253,8 @@ def check_inverse_area(t: np.ndarray, total: np.ndarray, count: np.ndarray, t_st
 
 
 def _ci(values: np.ndarray) -> list[float] | None:
-    values = np.asarray(values, float)
-    values = values[np.isfinite(values)]
-    if values.size < 2:
-        return None
-    return bootstrap_interval(values)
+    values = np.asarray(values, float)[np.isfinite(values)]
+    return bootstrap_interval(values) if values.size >= 2 else None
 
 
 # --- check 15 -----------------------------------------------------------------------------
@@ -296,11 +287,9 @@ class CollapseSample:
             mean = (weights @ self.s1) / (weights @ self.n)
             x2 = (weights @ self.s2) / (weights @ self.n) / mean**2
             cv = np.std(x2, axis=1, ddof=1) / np.mean(x2, axis=1)
-        (af, sf, tf), (al, sl, tl) = self.first, self.last
-        zero = np.zeros((weights.shape[0], 1))
-        cf = np.concatenate([zero, np.cumsum(weights[:, sf], axis=1)], axis=1)
-        cl = np.concatenate([zero, np.cumsum(weights[:, sl], axis=1)], axis=1)
-        with np.errstate(invalid="ignore", divide="ignore"):
+            # cumulative sample weights along each end's sorted sizes, normalised
+            (af, sf, tf), (al, sl, tl) = self.first, self.last
+            cf, cl = (np.cumsum(np.pad(weights[:, s], ((0, 0), (1, 0))), axis=1) for s in (sf, sl))
             cf /= cf[:, -1:]
             cl /= cl[:, -1:]
         ks = np.full(weights.shape[0], np.nan)
@@ -333,8 +322,7 @@ def drift_margins(x_first: np.ndarray, n_times: int, drift: float = WIDTH_DRIFT
     width of X - 1 scaled by 1 - drift (exact for that distribution: the large-sample limit),
     and the CV (ddof = 1) of <X^2>_t = 1 + w_t^2 Var X over ``n_times`` snapshots with w_t
     falling linearly from 1 to 1 - drift; the margins are half of each."""
-    x = np.asarray(x_first, float)
-    x = x[np.isfinite(x)]
+    x = np.asarray(x_first, float)[np.isfinite(x_first)]
     x = x / x.mean()
     ks = float(stats.ks_2samp(x, 1.0 + (x - 1.0) * (1.0 - drift)).statistic)
     w = 1.0 - drift * np.arange(n_times) / max(n_times - 1, 1)
@@ -495,26 +483,25 @@ def check_onset(times: np.ndarray, n_fragments: np.ndarray, first_removal: np.nd
     removal = np.where(np.isfinite(first_removal), first_removal, np.inf)
     picks = rng.integers(0, n_s, size=(n_boot, n_s))
 
-    def stat(values: np.ndarray, how: str) -> dict[str, Any]:
-        f = {"min": np.min, "median": np.median, "max": np.max}[how]
+    def over(v: float) -> float | None:
+        return float(v / t_star) if np.isfinite(v) else None
+
+    def stat(values: np.ndarray, f) -> dict[str, Any]:
         point = float(f(values))
         boot = f(values[picks], axis=1)
         # Never-broken samples are inf: nearest-rank percentiles keep them without nan.
         lo = np.percentile(boot, 2.5, method="lower")
         hi = np.percentile(boot, 97.5, method="higher")
-
-        def over(v: float) -> float | None:
-            return float(v / t_star) if np.isfinite(v) else None
         return {"time": point if np.isfinite(point) else None, "over_t_star": over(point),
                 "ci95_over_t_star": [over(lo), over(hi)]}
 
     out = {
         "n_samples": int(n_s), "t_star": t_star, "pi": pi_number,
-        "first_removal_earliest": stat(removal, "min"),
-        "first_removal_median": stat(removal, "median"),
-        "first_sample_broken": stat(breaks, "min"),
-        "half_samples_broken": stat(breaks, "median"),
-        "all_samples_broken": stat(breaks, "max"),
+        "first_removal_earliest": stat(removal, np.min),
+        "first_removal_median": stat(removal, np.median),
+        "first_sample_broken": stat(breaks, np.min),
+        "half_samples_broken": stat(breaks, np.median),
+        "all_samples_broken": stat(breaks, np.max),
         "unbroken_at_end": int(np.sum(~np.isfinite(breaks))),
     }
     # the share of samples still one fragment at the end, with its exact 95 % interval

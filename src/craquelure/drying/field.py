@@ -196,12 +196,10 @@ def _prepare(x, y, value, box_length, support, spacing, active):
 def mesh_field(x: np.ndarray, y: np.ndarray, value: np.ndarray, box_length: float,
                support: float, spacing: float, kernel: str = "quintic",
                active: np.ndarray | None = None) -> np.ndarray:
-    """:math:`\\sum_J value_J W(|x - r_J|; s)` on the periodic mesh of a square box.
-
-    ``spacing`` is rounded so that an integer number of mesh points tiles the box.
-    Inactive particles (``active == 0``) do not contribute. The box must be at least twice the
-    support wide (otherwise the minimum image is ambiguous, as in the neighbour search).
-    """
+    """:math:`\\sum_J value_J W(|x - r_J|; s)` on the periodic mesh of a square box, ``spacing``
+    rounded so that an integer number of points tiles it, inactive particles (``active == 0``)
+    left out. The box must be at least twice the support wide (else the minimum image is
+    ambiguous, as in the neighbour search)."""
     xw, yw, value, order, n_mesh, spacing = _prepare(x, y, value, box_length, support, spacing,
                                                      active)
     field = np.empty((n_mesh, n_mesh))

@@ -53,7 +53,6 @@ METADATA = ModelMetadata(
         "dt": ("time step", _TIME_DRYING),
         "dt_pair": ("index of the pair of consecutive time steps", "1"),
         "thickness": ("layer thickness H", _LENGTH_DRYING),
-        "alive_now": ("1 if the particle is present at the checkpoint", "1"),
         "n_seeds": ("seeds per thickness", "1"),
         "all_broken": ("1 if every sample has >= 2 fragments", "1"),
         "usable": ("1 if every thickness has every sample broken", "1"),

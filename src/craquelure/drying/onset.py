@@ -62,20 +62,19 @@ def kappa_point(run: xr.Dataset) -> dict[str, float | str]:
 def kappa_study(runs: Sequence[xr.Dataset], labels: Sequence[str]) -> xr.Dataset:
     """One dataset (dim ``point``) of :func:`kappa_point` over the study's runs."""
     rows = [kappa_point(run) for run in runs]
-    units = {"kappa_max": "1", "kappa_change": "1", "kappa_initial_stress_bound": "1",
-             "predicted_first_removal_over_t_star": "1", "min_gap": "L/sqrt(N)",
-             "h_over_spacing": "1", "drying_stress": "lambda", "n_particles": "1", "seed": "1"}
-    names = {
-        "kappa_max": "max_I sigma_bar_I / F at fixed F, fracture off",
-        "kappa_change": "change of kappa_max since the previous snapshot",
-        "kappa_initial_stress_bound": "largest shift of kappa by the initial stress, a sigma_Y/F",
-        "predicted_first_removal_over_t_star": "predicted first removal 1/kappa_max in t*",
-        "min_gap": "minimum gap of the random placement",
-        "h_over_spacing": "kernel support over the mean spacing h/Delta",
-        "drying_stress": "drying stress F held", "n_particles": "particles N", "seed": "seed",
+    names = {  # long name, units
+        "kappa_max": ("max_I sigma_bar_I / F at fixed F, fracture off", "1"),
+        "kappa_change": ("change of kappa_max since the previous snapshot", "1"),
+        "kappa_initial_stress_bound": ("largest shift of kappa by the initial stress, a "
+                                       "sigma_Y/F", "1"),
+        "predicted_first_removal_over_t_star": ("predicted first removal 1/kappa_max in t*", "1"),
+        "min_gap": ("minimum gap of the random placement", "L/sqrt(N)"),
+        "h_over_spacing": ("kernel support over the mean spacing h/Delta", "1"),
+        "drying_stress": ("drying stress F held", "lambda"), "n_particles": ("particles N", "1"),
+        "seed": ("seed", "1"),
     }
-    data = {key: ("point", np.array([r[key] for r in rows]),
-                  {"long_name": names[key], "units": units[key]}) for key in names}
+    data = {key: ("point", np.array([r[key] for r in rows]), {"long_name": name, "units": units})
+            for key, (name, units) in names.items()}
     data["mass_solve"] = ("point", np.array([r["mass_solve"] for r in rows]),
                           {"long_name": "mass solve of the initial state"})
     ds = xr.Dataset(data, coords={"point": ("point", list(labels))})

@@ -107,8 +107,7 @@ def _column(values: list[str], name: str) -> np.ndarray:
 
 
 def read_tables(folder: str | Path) -> list[xr.Dataset]:
-    """The fragment datasets (one per sample, in seed order) of the tables in
-    ``folder/tables/``."""
+    """The fragment datasets (one per sample, in seed order) of the tables in folder/tables/."""
     tables = Path(folder) / "tables"
     common_path = tables / "common.json"
     if not common_path.is_file():

@@ -8,11 +8,9 @@ Quantities (all from data):
   :math:`\log t` over the window (after the initial stage); 95 % bootstrap interval over seeds
   (resample whole samples with replacement, recompute the pooled mean, refit; percentile
   interval, fixed generator seed so the summary is reproducible).
-- The line :math:`1/\langle S\rangle_t = a + b t` is fitted once, by check 14
-  (:func:`craquelure.drying.ensemble.check_inverse_area`, weighted by the bootstrap errors):
-  its slope b over the order-of-magnitude slope
-  :math:`b^* = \mu v_r / ((\lambda+2\mu) H^2 \sigma_Y)` and its x-intercept :math:`t_0 = -a/b`
-  are quoted here and drawn in Fig. 3.
+- The line :math:`1/\langle S\rangle_t = a + b t` is check 14's weighted fit
+  (:func:`craquelure.drying.ensemble.check_inverse_area`): its slope over :math:`b^*`
+  (:func:`b_star_of`) and its x-intercept :math:`t_0 = -a/b` are quoted here and drawn in Fig. 3.
 - Onset of the scaling regime, each also divided by :math:`t^*`: median time of the first
   removal, first snapshot with every sample broken (>= 2 fragments), x-intercept :math:`t_0`,
   and the collapse onset (earliest snapshot from which on every scaled distribution is within
@@ -103,26 +101,20 @@ def _fits(times: np.ndarray, total: np.ndarray, count: np.ndarray, window: np.nd
 
 def _mean_pairwise_ks(samples: list[np.ndarray]) -> float | None:
     usable = [s for s in samples if s.size >= 2]
-    if len(usable) < 2:
-        return None
-    return float(np.mean([stats.ks_2samp(a, b).statistic
-                          for a, b in itertools.combinations(usable, 2)]))
+    distances = [stats.ks_2samp(a, b).statistic for a, b in itertools.combinations(usable, 2)]
+    return float(np.mean(distances)) if distances else None
 
 
 def _collapse(campaign: xr.Dataset, win: dict[str, Any]) -> dict[str, Any]:
-    times = campaign["time"].values.astype(float)
-    window = win["mask"]
-    raw_area = campaign["fragment_area"].values
-    raw_time = campaign["fragment_time"].values
-    x_all = campaign["fragment_scaled_area"].values
-    scaled = {float(t): x_all[raw_time == t] for t in times}
-    tk = win["collapse_times"]
-    pooled = (np.concatenate([scaled[t] for t in times[window]]) if window.any()
-              else np.zeros(0))
+    times, window, tk = campaign["time"].values.astype(float), win["mask"], win["collapse_times"]
+    raw_area, raw_time = campaign["fragment_area"].values, campaign["fragment_time"].values
+    scaled = {float(t): campaign["fragment_scaled_area"].values[raw_time == t] for t in times}
+    before = [scaled[float(t)] for t in times[:np.argmax(window) if window.any() else None]]
+    after = [scaled[float(t)] for t in times[window]]
+    pooled = np.concatenate([np.zeros(0), *after])
 
     def ks_row(t: float) -> dict[str, Any]:
-        """KS distance of the scaled sizes at t to the window-pooled ones, and its critical
-        value."""
+        """KS distance of the scaled sizes at t to the window-pooled ones, its critical value."""
         x = scaled[float(t)]
         if x.size == 0 or pooled.size == 0:
             return {"time": float(t), "n": int(x.size), "ks": None, "critical": None,
@@ -140,9 +132,6 @@ def _collapse(campaign: xr.Dataset, win: dict[str, Any]) -> dict[str, Any]:
         a, b = raw_area[raw_time == tk[0]], raw_area[raw_time == tk[-1]]
         if a.size and b.size:
             raw_ks = float(stats.ks_2samp(a, b).statistic)
-    start = np.argmax(window) if window.any() else times.size
-    before = [scaled[float(t)] for t in times[:start]]
-    after = [scaled[float(t)] for t in times[window]]
     # Collapse onset: earliest snapshot from which on all are within the critical value.
     stays = holds_from([ks_row(t)["below_critical"] for t in times])
     onset = float(times[np.argmax(stays)]) if stays.any() else None
@@ -289,8 +278,6 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
     times = campaign["time"].values.astype(float)
     h = float(attrs["h"])
     s_min = math.pi * h * h
-    # Checks 14-16 (craquelure.drying.ensemble); check 14's weighted fit is the 1/<S>_t line
-    # of the summary and the figure.
     checks = checks_of(campaign, n_boot, n_power, n_power_collapse)
     c14 = checks["check14_inverse_mean_area_linear"]
     collapse = _collapse(campaign, win)
@@ -298,12 +285,10 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
     pi = drying_number(attrs)
     measure = str(attrs.get("fracture_stress_measure", SOURCE_MEASURE))
     return {
-        "profile": profile,
-        "scene": scene_name or str(attrs.get("scene_name", "")),
+        "profile": profile, "scene": scene_name or str(attrs.get("scene_name", "")),
         "fracture_stress_measure": measure,
         "criterion_departs_from_source": departure_note(measure) or None,
-        "n_particles": int(attrs["n_particles"]),
-        "box_length": float(attrs["box_length"]),
+        "n_particles": int(attrs["n_particles"]), "box_length": float(attrs["box_length"]),
         "n_seeds": int(campaign.sizes["seed"]),
         "phi0": float(attrs.get("phi0", float("nan"))),
         "mesh_spacing": float(attrs.get("mesh_spacing", float("nan"))),
@@ -312,13 +297,9 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
                        f"Pi = tau/t* = {'n/a' if pi['pi'] is None else format(pi['pi'], '.3g')}"
                        " with tau = eta/(2 mu) "
                        f"(paper {paper_pi():.3g})"),
-        "t_star": tstar,
-        "time_scale_vs_paper": time_scale(tstar),
-        "retardation_time_tau": pi["tau"],
-        "pi": pi["pi"],
-        "pi_paper": pi["pi_paper"],
-        "window_mode": win["mode"],
-        "window": [lo, hi],
+        "t_star": tstar, "time_scale_vs_paper": time_scale(tstar),
+        "retardation_time_tau": pi["tau"], "pi": pi["pi"], "pi_paper": pi["pi_paper"],
+        "window_mode": win["mode"], "window": [lo, hi],
         "window_over_t_star": [lo / tstar, hi / tstar],
         "initial_stage_end": win["initial_stage_end"],
         "fit": _fits(times, *per_sample_totals(campaign), win["mask"], n_boot),
@@ -326,10 +307,8 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
         "slope_over_b_star": c14.get("slope_over_b_star"),
         "sensitivity_s_min": {"s_min": s_min, "fit": _fits(
             times, *per_sample_totals(campaign, s_min), win["mask"], n_boot)},
-        "onset": onset,
-        "collapse": collapse,
-        "labelling": str(attrs.get("labelling", "periodic")),
-        "checks": checks,
+        "onset": onset, "collapse": collapse,
+        "labelling": str(attrs.get("labelling", "periodic")), "checks": checks,
     }
 
 def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: bool,
@@ -379,9 +358,7 @@ def json_ready(value: Any) -> Any:
     return value
 
 
-# Which labelling the source most likely used: it binarises a snapshot and clusters it, and
-# never says that its clusters wrap around the periodic box.
-SOURCE_LABELLING = "open"
+SOURCE_LABELLING = "open"  # the labelling the source most likely used, and why:
 SOURCE_LABELLING_NOTE = ("it binarises a snapshot and clusters it, and never says the clusters "
                          "wrap around the periodic box")
 

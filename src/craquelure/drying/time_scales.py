@@ -86,8 +86,7 @@ def collapse_times(times: np.ndarray, tstar: float) -> np.ndarray:
 
 
 def broken_from(n_fragments: np.ndarray) -> np.ndarray:
-    """Mask of the snapshots from which on every sample has >= 2 fragments (dims (seed,
-    time))."""
+    """Mask of the snapshots from which on every sample (dim 0) has >= 2 fragments."""
     return holds_from(np.all(np.asarray(n_fragments) >= 2, axis=0))
 
 

@@ -64,8 +64,7 @@ def sample_records(fragments: xr.Dataset) -> dict[str, np.ndarray]:
     area = fragments["fragment_area"].values
     index = fragments["fragment_time_index"].values
     n_t = fragments.sizes["time"]
-    m_max = np.zeros(n_t)
-    m_2 = np.zeros(n_t)
+    m_max, m_2 = np.zeros((2, n_t))
     order = np.lexsort((area, index))  # by snapshot, then size
     area, index = area[order], index[order]
     bounds = np.searchsorted(index, np.arange(n_t + 1))
@@ -79,21 +78,19 @@ def sample_records(fragments: xr.Dataset) -> dict[str, np.ndarray]:
 
 
 def _binned(records: Sequence[dict[str, np.ndarray]], edges: np.ndarray) -> dict[str, np.ndarray]:
-    d = np.concatenate([r["damage"] for r in records])
-    m = np.concatenate([r["m_max"] for r in records])
-    m2 = np.concatenate([r["m_2"] for r in records])
+    d, m, m2 = (np.concatenate([r[key] for r in records]) for key in ("damage", "m_max", "m_2"))
     k = np.clip(np.digitize(d, edges) - 1, 0, edges.size - 2)
     n = np.bincount(k, minlength=edges.size - 1).astype(float)
+
+    def per_bin(values: np.ndarray) -> np.ndarray:  # mean over each bin's records
+        return np.bincount(k, values, edges.size - 1) / n
+
     with np.errstate(invalid="ignore", divide="ignore"):
-        mean = np.bincount(k, m, edges.size - 1) / n
-        second = np.bincount(k, m**2, edges.size - 1) / n
-        return {
-            "n": n, "m_max": mean, "m_max_sigma": np.sqrt(np.maximum(second - mean**2, 0.0)),
-            "m_2": np.bincount(k, m2, edges.size - 1) / n,
-            "fragmented": np.bincount(k, (m < FRAGMENTED_BELOW).astype(float),
-                                      edges.size - 1) / n,
-            "damage": np.bincount(k, d, edges.size - 1) / n,
-        }
+        mean = per_bin(m)
+        return {"n": n, "m_max": mean,
+                "m_max_sigma": np.sqrt(np.maximum(per_bin(m**2) - mean**2, 0.0)),
+                "m_2": per_bin(m2), "fragmented": per_bin((m < FRAGMENTED_BELOW).astype(float)),
+                "damage": per_bin(d)}
 
 
 def _crossing(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
@@ -109,9 +106,8 @@ def _crossing(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
 
 def _at(x: np.ndarray, y: np.ndarray, x0: float) -> float:
     ok = np.isfinite(x) & np.isfinite(y)
-    if not math.isfinite(x0) or ok.sum() < 2 or not x[ok][0] <= x0 <= x[ok][-1]:
-        return float("nan")
-    return float(np.interp(x0, x[ok], y[ok]))
+    inside = math.isfinite(x0) and ok.sum() >= 2 and x[ok][0] <= x0 <= x[ok][-1]
+    return float(np.interp(x0, x[ok], y[ok])) if inside else float("nan")
 
 
 def _slope_at(x: np.ndarray, y: np.ndarray, x0: float) -> float:
@@ -132,9 +128,8 @@ def _slope_at(x: np.ndarray, y: np.ndarray, x0: float) -> float:
 
 def _log_slope(lengths: np.ndarray, values: np.ndarray) -> float:
     ok = np.isfinite(values) & (values > 0)
-    if ok.sum() < 2:
-        return float("nan")
-    return float(np.polyfit(np.log(lengths[ok]), np.log(values[ok]), 1)[0])
+    return (float(np.polyfit(np.log(lengths[ok]), np.log(values[ok]), 1)[0]) if ok.sum() >= 2
+            else float("nan"))
 
 
 def scaling(lengths: np.ndarray, curves: Sequence[dict[str, np.ndarray]]) -> dict[str, float]:
@@ -169,12 +164,9 @@ def transition(fragments: Mapping[str, Sequence[xr.Dataset]], variant: str = "",
     edges = np.linspace(0.0, float(np.nanmax(d_all)) * (1 + 1e-9), n_bins + 1)
     curves = [_binned(g[2], edges) for g in groups]
     point = scaling(lengths, curves)
-    rng = np.random.default_rng(BOOT_SEED)
-    boot = []
-    for _ in range(n_boot):
-        resampled = [_binned([g[2][i] for i in rng.integers(0, len(g[2]), len(g[2]))], edges)
-                     for g in groups]
-        boot.append(scaling(lengths, resampled))
+    rng = np.random.default_rng(BOOT_SEED)  # whole samples, within each size
+    boot = [scaling(lengths, [_binned([g[2][i] for i in rng.integers(0, len(g[2]), len(g[2]))],
+                                      edges) for g in groups]) for _ in range(n_boot)]
     names = {"n": ("records (sample x snapshot) in the bin", "1"),
              "damage": ("mean damage d of the bin's records", "1"),
              "m_max": ("mean largest-fragment fraction m_max = S_max/L^2", "1"),
