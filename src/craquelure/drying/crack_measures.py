@@ -21,10 +21,8 @@ snapshot of a drying run, from its particles and its paste image (:mod:`.binaris
 - largest fragment's area fraction :math:`m_{max} = S_{max}/L^2` (periodic labelling), the
   order parameter of the damage-to-fragmentation transition (Szatmari et al. 2025).
 
-The fragments of the image taken as a plain rectangle (no wrap-around: a band around the torus
-is one fragment on the torus, and the box edges cut it into separate pieces) are labelled by
-:func:`craquelure.drying.binarise.fragment_areas` with ``periodic=False``.
-"""
+The fragments of the image taken as a plain rectangle (a band around the torus is one fragment
+on the torus; the box edges cut it) are :func:`.binarise.fragment_areas` with ``periodic=False``."""
 
 from __future__ import annotations
 
