@@ -48,15 +48,14 @@ naming the seed count where both reach 0.8. Reported too: the large-sample limit
 statistics under the drift, and under a drift that keeps the small sizes
 (:math:`X' \propto X^p`).
 
-**Check 16, onset** (source: fragments from 0.40 t*, some samples unbroken until 0.66 t*).
-Per sample: first removal time and break time (first snapshot with >= 2 fragments), with
-bootstrap percentile intervals in units of t*. Conditions: first sample broken by 0.45 t*, all
-broken by 0.9 t*. These are extremes of the source's 100 samples, so with fewer samples a pass
-of "all broken" or a miss of "first broken" is undecided (the maximum grows, the minimum falls
-with the count); the opposite outcomes are decided at any count. Reported at 100 samples drawn
-from the measured break times: the rate at which both hold, and the power against every sample
-breaking 25 % later.
-"""
+**Check 16, onset** (source: fragments from 0.40 t*, some samples unbroken until 0.66 t*). Per
+sample: first removal time and break time (first snapshot with >= 2 fragments), with bootstrap
+percentile intervals in units of t*. Conditions: first sample broken by 0.45 t*, all broken by
+0.9 t*. These are extremes of the source's 100 samples, so with fewer samples a pass of "all
+broken" or a miss of "first broken" is undecided (the maximum grows, the minimum falls with the
+count); the opposite outcomes are decided at any count. Reported at 100 samples drawn from the
+measured break times: the rate at which both hold, and the power against every sample breaking
+25 % later."""
 
 from __future__ import annotations
 
@@ -64,7 +63,7 @@ import math
 from typing import Any
 
 import numpy as np
-from scipy import stats
+from scipy import optimize, stats
 
 from craquelure.validation import POWER_NEEDED, bootstrap_interval, fraction_interval, verdict_of
 
@@ -234,16 +233,15 @@ def check_inverse_area(t: np.ndarray, total: np.ndarray, count: np.ndarray, t_st
         "inverse_mean_area": y.tolist(), "inverse_mean_area_se": se.tolist(),
         "inverse_mean_area_se_bootstrap": se_raw.tolist(), "error_scale_dof": nu,
         "slope_b": b, "slope_b_ci95": _ci(boot["b"]), "slope_over_b_star": b / b_star,
-        "intercept_a": a,
-        "x_intercept_t0": t0, "t0_ci95": _ci(t0_boot), "t0_over_t_star": t0 / t_star,
+        "intercept_a": a, "x_intercept_t0": t0, "t0_ci95": _ci(t0_boot),
+        "t0_over_t_star": t0 / t_star,
         "t0_bound_applied": bool(math.isfinite(t0_several)),
         "t0_several_fragments": t0_several, "t0_bound_note": t0_note,
         "several_fragments": SEVERAL_FRAGMENTS, "several_fragment_snapshots": int(several.sum()),
         "reduced_chi2": float(fit["reduced_chi2"]),
         "reduced_chi2_critical": fit["reduced_chi2_critical"],
         "quadratic_c": float(fit["c"]), "quadratic_c_z": float(fit["c_z"]),
-        "quadratic_c_p": float(fit["c_p"]),
-        "alpha_free_power_law": float(alpha),
+        "quadratic_c_p": float(fit["c_p"]), "alpha_free_power_law": float(alpha),
         "alternative": "1/<S>_t = A + B t^2 (t^-2 law) through the measured end points",
         "power": power, "power_needed": POWER_NEEDED, "seeds_needed": needed,
         "n_power_draws": int(n_power), "n_bootstrap": int(ok.sum()),
@@ -317,11 +315,11 @@ class CollapseSample:
 
 def drift_margins(x_first: np.ndarray, n_times: int, drift: float = WIDTH_DRIFT
                   ) -> dict[str, float]:
-    """Margins of check 15 from its named alternative: the KS
-    distance between the measured first-snapshot scaled sizes X and the same sizes with the
-    width of X - 1 scaled by 1 - drift (exact for that distribution: the large-sample limit),
-    and the CV (ddof = 1) of <X^2>_t = 1 + w_t^2 Var X over ``n_times`` snapshots with w_t
-    falling linearly from 1 to 1 - drift; the margins are half of each."""
+    """Margins of check 15 from its named alternative: the KS distance between the measured
+    first-snapshot scaled sizes X and the same sizes with the width of X - 1 scaled by 1 - drift
+    (exact for that distribution: the large-sample limit), and the CV (ddof = 1) of
+    <X^2>_t = 1 + w_t^2 Var X over ``n_times`` snapshots with w_t falling linearly from 1 to
+    1 - drift; the margins are half of each."""
     x = np.asarray(x_first, float)[np.isfinite(x_first)]
     x = x / x.mean()
     ks = float(stats.ks_2samp(x, 1.0 + (x - 1.0) * (1.0 - drift)).statistic)
@@ -355,8 +353,6 @@ def _shape_drift_limit(counts: np.ndarray, mean: np.ndarray, pool: np.ndarray,
                       rng: np.random.Generator) -> tuple[float, float]:
     """Large-sample KS and CV under a support-keeping drift of the same 25 %: X' = X^p / <X^p>,
     p per snapshot so that the coefficient of variation falls linearly to 0.75 of the pool's."""
-    from scipy import optimize
-
     n_s, n_t = counts.shape
     pool = pool[pool > 0]
     base = np.std(pool) / np.mean(pool)
@@ -455,9 +451,8 @@ def check_collapse(area: np.ndarray, sample: np.ndarray, time: np.ndarray, n_sam
         "cv_mean_x2": cv, "cv_mean_x2_upper95": cv_hi, "ks_raw_first_last": raw,
         "alternative": f"scaled width drifting by {WIDTH_DRIFT:.0%} across the window",
         "ks_margin": margins[0], "cv_margin": margins[1], "ks_drift_first": margin["ks_drift"],
-        "cv_drift_first": margin["cv_drift"],
-        "power": power, "confirmation_rate": confirm, "power_needed": POWER_NEEDED,
-        "seeds_needed": needed, "n_power_draws": int(n_draws),
+        "cv_drift_first": margin["cv_drift"], "power": power, "confirmation_rate": confirm,
+        "power_needed": POWER_NEEDED, "seeds_needed": needed, "n_power_draws": int(n_draws),
         "drift_large_sample_ks": ks_inf, "drift_large_sample_cv": cv_inf,
         "shape_drift_large_sample_ks": shape_drift[0],
         "shape_drift_large_sample_cv": shape_drift[1],

@@ -1,10 +1,8 @@
 r"""Figures of the drying-paste campaign (paper Figs. 2-6), from analysis datasets only.
 
-Every figure carries a caption line with the profile, N, L, the number of seeds, the time unit
-(:math:`t^* = \sigma_Y/v_r`, and the profile's speed-up over the paper) and the fitted numbers
-from the summary (:func:`craquelure.drying.summary.summarise`). Each is written as PNG and
-PDF.
-"""
+Every figure, written as PNG and PDF, carries a caption line with the profile, N, L, the number
+of seeds, the time unit (:math:`t^* = \sigma_Y/v_r`, and the profile's speed-up over the paper)
+and the fitted numbers from the summary (:func:`craquelure.drying.summary.summarise`)."""
 
 from __future__ import annotations
 
@@ -35,8 +33,7 @@ def setup_line(campaign: xr.Dataset, profile: str) -> str:
     a = campaign.attrs
     tstar = float(a["t_star"])
     speed = paper_t_star() / tstar
-    mode = str(a.get("window_mode", "paper"))
-    window = ("paper's window rescaled by t*" if mode == "paper"
+    window = ("paper's window rescaled by t*" if str(a.get("window_mode", "paper")) == "paper"
               else "window from the first snapshot with every sample broken")
     pace = ("as the paper" if abs(speed - 1) < 1e-3
             else f"{speed:.3g}x faster than the paper; {window}")
@@ -235,7 +232,7 @@ def comparison_series(name: str, summary: dict[str, Any], campaigns: dict[str, x
     for labelling, ds in campaigns.items():
         tstar, win = float(ds.attrs["t_star"]), window_of(ds)
         c14 = summary[CHECKS_OF[labelling]]["check14_inverse_mean_area_linear"]
-        ends = np.array([win["start"], win["end"]], float)
+        ends = np.array([win["start"], win["end"]] if "slope_b" in c14 else [], float)
         x = ds["fragment_scaled_area"].values[win["mask"][ds["fragment_time_index"].values]]
         x = np.sort(x[np.isfinite(x)])
         grid = np.linspace(0.0, x[-1] if x.size else 1.0, n_grid)
@@ -243,9 +240,8 @@ def comparison_series(name: str, summary: dict[str, Any], campaigns: dict[str, x
             "t_over_t_star": ds["time"].values / tstar,
             "inverse_mean_area": ds["inverse_mean_area"].values,
             "inverse_mean_area_se": ds["inverse_mean_area_se"].values,
-            "fit_t_over_t_star": ends / tstar if "slope_b" in c14 else [],
-            "fit_inverse_mean_area": (c14["intercept_a"] + c14["slope_b"] * ends
-                                      if "slope_b" in c14 else []),
+            "fit_t_over_t_star": ends / tstar,  # no fit: empty
+            "fit_inverse_mean_area": c14.get("intercept_a", 0.0) + c14.get("slope_b", 0.0) * ends,
             "x": grid, "ccdf": 1.0 - np.searchsorted(x, grid, side="right") / max(x.size, 1),
             "n_fragments": int(x.size)}
     return json_ready(out)
@@ -350,9 +346,8 @@ def fig_thickness(sweep: xr.Dataset, profile: str):
                       yerr=np.nan_to_num(row["mean_area_se"].values), fmt="o-", ms=3,
                       color=colour, capsize=2, label=f"H = {value:g}")
     late = sweep["late"].values.astype(bool)
-    ax_t.axvspan(times[late][0] if late.any() else np.nan,
-                 times[late][-1] if late.any() else np.nan, color="0.9", zorder=0,
-                 label="late snapshots (exponent)")
+    ax_t.axvspan(*(times[late][[0, -1]] if late.any() else (np.nan, np.nan)), color="0.9",
+                 zorder=0, label="late snapshots (exponent)")
     ax_t.set_yscale("log")
     label_axes(ax_t, "t [eta/lambda]", "<S>_t [length^2]", legend={"fontsize": 7})
     ax_t.set_title("Mean fragment area per layer thickness", fontsize=9)
@@ -384,9 +379,8 @@ def fig_thickness(sweep: xr.Dataset, profile: str):
 
 
 def fig_speed(study: xr.Dataset, profile: str):
-    """Drying-speed study: (a) onset in t* against Pi, (b) t0/t* and b/b*, (c) fragments per
-    unit area at fixed t/t*, each with its 95 % bootstrap interval; the paper's Pi and values
-    marked."""
+    """Drying-speed study: (a) onset in t* against Pi, (b) t0/t* and b/b*, (c) fragments per unit
+    area at fixed t/t*, each with its 95 % bootstrap interval; the paper's Pi and values marked."""
     pi = study["speed"].values
     a = study.attrs
     fig, (ax_o, ax_f, ax_n) = plt.subplots(1, 3, figsize=(14, 5.0))

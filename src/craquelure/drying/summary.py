@@ -2,12 +2,9 @@ r"""Summary of a drying campaign: the statistics that test the paper's claims, t
 ``results/drying/summary.json`` (stage 3 of :mod:`craquelure.drying.analysis`; drying spec
 section 13, checks 14-16).
 
-Quantities (all from data):
-
 - :math:`\alpha`: least-squares slope of :math:`-\log\langle S\rangle_t` against
-  :math:`\log t` over the window (after the initial stage); 95 % bootstrap interval over seeds
-  (resample whole samples with replacement, recompute the pooled mean, refit; percentile
-  interval, fixed generator seed so the summary is reproducible).
+  :math:`\log t` over the window (after the initial stage); 95 % percentile interval of its
+  refits over the bootstrap replicates of :mod:`craquelure.drying.ensemble`.
 - The line :math:`1/\langle S\rangle_t = a + b t` is check 14's weighted fit
   (:func:`craquelure.drying.ensemble.check_inverse_area`): its slope over :math:`b^*`
   (:func:`b_star_of`) and its x-intercept :math:`t_0 = -a/b` are quoted here and drawn in Fig. 3.
@@ -26,8 +23,7 @@ Quantities (all from data):
 
 Checks 14-16 as revised are :mod:`craquelure.drying.ensemble`'s; :math:`\alpha` is
 descriptive. The spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at
-N = 1e4) is reported as well, since a pass or miss on a smaller campaign is indicative only.
-"""
+N = 1e4) is reported as well, since a pass or miss on a smaller campaign is indicative only."""
 
 from __future__ import annotations
 
@@ -84,18 +80,15 @@ def _fits(times: np.ndarray, total: np.ndarray, count: np.ndarray, window: np.nd
         out["error"] = "fewer than 3 usable snapshots in the window"
         return out
     alpha = -_slopes(np.log(t), np.log(m))
-    # Bootstrap over seeds: weights = how often each seed is drawn.
     weights = ensemble.bootstrap_weights(total.shape[0], n_boot,
                                        np.random.default_rng(BOOTSTRAP_SEED))
     with np.errstate(invalid="ignore", divide="ignore"):
         boot_mean = (weights @ total[:, window]) / (weights @ count[:, window])
     ok = np.all(np.isfinite(boot_mean) & (boot_mean > 0), axis=1)
     boot_alpha = -_slopes(np.log(t), np.log(boot_mean[ok]))
-    out.update({
-        "alpha": float(alpha),
-        "alpha_ci95": bootstrap_interval(boot_alpha) if ok.any() else None,
-        "n_bootstrap": int(ok.sum()),
-    })
+    out.update({"alpha": float(alpha),
+                "alpha_ci95": bootstrap_interval(boot_alpha) if ok.any() else None,
+                "n_bootstrap": int(ok.sum())})
     return out
 
 
@@ -132,19 +125,13 @@ def _collapse(campaign: xr.Dataset, win: dict[str, Any]) -> dict[str, Any]:
         a, b = raw_area[raw_time == tk[0]], raw_area[raw_time == tk[-1]]
         if a.size and b.size:
             raw_ks = float(stats.ks_2samp(a, b).statistic)
-    # Collapse onset: earliest snapshot from which on all are within the critical value.
     stays = holds_from([ks_row(t)["below_critical"] for t in times])
     onset = float(times[np.argmax(stays)]) if stays.any() else None
     return {
-        "collapse_times": tk.tolist(),
-        "per_time": rows,
-        "n_pooled": int(pooled.size),
-        "ks_alpha": KS_ALPHA,
-        "cv_mean_x2": cv,
-        "raw_ks_first_last": raw_ks,
+        "collapse_times": tk.tolist(), "per_time": rows, "n_pooled": int(pooled.size),
+        "ks_alpha": KS_ALPHA, "cv_mean_x2": cv, "raw_ks_first_last": raw_ks,
         "mean_pairwise_ks_before": _mean_pairwise_ks(before),
-        "mean_pairwise_ks_after": _mean_pairwise_ks(after),
-        "collapse_onset_time": onset,
+        "mean_pairwise_ks_after": _mean_pairwise_ks(after), "collapse_onset_time": onset,
     }
 
 
@@ -158,9 +145,7 @@ def _onset(campaign: xr.Dataset, tstar: float, x_intercept: float | None,
         return None if value is None or not np.isfinite(value) else float(value / tstar)
 
     def median(key: str) -> float | None:
-        if key not in campaign:
-            return None
-        v = campaign[key].values.astype(float)
+        v = campaign[key].values.astype(float) if key in campaign else np.zeros(0)
         v = v[np.isfinite(v)]
         return float(np.median(v)) if v.size else None
 
@@ -184,20 +169,15 @@ def _onset(campaign: xr.Dataset, tstar: float, x_intercept: float | None,
         }
 
     return {
-        **kappa,
-        "t_star": tstar,
-        "median_first_removal_time": first_removal,
+        **kappa, "t_star": tstar, "median_first_removal_time": first_removal,
         "median_first_removal_over_t_star": ratio(first_removal),
-        "all_samples_broken_time": all_broken,
-        "all_samples_broken_over_t_star": ratio(all_broken),
+        "all_samples_broken_time": all_broken, "all_samples_broken_over_t_star": ratio(all_broken),
         "fit_x_intercept_over_t_star": ratio(x_intercept),
-        "collapse_onset_time": collapse_onset,
-        "collapse_onset_over_t_star": ratio(collapse_onset),
+        "collapse_onset_time": collapse_onset, "collapse_onset_over_t_star": ratio(collapse_onset),
     }
 
 
-def checks_of(campaign: xr.Dataset, n_boot: int = N_BOOTSTRAP,
-              n_power: int = ensemble.N_POWER,
+def checks_of(campaign: xr.Dataset, n_boot: int = N_BOOTSTRAP, n_power: int = ensemble.N_POWER,
               n_power_collapse: int = ensemble.N_POWER_COLLAPSE) -> dict[str, Any]:
     """Checks 14-16 (:mod:`craquelure.drying.ensemble`) of one campaign (one labelling), with
     whether its sample meets the spec's size."""
@@ -227,15 +207,10 @@ def checks_of(campaign: xr.Dataset, n_boot: int = N_BOOTSTRAP,
                          conditions={}, undecided={check["error"]: "a longer or larger run"})
     for check in (c14, c15, c16):
         check["pass"] = check["verdict"] == "reproduced"
-    enough = (n_particles >= 40000 and n_seeds >= 100) or (n_particles >= 10000
-                                                           and n_seeds >= 300)
-    return {
-        "labelling": str(attrs.get("labelling", "periodic")),
-        "sample_size_meets_spec": bool(enough),
-        "check14_inverse_mean_area_linear": c14,
-        "check15_scaling_collapse": c15,
-        "check16_onset": c16,
-    }
+    enough = (n_particles >= 40000 and n_seeds >= 100) or (n_particles >= 10000 and n_seeds >= 300)
+    return {"labelling": str(attrs.get("labelling", "periodic")),
+            "sample_size_meets_spec": bool(enough), "check14_inverse_mean_area_linear": c14,
+            "check15_scaling_collapse": c15, "check16_onset": c16}
 
 
 def b_star_of(attrs) -> float:
@@ -254,12 +229,11 @@ def campaign_sizing(checks: dict[str, dict[str, Any]], minimum: int = 40,
     needed: dict[str, dict[str, int | None]] = {}
     for name, c in checks.items():
         n_s = int(c["check14_inverse_mean_area_linear"].get("n_samples", 0))
-        per = {}
+        needed[name] = per = {}
         for key in ("check14_inverse_mean_area_linear", "check15_scaling_collapse"):
             rates = [c[key].get("power", 0.0), c[key].get("confirmation_rate", 1.0)]
             decided = all(r is not None and r >= ensemble.POWER_NEEDED for r in rates)
             per[key] = n_s if decided else c[key].get("seeds_needed")
-        needed[name] = per
     values = [v for per in needed.values() for v in per.values()]
     size = maximum if None in values else min(maximum, max([minimum, *values]))
     return {"seeds_needed": needed, "seeds_to_run": int(size), "minimum": minimum,
@@ -321,12 +295,9 @@ def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: 
     area = campaign["fragment_area"].values[sel]
     seeds = campaign["seed"].values
     owner = np.searchsorted(seeds, campaign["fragment_seed"].values[sel])
-    rng = np.random.default_rng(seed)
-    weights = ensemble.bootstrap_weights(seeds.size, n_boot, rng)
-    out = {"ccdf": np.full(grid.size, np.nan), "lo": np.full(grid.size, np.nan),
-           "hi": np.full(grid.size, np.nan), "n": int(area.size)}
+    weights = ensemble.bootstrap_weights(seeds.size, n_boot, np.random.default_rng(seed))
     if area.size == 0:
-        return out
+        return {key: np.full(grid.size, np.nan) for key in ("ccdf", "lo", "hi")} | {"n": 0}
 
     def curve(w: np.ndarray) -> np.ndarray:
         wf = w[owner]
@@ -338,10 +309,8 @@ def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: 
         tail = np.concatenate([np.cumsum(wf[order][::-1])[::-1], [0.0]]) / total
         return tail[np.searchsorted(values[order], grid, side="right")]
 
-    out["ccdf"] = curve(np.ones(seeds.size))
-    boot = np.array([curve(w) for w in weights])
-    out["lo"], out["hi"] = bootstrap_interval(boot, axis=0)
-    return out
+    lo, hi = bootstrap_interval(np.array([curve(w) for w in weights]), axis=0)
+    return {"ccdf": curve(np.ones(seeds.size)), "lo": lo, "hi": hi, "n": int(area.size)}
 
 def json_ready(value: Any) -> Any:
     """Plain JSON types; NaN and inf become null (strict JSON has no NaN)."""
@@ -380,10 +349,8 @@ def write_summary(campaign_path: str | Path, out: str | Path, profile: str = "",
     summary["provenance"] = {
         "campaign": str(campaign_path),
         "campaign_git_commit": str(campaign.attrs.get("git_commit", "")),
-        "git_commit": git_commit(),
-        "seeds": str(campaign.attrs.get("seeds", "")),
-        "bootstrap_seed": BOOTSTRAP_SEED,
-        "version_craquelure": craquelure.__version__,
+        "git_commit": git_commit(), "seeds": str(campaign.attrs.get("seeds", "")),
+        "bootstrap_seed": BOOTSTRAP_SEED, "version_craquelure": craquelure.__version__,
     }
     summary = json_ready(summary)
     write_text_atomic(out, json.dumps(summary, indent=2, allow_nan=False) + "\n")

@@ -1,9 +1,8 @@
-r"""The damage-to-fragmentation transition (beyond the source), after
-Szatmari, Nakahara, Kitsunezaki & Kun, arXiv:2503.06177 (2025): in a discrete-element model of
-shrinking layers on a substrate a dominant piece persists up to a critical damage
-:math:`d_c` (damage phase), beyond which the layer breaks into many pieces (fragmentation
-phase), a continuous transition with finite-size scaling of the largest and the average
-fragment.
+r"""The damage-to-fragmentation transition (beyond the source), after Szatmari, Nakahara,
+Kitsunezaki & Kun, arXiv:2503.06177 (2025): in a discrete-element model of shrinking layers on a
+substrate a dominant piece persists up to a critical damage :math:`d_c` (damage phase), beyond which
+the layer breaks into many pieces (fragmentation phase), a continuous transition with finite-size
+scaling of the largest and the average fragment.
 
 Per sample s and snapshot t of each box size L (fragment datasets of
 :mod:`craquelure.drying.analysis`, measures of :mod:`craquelure.drying.crack_measures`):
@@ -28,13 +27,10 @@ Finite-size scaling [D], with sizes :math:`L_1 < \dots < L_k`:
 The slope of P needs the transition to span bins: it underestimates :math:`1/\nu` once the
 largest size's transition is narrower than about two bins.
 
-With two sizes every exponent is fixed by two points (no test of the scaling form): the
-validation rows are inconclusive below three sizes. References [for the rows]: the paper
-states that its exponents agree "to a reasonable accuracy" with the 2D Ising model's
-(abstract, https://arxiv.org/html/2503.06177v2): :math:`\beta/\nu = 1/8`,
-:math:`\gamma/\nu = 7/4`, :math:`1/\nu = 1`; 2D percolation has 5/48, 43/24, 3/4. The
-paper's own fitted values and :math:`d_c` are not in the sources available to us.
-"""
+The validation rows (:mod:`craquelure.drying.claims`) compare the exponents with the 2D Ising
+values the paper's abstract says they agree with "to a reasonable accuracy" (:data:`ISING`)
+and with 2D percolation's (:data:`PERCOLATION`); its own fitted values and :math:`d_c` are not
+in the sources available to us."""
 
 from __future__ import annotations
 
@@ -139,8 +135,8 @@ def scaling(lengths: np.ndarray, curves: Sequence[dict[str, np.ndarray]]) -> dic
                  for i, j in itertools.combinations(range(len(curves)), 2)]
     crossings = [c for c in crossings if math.isfinite(c)]
     d_c = float(np.mean(crossings)) if crossings else float("nan")
-    m_max = np.array([_at(c["damage"], c["m_max"], d_c) for c in curves])
-    m_2 = np.array([_at(c["damage"], c["m_2"], d_c) for c in curves])
+    m_max, m_2 = (np.array([_at(c["damage"], c[key], d_c) for c in curves])
+                  for key in ("m_max", "m_2"))
     slope = np.array([_slope_at(c["damage"], c["fragmented"], d_c) for c in curves])
     return {"d_c": d_c, "beta_over_nu": -_log_slope(lengths, m_max),
             "gamma_over_nu": _log_slope(lengths, m_2 * lengths**2),
@@ -196,11 +192,9 @@ def transition(fragments: Mapping[str, Sequence[xr.Dataset]], variant: str = "",
     ds.attrs.update({
         "scenes": ",".join(g[1] for g in groups), "variant": variant,
         "fragmented_below": FRAGMENTED_BELOW, "n_bootstrap": n_boot,
-        "fracture_stress_measure": str(first.attrs.get("fracture_stress_measure",
-                                                        "half_trace")),
+        "fracture_stress_measure": str(first.attrs.get("fracture_stress_measure", "half_trace")),
         "drying_rate": float(scene.get("material.drying_rate")),
-        "yield_stress": float(scene.get("material.yield_stress")),
-        "reference": PAPER_URL,
+        "yield_stress": float(scene.get("material.yield_stress")), "reference": PAPER_URL,
         "ising_exponents": ", ".join(f"{k} = {v:.4g}" for k, v in ISING.items()),
         "percolation_exponents": ", ".join(f"{k} = {v:.4g}" for k, v in PERCOLATION.items()),
     })

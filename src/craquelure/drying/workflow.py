@@ -6,8 +6,7 @@ No physics here: a drying-speed run's drying rate, end and snapshot times come f
 rule ``drying_speed_scene`` (:func:`craquelure.drying.speed.speed_run_settings`); the scene
 values read while the DAG is built are the scene's own layer thickness H, so that the
 thickness sweep reuses the scene's runs at that H, and the onset study scene's L and h, which
-turn a point's h/Delta into its particle count.
-"""
+turn a point's h/Delta into its particle count."""
 
 from __future__ import annotations
 
@@ -113,9 +112,8 @@ class Jobs:
                 if study["n_seeds"] > 0 else [])
 
     def transition_fragments(self, wildcards=None) -> dict[str, list[str]]:
-        """Fragment datasets of the transition study, grouped by scene (inputs <scene>): the
-        runs of each scene in ``transition.variant`` (its own, a criterion or a drying speed
-        folder)."""
+        """Fragment datasets of the transition study, grouped by scene (inputs <scene>): the runs of
+        each scene in ``transition.variant`` (its own, a criterion or a drying speed folder)."""
         study = self.section["transition"]
         if len(study["scenes"]) != len(study["n_seeds"]):
             raise ValueError(
@@ -139,12 +137,10 @@ class Jobs:
         reuses its runs."""
         sweep = self.section["thickness"]
         own = float(load_scene(self.scene_path(wildcards)).get("material.thickness"))
-        files = {}
-        for value in sweep["values"]:
-            folder = (wildcards.scene if abs(value - own) < 1e-12
-                      else f"{wildcards.scene}_H{label(value)}")
-            files[f"H{label(value)}"] = fragment_files(folder, self.seeds()[: sweep["n_seeds"]])
-        return files
+        return {f"H{label(v)}": fragment_files(wildcards.scene if abs(v - own) < 1e-12
+                                               else f"{wildcards.scene}_H{label(v)}",
+                                               self.seeds()[: sweep["n_seeds"]])
+                for v in sweep["values"]}
 
     @staticmethod
     def speed_value(wildcards) -> float:
