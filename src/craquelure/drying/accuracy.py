@@ -1,26 +1,23 @@
 r"""What accuracy costs in time for the drying engine: error versus wall time over integrators
 and time steps (the "cheap scheme" of spec section 8 against RK4 and ABM4-PECE).
 
-Problem: the scene given (normally ``drying/accuracy``: a small RSA paste with consistent
-masses, drying, elasticity, viscosity, substrate, XSPH and continuity, fracture off so the
-solution is smooth) integrated to ``outputs.t_end`` with each (integrator, dt) pair. The
-reference is RK4 at ``reference_dt`` (half the smallest dt studied). The error of a run
-is the relative L2 distance of its final velocity field from the reference's,
+Problem: the scene given (normally ``drying/accuracy``, fracture off so the solution is
+smooth) integrated to ``outputs.t_end`` with each (integrator, dt) pair. The reference is RK4
+at ``reference_dt`` (half the smallest dt studied). The error of a run is the relative L2
+distance of its final velocity field from the reference's,
 
     e = ||v - v_ref||_2 / ||v_ref||_2,
 
-the velocities being the most sensitive part of the state (positions and stresses follow from
-them by one more integration). Wall time is measured around the stepping loop only, after the
-rate function is compiled, on the threads the caller has set, so it is the cost of the
-integration alone. The observed order between successive dt (slope of log e against log dt)
-is stored too.
+the velocities being the most sensitive part of the state (positions and stresses follow from them
+by one more integration). Wall time is measured around the stepping loop only, after the rate
+function is compiled, on the threads the caller has set, so it is the cost of the integration alone.
+The observed order between successive dt (slope of log e against log dt) is stored too.
 
 The error-controlled Runge-Kutta-Chebyshev scheme ``rkc2`` (not bound by the viscous limit,
 :mod:`craquelure.drying.integrators`) is run at each of ``rkc_tolerances`` (its own dim
 ``tolerance``: its steps are chosen by the controller, not from the dt grid) with the same
 error measure, wall time and evaluation count, so both families sit on one error-versus-cost
-plot.
-"""
+plot."""
 
 from __future__ import annotations
 
@@ -53,15 +50,10 @@ def _integrate(scene: Scene, init: xr.Dataset, integrator: str, dt: float,
     n_steps = int(round(t_end / dt))
     if not tolerance and abs(n_steps * dt - t_end) > 1e-9 * t_end:
         raise CraquelureError(f"accuracy: dt = {dt} does not divide t_end = {t_end}")
-    evaluations = engine.evaluations
-    start = time.perf_counter()
-    if tolerance:
-        engine.stop_at = t_end
-        while engine.t < t_end - engine.time_tolerance():
-            engine.step()
-    else:
-        for _ in range(n_steps):
-            engine.step()
+    evaluations, start = engine.evaluations, time.perf_counter()
+    engine.stop_at = t_end  # the adaptive steps end on it
+    while engine.t < t_end - engine.time_tolerance() if tolerance else engine.step_count < n_steps:
+        engine.step()
     wall = time.perf_counter() - start
     engine.check_health()
     velocity = np.concatenate([engine.state[VX], engine.state[VY]])
@@ -84,8 +76,7 @@ def error_versus_wall_time(scene: Scene, seed: int, time_steps: Sequence[float],
     dts = np.array(sorted(time_steps, reverse=True), float)
     ref_dt = float(reference_dt) if reference_dt else float(dts[-1]) / 2.0
     init = build_initial_state(scene, seed)
-    # Compile (or load from the disk cache) before anything is timed.
-    # Two reference steps: a short but real run.
+    # Compile (or load from the disk cache) before anything is timed: two reference steps.
     warm_end = 2.0 * ref_dt
     warm_up = scene.with_overrides([f"numerics.dt={ref_dt!r}", f"outputs.t_end={warm_end!r}",
                                    f"outputs.times=[{warm_end!r}]"])
@@ -108,32 +99,14 @@ def error_versus_wall_time(scene: Scene, seed: int, time_steps: Sequence[float],
         rkc[0, k] = np.linalg.norm(velocity - reference) / ref_norm
     with np.errstate(divide="ignore", invalid="ignore"):
         order = np.log(error[:, :-1] / error[:, 1:]) / np.log(dts[:-1] / dts[1:])
-    return xr.Dataset(
-        {
-            "error": (("integrator", "dt"), error,
-                      {"long_name": "relative L2 error of the final velocity field vs the "
-                                    "reference", "units": "1"}),
-            "wall_time": (("integrator", "dt"), wall,
-                          {"long_name": "wall time of the stepping loop", "units": "s"}),
-            "rate_evaluations": (("integrator", "dt"), evaluations,
-                                 {"long_name": "rate-function evaluations", "units": "1"}),
-            "observed_order": (("integrator", "dt_pair"), order,
-                               {"long_name": "log(e_j/e_j+1)/log(dt_j/dt_j+1)", "units": "1"}),
-            "rkc2_error": (("tolerance",), rkc[0],
-                           {"long_name": "relative L2 error of the final velocity field vs the "
-                                         "reference, rkc2 error-controlled", "units": "1"}),
-            "rkc2_wall_time": (("tolerance",), rkc[1],
-                               {"long_name": "wall time of the stepping loop, rkc2",
-                                "units": "s"}),
-            "rkc2_rate_evaluations": (("tolerance",), rkc[2].astype(np.int64),
-                                      {"long_name": "rate-function evaluations, rkc2",
-                                       "units": "1"}),
-        },
-        coords={"integrator": list(integrators), "dt": dts,
-                "dt_pair": np.arange(dts.size - 1),
-                "tolerance": ("tolerance", tolerances,
-                              {"long_name": "rkc2 local error tolerance (units of sigma_Y)",
-                               "units": "1"})},
+    return xr.Dataset(  # long names and units: craquelure.cf's table on writing
+        {"error": (("integrator", "dt"), error), "wall_time": (("integrator", "dt"), wall),
+         "rate_evaluations": (("integrator", "dt"), evaluations),
+         "observed_order": (("integrator", "dt_pair"), order), "rkc2_error": ("tolerance", rkc[0]),
+         "rkc2_wall_time": ("tolerance", rkc[1]),
+         "rkc2_rate_evaluations": ("tolerance", rkc[2].astype(np.int64))},
+        coords={"integrator": list(integrators), "dt": dts, "dt_pair": np.arange(dts.size - 1),
+                "tolerance": tolerances},
         attrs={"reference": "rk4", "reference_dt": ref_dt,
                "reference_wall_time_s": ref_wall, "t_end": float(scene.get("outputs.t_end")),
                "n_particles": int(init.sizes["particle"]),

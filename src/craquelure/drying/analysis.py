@@ -10,8 +10,7 @@ file of its own (the claims read only the summary):
    claims, checks 14-16 (:mod:`craquelure.drying.ensemble`).
 
 Times are in units of :math:`t^* = \sigma_Y/v_r`, with the paper's windows rescaled
-(:mod:`craquelure.drying.time_scales`).
-"""
+(:mod:`craquelure.drying.time_scales`)."""
 
 from __future__ import annotations
 
@@ -67,16 +66,11 @@ def first_removal_time(run: xr.Dataset) -> float:
 
 def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | None = None,
                 progress: bool = True) -> xr.Dataset:
-    """Fragments of every snapshot of a drying run dataset.
-
-    ``phi0`` and ``spacing_h`` (mesh spacing in units of h) default to the scene's
-    ``outputs.binarisation_threshold`` and ``outputs.binarisation_spacing``.
-    Returns a dataset with ``fragment_area``, ``fragment_time``, ``fragment_time_index``
-    (dim ``fragment``: ragged fragments of all snapshots, in time order, periodic labelling),
-    ``fragment_area_open`` and ``fragment_time_index_open`` (dim ``fragment_open``: the same
-    for the open image, whose edges cut fragments) and ``n_fragments``, ``n_fragments_open``,
-    ``mean_area``, ``paste_fraction``, ``n_alive`` (dim ``time``).
-    """
+    """Fragments of every snapshot of a drying run dataset: ragged on dim ``fragment`` (all
+    snapshots, in time order, periodic labelling) and ``fragment_open`` (the open image, whose
+    edges cut fragments), counts and crack measures on dim ``time``. ``phi0`` and ``spacing_h``
+    (mesh spacing in units of h) default to the scene's ``outputs.binarisation_threshold`` and
+    ``outputs.binarisation_spacing``."""
     missing = [name for name in RUN_VARIABLES if name not in run]
     if missing or "time" not in run.dims or "particle" not in run.dims:
         raise CraquelureError(f"not a drying run dataset: missing {', '.join(missing) or 'dims'}"
@@ -116,11 +110,10 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
     if bar is not None:
         bar.close()
     paste, crack_length, largest, damage = np.array(measures, float).reshape(-1, 4).T
-    n_frag = np.array([a.size for a in areas], np.int64)
-    n_open = np.array([a.size for a in areas_open], np.int64)
+    n_frag, n_open = (np.array([a.size for a in x], np.int64) for x in (areas, areas_open))
     mean_area = np.array([a.mean() if a.size else np.nan for a in areas], float)
-    index = np.repeat(np.arange(len(times), dtype=np.int64), n_frag)
-    index_open = np.repeat(np.arange(len(times), dtype=np.int64), n_open)
+    index, index_open = (np.repeat(np.arange(len(times), dtype=np.int64), n)
+                         for n in (n_frag, n_open))
     area, area_open = (np.concatenate([np.zeros(0), *a]) for a in (areas, areas_open))
     # bare variables get their long names and units from craquelure.cf's table on writing
     ds = xr.Dataset(
@@ -140,9 +133,7 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
             "crack_length_per_area": ("time", crack_length, {
                 "long_name": "crack length per area (half the paste/crack interface, "
                              "Cauchy-Crofton)", "units": "1/length"}),
-            "largest_fragment_fraction": ("time", largest, {
-                "long_name": "largest fragment's area fraction m_max = S_max/L^2",
-                "units": "1"}),
+            "largest_fragment_fraction": ("time", largest),
             "n_fragments_open": ("time", n_open, {
                 "long_name": "fragments without periodic wrap-around (image as a plain "
                              "rectangle)", "units": "1"}),
@@ -154,15 +145,10 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
         coords={"time": ("time", times, dict(run["time"].attrs))},
     )
     ds.attrs.update({
-        "h": h,
-        "box_length": length,
-        "n_particles": int(run.sizes["particle"]),
-        "phi0": phi0,
-        "mesh_spacing_h": spacing_h,
-        "mesh_spacing": spacing,
+        "h": h, "box_length": length, "n_particles": int(run.sizes["particle"]),
+        "phi0": phi0, "mesh_spacing_h": spacing_h, "mesh_spacing": spacing,
         "mesh_points_per_side": int(round(length / spacing)),
-        "edge_depth": edge_depth(phi0, kernel, h),
-        "first_removal_time": first_removal_time(run),
+        "edge_depth": edge_depth(phi0, kernel, h), "first_removal_time": first_removal_time(run),
         "connectivity": 4,
         "fracture_stress_measure": str(scene.get("material.fracture_stress_measure")),
         **onset_prediction(run, onset_time_scale(scene)),
@@ -173,18 +159,16 @@ def analyse_run(run: xr.Dataset, phi0: float | None = None, spacing_h: float | N
 def onset_time_scale(scene) -> float:
     """t* = sigma_Y/v_r of the run, NaN without a yield stress (optional without fracture) or
     without a drying stress that grows (the drying effect off, or v_r = 0)."""
-    sigma_y = scene.optional("material.yield_stress")
-    if sigma_y and scene.has("drying") and scene.get("material.drying_rate"):
-        return t_star(scene)
-    return math.nan
+    growing = (scene.optional("material.yield_stress") and scene.has("drying")
+               and scene.get("material.drying_rate"))
+    return t_star(scene) if growing else math.nan
 
 
 def onset_prediction(run: xr.Dataset, tstar: float) -> dict[str, float]:
     """kappa before the first removal and the first removal it predicts (spec open doubt 7):
-    ``kappa_max`` the median over the run's records of max_I sigma_bar_I / F (recorded from
-    F >= 20 a sigma_Y until the first removal, :mod:`craquelure.drying.engine`),
-    ``kappa_criterion`` the same for the criterion's stress, and
-    ``predicted_first_removal_time`` = t*/kappa_criterion (NaN without records)."""
+    ``kappa_max`` and ``kappa_criterion``, the medians of the run's records of them
+    (:mod:`craquelure.drying.engine`), and ``predicted_first_removal_time`` =
+    t*/kappa_criterion (NaN without records)."""
     out = {"kappa_max": math.nan, "kappa_criterion": math.nan, "kappa_records": 0,
            "predicted_first_removal_time": math.nan}
     if "kappa_max" not in run:
@@ -216,10 +200,9 @@ def fragments_from_run_file(run_path: str | Path, out: str | Path, phi0: float |
     except CraquelureError as exc:
         raise DatasetError(f"{run_path}: {exc}") from exc
     seed = run.attrs.get("seed")
-    for key in ("git_commit", "start_time", "wall_time_s", "host", "scene_overrides",
-                "version_craquelure"):
-        if key in run.attrs:
-            ds.attrs[f"run_{key}"] = run.attrs[key]
+    ds.attrs.update({f"run_{key}": run.attrs[key] for key in (
+        "git_commit", "start_time", "wall_time_s", "host", "scene_overrides",
+        "version_craquelure") if key in run.attrs})
     ds.attrs["source_run"] = str(run_path)
     ds.attrs.update(provenance_attrs(scene, None if seed is None else int(seed), clock,
                                      effects=str(run.attrs.get("effects", "")).split(",")))

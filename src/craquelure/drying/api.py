@@ -1,19 +1,14 @@
 """Model API of the drying paste for the CLI: initial state, derived numbers and the run
 (``craquelure run``: initial state -> engine -> run dataset, with checkpoints and resume).
 
-Run dataset: snapshots on dim ``time`` x ``particle``: ``x``, ``y`` (wrapped into the box),
-``vx``, ``vy``, ``alive`` (removed particles keep their index with alive = 0), ``mass``, ``rho``,
-``mean_stress`` (tr(sigma)/2 of the total stress); time series on dim ``step_time``:
-``n_removed``, ``kinetic_energy``, ``elastic_energy``, ``momentum_x``, ``momentum_y``,
-``kappa_max`` and ``kappa_criterion_max`` (onset diagnostics, :mod:`craquelure.drying.engine`);
-attributes ``h``, ``box_length``, ``effects``, ``fracture_stress_measure`` and the provenance
-of :mod:`craquelure.provenance`.
+Run dataset: the snapshots of :data:`SNAPSHOT_VARS` on dims ``time`` x ``particle`` (removed
+particles keep their index with alive = 0), the time series of :data:`SERIES_VARS` on dim
+``step_time`` (the onset diagnostics: :mod:`craquelure.drying.engine`), the run's numbers and
+the provenance of :mod:`craquelure.provenance` as attributes.
 
-The loop, checkpoints (every ``numerics.checkpoint_every`` steps) and ``--resume`` are the
-runner's (:mod:`craquelure.runner`); :class:`DryingRun` gives it the full engine state (with the
-neighbour list and the integrator history) and the output gathered so far, so a resumed run is
-bit-identical.
-"""
+The loop, checkpoints and ``--resume`` are the runner's (:mod:`craquelure.runner`);
+:class:`DryingRun` gives it all that evolves (:meth:`DryingRun.parts`): a resumed run is
+bit-identical."""
 
 from __future__ import annotations
 
@@ -24,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from craquelure import runner
-from craquelure.drying.engine import VX, VY, DryingEngine, X, Y
+from craquelure.drying.engine import RHO, VX, VY, DryingEngine, X, Y
 from craquelure.drying.initial_state import build_initial_state
 from craquelure.drying.integrators import REAL_AXIS_LIMIT, RKC_SPECTRAL_SAFETY, rkc_stages
 from craquelure.drying.rules import (
@@ -81,15 +76,13 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "stable time step": stable_time_step(scene),
         "time step (numerics.dt)": scene.get("numerics.dt"),
         "time step of the run (halved below 0.6 of the viscous limit)": dt,
-        "steps": steps,
-        "rate evaluations": steps * evals,
+        "steps": steps, "rate evaluations": steps * evals,
         **prediction_lines("drying", workload(scene)),
     }
 
 
 def _run_steps(scene: Scene) -> tuple[float, int, int]:
-    """The step the run takes (numerics.adapt_dt halves it), the step count and the rate
-    evaluations per step."""
+    """The run's step (numerics.adapt_dt halves it), step count and evaluations per step."""
     dt = run_step(scene.data)
     return dt, math.ceil(scene.get("outputs.t_end") / dt), evaluations_per_step(scene, dt)
 
@@ -143,8 +136,7 @@ def output_times(scene: Scene) -> np.ndarray:
 
 
 def engine_from_initial(scene: Scene, init: xr.Dataset) -> DryingEngine:
-    stress = np.stack([init["sigma_e_xx"].values, init["sigma_e_yy"].values,
-                       init["sigma_e_xy"].values])
+    stress = np.stack([init[f"sigma_e_{c}"].values for c in ("xx", "yy", "xy")])
     return DryingEngine(scene, init["x"].values, init["y"].values, init["mass"].values,
                         init["rho"].values, stress)
 
@@ -161,30 +153,20 @@ class Recorder:
         self.series_times: list[float] = []
 
     def record_series(self, engine: DryingEngine) -> None:
-        px, py = engine.momentum()
+        values = (engine.n_removed, engine.kinetic_energy(), engine.elastic_energy(),
+                  *engine.momentum(), engine.dt, *engine.onset_kappa())  # SERIES_VARS' order
         self.series_times.append(engine.t)
-        self.series["n_removed"].append(engine.n_removed)
-        self.series["kinetic_energy"].append(engine.kinetic_energy())
-        self.series["elastic_energy"].append(engine.elastic_energy())
-        self.series["momentum_x"].append(px)
-        self.series["momentum_y"].append(py)
-        self.series["time_step"].append(engine.dt)
-        kappa, kappa_criterion = engine.onset_kappa()
-        self.series["kappa_max"].append(kappa)
-        self.series["kappa_criterion_max"].append(kappa_criterion)
+        for key, value in zip(SERIES_VARS, values, strict=True):
+            self.series[key].append(value)
 
     def maybe_snapshot(self, engine: DryingEngine) -> None:
         while (self.next_output < self.times.size
                and engine.t >= self.times[self.next_output] - engine.time_tolerance()):
-            length = engine.box_length
-            s = engine.state
-            values = {
-                "x": np.mod(s[X], length), "y": np.mod(s[Y], length), "vx": s[VX].copy(),
-                "vy": s[VY].copy(), "alive": engine.alive.astype(np.int8),
-                "mass": engine.mass.copy(), "rho": s[4].copy(),
-                "mean_stress": engine.mean_stress.copy(),
-            }
-            for key, value in values.items():
+            s, length = engine.state, engine.box_length
+            values = (np.mod(s[X], length), np.mod(s[Y], length), s[VX].copy(), s[VY].copy(),
+                      engine.alive.astype(np.int8), engine.mass.copy(), s[RHO].copy(),
+                      engine.mean_stress.copy())  # SNAPSHOT_VARS' order
+            for key, value in zip(SNAPSHOT_VARS, values, strict=True):
                 self.snapshots[key].append(value)
             self.snapshot_times.append(engine.t)
             self.next_output += 1
@@ -245,7 +227,6 @@ class DryingRun(runner.EngineRun):
         return self.engine.t >= self.t_end - self.engine.time_tolerance()
 
     def advance(self) -> None:
-        # adaptive steps (rkc2) end exactly on the next output time
         self.engine.stop_at = self.rec.next_stop(self.t_end)
         self.engine.step()
 
@@ -275,12 +256,6 @@ class DryingRun(runner.EngineRun):
                 **({"control_": engine.controller} if engine.controller else {})}
 
 
-def _init_fingerprint(init: xr.Dataset) -> bytes:
-    """The initial state's bytes: a checkpoint is only resumed by the run it belongs to."""
-    return b"".join(np.ascontiguousarray(init[key].values).tobytes()
-                    for key in ("x", "y", "mass", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy"))
-
-
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None, **checkpoints) -> Path:
     """Simulate ``scene`` and write the run dataset to ``out`` (through the runner;
     ``checkpoints``: the options of :func:`craquelure.runner.run_to_file`; checkpoints every
@@ -296,8 +271,10 @@ def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None, **chec
     else:
         init_ds = build_initial_state(scene, seed)
     model = DryingRun(scene, engine_from_initial(scene, init_ds), Recorder(output_times(scene)))
+    # the initial state's bytes: a checkpoint is only resumed by the run it belongs to
+    fingerprint = b"".join(np.ascontiguousarray(init_ds[key].values).tobytes()
+                           for key in ("x", "y", "mass", "sigma_e_xx", "sigma_e_yy", "sigma_e_xy"))
     return runner.run_to_file(
         model, scene, seed, out, lambda: _dataset(model.engine, model.rec, finished=True), clock,
         t_end=model.t_end, desc=f"drying {scene.name} seed {seed}", time_unit="eta/lambda",
-        default_every=model.rebuild_every, extra_fingerprint=_init_fingerprint(init_ds),
-        **checkpoints)
+        default_every=model.rebuild_every, extra_fingerprint=fingerprint, **checkpoints)

@@ -1,16 +1,13 @@
 r"""Binarisation of a drying-paste snapshot (drying spec section 9).
 
-The paste indicator is the SPH Shepard field on a periodic square mesh of spacing
-:math:`\Delta x`:
+The paste indicator is the SPH Shepard field on a periodic square mesh of spacing :math:`\Delta x`:
 
 .. math:: \phi(\mathbf x) = \sum_J \frac{m_J}{\rho_J}\, W(|\mathbf x - \mathbf r_J|; h),
 
 summed over the particles still alive, and a mesh point is paste (pixel 1) where
 :math:`\phi \ge \phi_0` (paper: :math:`\phi_0 = 0.8`, :math:`\Delta x = 0.01 h`), crack (0)
 otherwise. The image is :func:`craquelure.drying.field.mesh_image`: the direct sum (neighbour
-search), not the FFT deposition the spec also allows [D: exact], evaluated only in the blocks
-of mesh points where :math:`\phi` can cross :math:`\phi_0` (the others are classified whole
-from bounds of :math:`\phi`); the image equals that of the sum at every point, bit for bit.
+search), not the FFT deposition the spec also allows [D: exact].
 
 Edge bias: at a straight free edge of uniform paste :math:`\phi` falls to 1/2, and reaches
 :math:`\phi_0` only a depth :math:`d^*` inside the material, with
@@ -26,12 +23,11 @@ Fragments (spec section 9): a fragment is a 4-connected component of paste pixel
 periodic image. scikit-image labels the components of the image as a plain rectangle
 (``skimage.measure.label``, ``connectivity=1``), then the labels of facing edge pixels (column
 0 with column n-1, row 0 with row n-1) are joined (connected components of the graph of
-facing labels, ``scipy.sparse.csgraph``), so a fragment cut by one
-edge, or by both (a blob around a corner), counts once. Pixels touching only diagonally are
-separate fragments (4-connectivity), across the edges as well. The area of a fragment is its
-pixel count times :math:`\Delta x^2`; no minimum size is applied [D, spec section 9] (the
-summary reports the sensitivity to :math:`S_{min} = \pi h^2` separately).
-"""
+facing labels, ``scipy.sparse.csgraph``), so a fragment cut by one edge, or by both (a blob
+around a corner), counts once. Pixels touching only diagonally are separate fragments
+(4-connectivity), across the edges as well. The area of a fragment is its pixel count times
+:math:`\Delta x^2`; no minimum size is applied [D, spec section 9] (the summary reports the
+sensitivity to :math:`S_{min} = \pi h^2` separately)."""
 
 from __future__ import annotations
 
@@ -50,11 +46,9 @@ from craquelure.sph.kernels import w as kernel_w
 
 def snapshot_image(run: xr.Dataset, time_index: int, spacing_h: float, phi0: float,
                    kernel: str) -> tuple[np.ndarray, float]:
-    """Paste image of snapshot ``time_index`` of a run dataset, and the mesh spacing used
-    (``spacing_h``, ``phi0``, ``kernel``: the scene's, :func:`.analysis.analyse_run`).
-
-    Uses the particles with ``alive == 1`` and :math:`V_J = m_J/\\rho_J` at that time.
-    """
+    """Paste image of snapshot ``time_index`` of a run dataset (the live particles,
+    :math:`V_J = m_J/\\rho_J` at that time), and the mesh spacing used (``spacing_h``,
+    ``phi0``, ``kernel``: the scene's, :func:`.analysis.analyse_run`)."""
     snap = run.isel(time=time_index)
     h = float(run.attrs["h"])
     length = float(run.attrs["box_length"])
@@ -90,21 +84,6 @@ def edge_depth(phi0: float, kernel: str, h: float) -> float:
     return h * optimize.brentq(lambda d: phi(d) - phi0, 0.0, 1.0, xtol=1e-12)
 
 
-def _union_edge_labels(labels: np.ndarray, n: int) -> np.ndarray:
-    """The labels that face each other across the periodic edges, joined: the map old label
-    -> root label, the smallest label of its group (0 stays 0)."""
-    pairs = np.concatenate([
-        np.stack([labels[:, 0], labels[:, -1]], axis=1),
-        np.stack([labels[0, :], labels[-1, :]], axis=1),
-    ])
-    pairs = pairs[(pairs[:, 0] > 0) & (pairs[:, 1] > 0) & (pairs[:, 0] != pairs[:, 1])]
-    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n + 1, n + 1))
-    _, group = connected_components(graph, directed=False)
-    root = np.full(group.max() + 1, n + 1)
-    np.minimum.at(root, group, np.arange(n + 1))
-    return root[group]
-
-
 def _periodic_numbers(image: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     """``(labels, number, n)``: scikit-image's labels of the image as a plain rectangle and the
     map label -> fragment number (0 on background, 1..n)."""
@@ -114,7 +93,15 @@ def _periodic_numbers(image: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     labels, n = sk_label(image, connectivity=1, background=0, return_num=True)
     if n == 0:
         return labels, np.zeros(1, labels.dtype), 0
-    root = _union_edge_labels(labels, n)
+    # The labels facing each other across the periodic edges, joined: root[label] is the
+    # smallest label of its group (0 stays 0).
+    pairs = np.stack([np.r_[labels[:, 0], labels[0, :]], np.r_[labels[:, -1], labels[-1, :]]], 1)
+    pairs = pairs[(pairs[:, 0] > 0) & (pairs[:, 1] > 0) & (pairs[:, 0] != pairs[:, 1])]
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n + 1, n + 1))
+    _, group = connected_components(graph, directed=False)
+    root = np.full(group.max() + 1, n + 1)
+    np.minimum.at(root, group, np.arange(n + 1))
+    root = root[group]
     # scikit-image numbers components in raster order of their first pixel, and each root is
     # the smallest label of its group, so numbering the roots in increasing order keeps the
     # raster order of first appearance (no pass over the pixels needed).
@@ -125,11 +112,8 @@ def _periodic_numbers(image: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
 
 
 def label_periodic(image: np.ndarray) -> tuple[np.ndarray, int]:
-    """4-connected labels of the 1-pixels of a periodic 2D image.
-
-    Returns ``(labels, n)``: ``labels`` is 0 on background and 1..n on fragments, numbered in
-    raster order of their first pixel.
-    """
+    """``(labels, n)``: 4-connected labels of the 1-pixels of a periodic 2D image, 0 on
+    background and 1..n on fragments, numbered in raster order of their first pixel."""
     labels, number, n = _periodic_numbers(image)
     return number[labels], n
 

@@ -19,8 +19,7 @@ sample), ``bin`` (histogram bins), and ``fragment`` (all fragments of all sample
   otherwise squeeze every later histogram into the first bin].
 - Scaled distribution (30, 31): :math:`X = S/\langle S\rangle_t`,
   :math:`\tilde P(X) = \langle S\rangle_t P(X \langle S\rangle_t; t)`, i.e. the density of X,
-  on common bins :math:`[0, X_{max}]` (largest X in the window).
-"""
+  on common bins :math:`[0, X_{max}]` (largest X in the window)."""
 
 from __future__ import annotations
 
@@ -45,14 +44,9 @@ LABELLINGS = {
     "open": ("fragment_area_open", "fragment_time_index_open", "n_fragments_open"),
 }
 SCENE_NUMBERS = {  # campaign attribute -> scene path
-    "yield_stress": "material.yield_stress",
-    "drying_rate": "material.drying_rate",
-    "thickness": "material.thickness",
-    "lame_lambda": "material.lame_lambda",
-    "lame_mu": "material.lame_mu",
-    "viscosity": "material.eta",
-    "rho0": "material.rho0",
-    "n_particles": "particles.n",
+    **{key: f"material.{key}" for key in ("yield_stress", "drying_rate", "thickness",
+                                          "lame_lambda", "lame_mu")},
+    "viscosity": "material.eta", "rho0": "material.rho0", "n_particles": "particles.n",
 }
 
 
@@ -105,9 +99,7 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
                                       f"{seeds[0]} in `{key}`; aggregate one scene at a time")
     if len(set(seeds)) != len(seeds):
         raise CraquelureError(f"campaign: repeated seeds {sorted(seeds)}")
-    order = np.argsort(seeds)
-    fragments = [fragments[i] for i in order]
-    seeds = [seeds[i] for i in order]
+    fragments, seeds = sorted(fragments, key=lambda ds: int(ds.attrs["seed"])), sorted(seeds)
     n_s, n_t = len(seeds), times.size
 
     count = np.stack([ds[count_key].values for ds in fragments]).astype(np.int64)
@@ -128,19 +120,11 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
         ref = np.ones(area.size, bool)
     s_max = float(area[ref].max()) if area.size else 1.0
     x_max = float(np.nanmax(x_all[ref])) if area.size else 1.0
-    s_edges = np.linspace(0.0, s_max, n_bins + 1)
-    x_edges = np.linspace(0.0, x_max, n_bins + 1)
+    s_edges, x_edges = (np.linspace(0.0, top, n_bins + 1) for top in (s_max, x_max))
     at_time = [f_time_index == k for k in range(n_t)]
     size_density = np.reshape([_density(area[sel], s_edges) for sel in at_time], (n_t, n_bins))
     scaled_density = np.reshape([_density(x_all[sel], x_edges) for sel in at_time], (n_t, n_bins))
     in_range = np.array([np.mean(area[sel] <= s_max) if sel.any() else np.nan for sel in at_time])
-    def per_seed(key: str) -> np.ndarray:
-        return np.array([float(ds.attrs.get(key, np.nan)) for ds in fragments])
-
-    def per_time(key: str) -> np.ndarray:  # fragment datasets older than the measures: NaN
-        return np.stack([ds[key].values.astype(float) if key in ds else np.full(n_t, np.nan)
-                         for ds in fragments])
-
     # bare variables get their long names and units from craquelure.cf's table on writing
     ds = xr.Dataset(
         {
@@ -149,26 +133,14 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
             "sample_mean_area": (("seed", "time"), sample_mean),
             "paste_fraction": (("seed", "time"),
                                np.stack([d["paste_fraction"].values for d in fragments])),
-            "first_removal_time": ("seed", per_seed("first_removal_time")),
-            "kappa_max": ("seed", per_seed("kappa_max"), {
-                "long_name": "median of max_I sigma_bar_I / F before the first removal",
-                "units": "1"}),
-            "kappa_criterion": ("seed", per_seed("kappa_criterion"), {
-                "long_name": "median of max_I s_I / F (criterion stress s) before the first "
-                             "removal", "units": "1"}),
-            "predicted_first_removal_time": ("seed", per_seed("predicted_first_removal_time"),
-                                             {"long_name": "t*/kappa_criterion",
-                                              "units": "eta/lambda"}),
-            "damage": (("seed", "time"), per_time("damage"), {
-                "long_name": "removed-area fraction d", "units": "1"}),
-            "crack_length_per_area": (("seed", "time"), per_time("crack_length_per_area"), {
-                "long_name": "crack length per area", "units": "1/length"}),
-            "largest_fragment_fraction": (("seed", "time"),
-                                          per_time("largest_fragment_fraction"), {
-                "long_name": "largest fragment's area fraction m_max = S_max/L^2",
-                "units": "1"}),
-            "n_fragments_open": (("seed", "time"), per_time("n_fragments_open"), {
-                "long_name": "fragments without periodic wrap-around", "units": "1"}),
+            **{key: ("seed", np.array([float(d.attrs.get(key, np.nan)) for d in fragments]))
+               for key in ("first_removal_time", "kappa_max", "kappa_criterion",
+                           "predicted_first_removal_time")},
+            # fragment datasets older than the measures: NaN
+            **{key: (("seed", "time"), np.stack([d[key].values.astype(float) if key in d
+                                                 else np.full(n_t, np.nan) for d in fragments]))
+               for key in ("damage", "crack_length_per_area", "largest_fragment_fraction",
+                           "n_fragments_open")},
             "mean_area": ("time", mean, {"long_name": "pooled mean fragment area <S>_t"}),
             "mean_area_se": ("time", se),
             "inverse_mean_area": ("time", 1.0 / mean),
@@ -206,15 +178,13 @@ def build_campaign(fragments: Sequence[xr.Dataset], n_bins: int = DEFAULT_BINS,
     ds.attrs["fracture_stress_measure"] = str(scene.get("material.fracture_stress_measure"))
     ds.attrs.update({"scene_name": str(first.attrs.get("scene_name", scene.name)),
                      "n_seeds": n_s, "seeds": ",".join(map(str, seeds)), "t_star": tstar,
-                     "labelling": labelling,
-                     "window_mode": window_mode, "window_start": win["start"],
-                     "window_end": win["end"]})
+                     "labelling": labelling, "window_mode": window_mode,
+                     "window_start": win["start"], "window_end": win["end"]})
     return ds
 
 
-def campaign_from_files(paths: Sequence[str | Path], out: str | Path,
-                        n_bins: int = DEFAULT_BINS, window_mode: str = "paper",
-                        labelling: str = "periodic") -> Path:
+def campaign_from_files(paths: Sequence[str | Path], out: str | Path, n_bins: int = DEFAULT_BINS,
+                        window_mode: str = "paper", labelling: str = "periodic") -> Path:
     clock = WallClock()
     variables = (*LABELLINGS.get(labelling, LABELLINGS["periodic"]), "time")
     fragments = [read_dataset(p, "fragment dataset", model="drying", variables=variables)

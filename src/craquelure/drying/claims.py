@@ -1,14 +1,11 @@
-"""The drying paper's claims for the validation report (:mod:`craquelure.validation`).
-
-Sources (registered by the drying rules): ``results/drying/summary.json`` and the criterion
-sensitivity's ``results/drying/<scene>_C<measure>/summary.json`` (checks 14-16, see
-:mod:`craquelure.drying.ensemble`; each verdict is recomputed here from the recorded conditions
-and what the sample cannot decide; a criterion other than the source's is named in every row),
-when the thickness sweep ran, ``results/drying/<scene>/thickness.nc``
-(:mod:`craquelure.drying.thickness`), and when the transition study ran,
-``results/drying/transition.nc`` (:mod:`craquelure.drying.transition`: rows against
-arXiv:2503.06177, beyond the drying paper).
-"""
+"""The drying paper's claims for the validation report (:mod:`craquelure.validation`), from the
+sources the drying rules register: ``results/drying/summary.json`` and the criterion
+sensitivity's ``results/drying/<scene>_C<measure>/summary.json`` (checks 14-16 of
+:mod:`craquelure.drying.ensemble`, each verdict recomputed here from the recorded conditions and
+what the sample cannot decide; a criterion other than the source's is named in every row), a
+thickness sweep's ``results/drying/<scene>/thickness.nc`` (:mod:`craquelure.drying.thickness`)
+and ``results/drying/transition.nc`` (:mod:`craquelure.drying.transition`: rows against
+arXiv:2503.06177, beyond the drying paper)."""
 
 from __future__ import annotations
 
@@ -211,9 +208,8 @@ def onset_claim(summary: dict, key: str = "checks") -> Claim:
 
 def thickness_claim(path: Path) -> Claim:
     ds = open_dataset(path)
-    beta = float(ds.attrs["exponent_late_mean"])
-    spread = float(ds.attrs["exponent_late_std"])
-    predicted = float(ds.attrs["predicted_exponent"])
+    beta, spread, predicted = (float(ds.attrs[key]) for key in (
+        "exponent_late_mean", "exponent_late_std", "predicted_exponent"))
     n = int(ds.attrs["n_late_times"])
     name = f"|beta - {predicted:g}| <= {THICKNESS_SIGMAS:g} s.d."
     if n > 0 and math.isfinite(beta):
@@ -238,21 +234,16 @@ TRANSITION_SOURCE = ("Szatmari, Nakahara, Kitsunezaki & Kun, arXiv:2503.06177 (a
 MIN_SIZES = 3  # finite-size scaling tests its form only with >= 3 sizes
 
 
-def _transition_setup(ds) -> str:
-    a = ds.attrs
-    sizes = ", ".join(f"L = {s:g} x {int(n)}" for s, n in
-                      zip(ds["size"].values, ds["n_seeds"].values, strict=True))
-    criterion = departure_note(str(a.get("fracture_stress_measure", SOURCE_MEASURE)))
-    return (f"runs '{a.get('variant', '')}' of {a.get('scenes', '?')} ({sizes} seeds), "
-            f"v_r = {float(a['drying_rate']):.3g} (paper 2.2e-05)"
-            + (f"; {criterion}" if criterion else ""))
-
-
 def transition_claims(path: Path) -> list[Claim]:
     """Rows against arXiv:2503.06177: the two phases, and d_c with the exponents."""
     ds = open_dataset(path)
     a = ds.attrs
-    setup = _transition_setup(ds)
+    sizes = ", ".join(f"L = {s:g} x {int(n)}" for s, n in
+                      zip(ds["size"].values, ds["n_seeds"].values, strict=True))
+    criterion = departure_note(str(a.get("fracture_stress_measure", SOURCE_MEASURE)))
+    setup = (f"runs '{a.get('variant', '')}' of {a.get('scenes', '?')} ({sizes} seeds), "
+             f"v_r = {float(a['drying_rate']):.3g} (paper 2.2e-05)"
+             + (f"; {criterion}" if criterion else ""))
     first, last = [], []  # m_max at the lowest damage with cracks and at the highest, per size
     for n, m, d in zip(ds["n"].values, ds["m_max"].values, ds["damage"].values, strict=True):
         m, cracked = m[n > 0], d[n > 0] > 0
@@ -326,12 +317,8 @@ def transition_claims(path: Path) -> list[Claim]:
 
 def summary_claims(summary: dict) -> list[Claim]:
     """Checks 14-16 of a summary, for each labelling it judges."""
-    out: list[Claim] = []
-    for key in LABELLING_KEYS:
-        if key in summary:
-            out += [inverse_area_claim(summary, key), collapse_claim(summary, key),
-                    onset_claim(summary, key)]
-    return out
+    return [claim(summary, key) for key in LABELLING_KEYS if key in summary
+            for claim in (inverse_area_claim, collapse_claim, onset_claim)]
 
 
 def setting(summary: dict) -> str:
@@ -355,11 +342,9 @@ def criterion_variant(provenance: dict) -> bool:
 
 def companion(name: str, summary: dict) -> dict:
     """The rows of a companion ensemble (archived as ``name``) shown beside the headline's
-    (``companions`` of :func:`craquelure.validation.write_json`), each naming the ensemble's
-    setting. With the source's criterion they are judged (the source's model, at Table I's size
-    or the spec's smaller CPU size); the headline alone carries the declared departure, so a
-    companion whose criterion departs is a variant the source never ran: its rows give their
-    numbers without a verdict."""
+    (``companions`` of :func:`craquelure.validation.write_json`), each naming its setting;
+    judged with the source's criterion, without a verdict (a variant the source never ran)
+    with a criterion that departs, since only the headline carries the declared departure."""
     judged = summary.get("fracture_stress_measure", SOURCE_MEASURE) == SOURCE_MEASURE
     label = setting(summary)
     return {"name": name, "setting": label, "judged": judged,

@@ -21,10 +21,8 @@ snapshot of a drying run, from its particles and its paste image (:mod:`.binaris
 - largest fragment's area fraction :math:`m_{max} = S_{max}/L^2` (periodic labelling), the
   order parameter of the damage-to-fragmentation transition (Szatmari et al. 2025).
 
-The fragments of the image taken as a plain rectangle (no wrap-around: a band around the torus
-is one fragment on the torus, and the box edges cut it into separate pieces) are labelled by
-:func:`craquelure.drying.binarise.fragment_areas` with ``periodic=False``.
-"""
+The fragments of the image taken as a plain rectangle (a band around the torus is one fragment
+on the torus; the box edges cut it) are :func:`.binarise.fragment_areas` with ``periodic=False``."""
 
 from __future__ import annotations
 
@@ -42,8 +40,7 @@ def damage(alive: np.ndarray) -> float:
 
 
 def interface_length(image: np.ndarray, spacing: float) -> float:
-    """Length of the 0/1 interface of a periodic image (module docstring), in the units of
-    ``spacing``."""
+    """Length of the 0/1 interface of a periodic image (module docstring), in spacing's units."""
     a = np.asarray(image, dtype=bool)
     axis = (np.count_nonzero(a != np.roll(a, 1, axis=0))
             + np.count_nonzero(a != np.roll(a, 1, axis=1)))
@@ -54,8 +51,7 @@ def interface_length(image: np.ndarray, spacing: float) -> float:
 
 
 def crack_length_per_area(image: np.ndarray, spacing: float) -> float:
-    """Crack length per unit area: half the interface length (two faces per crack) over the
-    image area."""
+    """Crack length per unit area: half the interface length (two faces per crack) / area."""
     area = image.size * spacing * spacing
     return 0.5 * interface_length(image, spacing) / area
 

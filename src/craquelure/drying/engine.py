@@ -6,17 +6,15 @@ integrator loop (drying spec sections 2-8). No file I/O here (see :mod:`craquelu
   than skin h / 2 since the last build and at every checkpoint (so a resumed run repeats the
   summation order of an uninterrupted one: bit-identical results). Removed particles stay
   listed until the next rebuild; with zero mass they add exactly 0.
-- Fracture (effect ``fracture``): after each accepted step, with the rates of the new state,
-  particles whose criterion stress s (``material.fracture_stress_measure``, default the
-  source's tr(sigma)/2; :mod:`craquelure.drying.effects.fracture`) exceeds sigma_Y are removed
+- Fracture (:mod:`craquelure.drying.effects.fracture`): after each accepted step, with the
+  rates of the new state, particles whose criterion stress s exceeds sigma_Y are removed
   (alive = 0, mass = 0, v = 0) and the multistep integrator restarts with RK4.
-- Onset diagnostics (open doubt 7 of the spec): before any removal each particle's mean stress
-  is sigma_bar_I = kappa_I F + (what is left of the initial stress), F the drying stress, so
-  the first removal comes at t*/kappa_max (source criterion). :meth:`DryingEngine.onset_kappa`
-  gives kappa_max = max_I sigma_bar_I/F and the criterion's max_I s_I/F while nothing has
-  been removed and F >= 20 a sigma_Y (a = ``material.initial_stress_amplitude``): the initial
-  stress, |sigma_bar(0)| <= a sigma_Y at the start, then shifts kappa by about
-  a sigma_Y/F <= 0.05, small against kappa_max - 1; NaN otherwise.
+- Onset diagnostics (spec open doubt 7): before any removal each particle's mean stress is
+  sigma_bar_I = kappa_I F + (what is left of the initial stress), F the drying stress, so the
+  first removal comes at t*/kappa_max (source criterion). :meth:`DryingEngine.onset_kappa`
+  gives kappa_max and the criterion's max_I s_I/F while nothing has been removed and
+  F >= 20 a sigma_Y (a = ``material.initial_stress_amplitude``: the initial stress, at most
+  a sigma_Y, then shifts kappa by <= 0.05, small against kappa_max - 1); NaN otherwise.
 - Time step, fixed-step integrators (abm4, rk4, rk2): the scene's dt; at the start and every
   ``spectral_check_every`` steps the viscous spectral radius is re-estimated by power iteration
   and dt is halved while it exceeds 0.6 of the integrator's real-axis limit (spec section 8).
@@ -36,8 +34,7 @@ integrator loop (drying spec sections 2-8). No file I/O here (see :mod:`craquelu
   between removal events. Steps end exactly on ``stop_at`` (the next snapshot, set by the run
   loop) and never exceed ``step_control.dt_max``.
 - Guards: NaN/inf anywhere in the state, or a kinetic energy above ``energy_runaway_factor``
-  times the energy the stresses can supply, stop the run with :class:`SimulationDiverged`.
-"""
+  times the energy the stresses can supply, stop the run with :class:`SimulationDiverged`."""
 
 from __future__ import annotations
 
@@ -88,8 +85,7 @@ class DryingEngine:
 
     def __init__(self, scene: Scene, x, y, mass, rho, sigma_e, vx=None, vy=None) -> None:
         self.scene = scene
-        n = len(x)
-        self.n = n
+        self.n = n = len(x)
         self.box_length = float(scene.get("domain.box_length"))
         self.h = float(scene.get("numerics.h"))
         self.box = Box.square(self.box_length)
@@ -102,8 +98,7 @@ class DryingEngine:
         self.x0, self.y0 = np.array(x, float), np.array(y, float)
         self.mass = np.array(mass, float)
         self.alive = np.ones(n, np.bool_)
-        self.t = 0.0
-        self.step_count = 0
+        self.t, self.step_count = 0.0, 0
         self.dt = float(scene.get("numerics.dt"))
         self.params = parameters(scene)
         self.effects = scene.effects
@@ -113,7 +108,6 @@ class DryingEngine:
         sigma_y = scene.optional("material.yield_stress")
         self.yield_stress = math.inf if sigma_y is None else float(sigma_y)
         self.fracture_measure = str(scene.get("material.fracture_stress_measure"))
-        # kappa is recorded from F >= 20 a sigma_Y (module docstring)
         self.kappa_min_f = (KAPPA_AMPLITUDE_FACTOR
                             * float(scene.get("material.initial_stress_amplitude"))
                             * (0.0 if sigma_y is None else float(sigma_y)))
@@ -124,13 +118,10 @@ class DryingEngine:
                                scene.get("numerics.restart_steps"))
         self.skin = float(scene.get("numerics.neighbour_skin")) * self.h
         self.stop_at = math.inf
-        self.stage_evaluations = 0
-        self.viscous_evaluations = 0
         self.controller = (StepController.from_scene(scene, self.dt) if self.stepper.adaptive
                            else None)
         self.overwrite_velocity = bool(scene.get("numerics.xsph_overwrite_velocity"))
-        self.n_removed = 0
-        self.evaluations = 0
+        self.n_removed = self.evaluations = self.stage_evaluations = self.viscous_evaluations = 0
         self.stress = np.zeros((3, n))
         self._build_neighbours()
         self.f_current = self.evaluate(self.state, self.t)
@@ -138,7 +129,6 @@ class DryingEngine:
         if self.controller is not None:
             self.controller.error_scale = self._error_scale()
 
-    # -- neighbours and rates ------------------------------------------------------------
     def _build_neighbours(self, state: np.ndarray | None = None) -> None:
         """The neighbour list of ``state`` (default: the current state)."""
         state = self.state if state is None else state
@@ -148,14 +138,11 @@ class DryingEngine:
         self._built_y = state[Y].copy()
         self.neighbour_builds = getattr(self, "neighbour_builds", 0) + 1
 
-    def _maybe_rebuild(self, state: np.ndarray) -> None:
+    def evaluate(self, state: np.ndarray, t: float, stress: np.ndarray | None = None):
+        """dY/dt at (state, t); the total stress goes to ``stress`` (default: self.stress)."""
         moved2 = (state[X] - self._built_x) ** 2 + (state[Y] - self._built_y) ** 2
         if self.skin <= 0 or moved2.max(initial=0.0) > (0.5 * self.skin) ** 2:
             self._build_neighbours(state)
-
-    def evaluate(self, state: np.ndarray, t: float, stress: np.ndarray | None = None):
-        """dY/dt at (state, t); the total stress goes to ``stress`` (default: self.stress)."""
-        self._maybe_rebuild(state)
         out = np.empty_like(state)
         self.rate_module.rate(state, t, self.mass, self.alive, self.x0, self.y0, self.pairs,
                               self.params, out,
@@ -166,7 +153,6 @@ class DryingEngine:
     def _stage_rate(self, state: np.ndarray, t: float) -> np.ndarray:
         return self.evaluate(state, t, stress=np.empty_like(self.stress))
 
-    # -- diagnostics -----------------------------------------------------------------------
     @property
     def mean_stress(self) -> np.ndarray:
         """tr(sigma)/2 of the total stress of the current state (0 for removed particles)."""
@@ -179,9 +165,8 @@ class DryingEngine:
 
     def drying_stress(self) -> float:
         """F = min(v_r t, cap) of the current time (0 without the drying effect)."""
-        if not self.scene.has("drying"):
-            return 0.0
-        return min(self.params[template.P_VR] * self.t, self.params[template.P_DRYCAP])
+        return (min(self.params[template.P_VR] * self.t, self.params[template.P_DRYCAP])
+                if self.scene.has("drying") else 0.0)
 
     def onset_kappa(self) -> tuple[float, float]:
         """(max_I sigma_bar_I / F, max_I s_I / F) before the first removal once F >= 20 a
@@ -213,8 +198,7 @@ class DryingEngine:
                 float(np.sum(self.mass * self.state[VY])))
 
     def _energy_bound(self) -> float:
-        """Energy the stresses and the effects' declarations can supply over the run (used by
-        the runaway guard)."""
+        """Energy the stresses and the effects can supply over the run (the runaway guard's)."""
         lam, mu = self.params[template.P_LAMBDA], self.params[template.P_MU]
         t_end = float(self.scene.get("outputs.t_end"))
         sigma = max(float(np.abs(self.state[SXX:SXY + 1]).max(initial=0.0)),
@@ -239,13 +223,11 @@ class DryingEngine:
                        f"stresses can supply; try a smaller numerics.dt)", per_particle)
 
     def check_health(self) -> None:
-        """Raise :class:`SimulationDiverged` when :meth:`health` fails (runs outside the
-        runner, e.g. the accuracy study)."""
+        """Raise :class:`SimulationDiverged` if :meth:`health` fails (runs outside the runner)."""
         bad = self.health()
         if bad is not None:
             raise diverged("drying", bad, self.step_count, self.t, "eta/lambda")
 
-    # -- time step control -------------------------------------------------------------------
     def viscous_spectral_radius(self, iterations: int = 40, seed: int = 12345) -> float:
         """Largest |eigenvalue| of the linear map v -> dv/dt of the viscous term alone, by
         power iteration on the current configuration."""
@@ -283,7 +265,6 @@ class DryingEngine:
         self.stepper.restart()
         return self.dt
 
-    # -- stepping ------------------------------------------------------------------------------
     def step(self) -> int:
         """Advance one step; returns the number of particles removed in it. A kernel's
         arithmetic failure is the guard's stop, :class:`SimulationDiverged`, not a traceback:
@@ -309,17 +290,14 @@ class DryingEngine:
         self.f_current = self.evaluate(self.state, self.t)
         return self.remove_overstressed() if self.fracture else 0
 
-    # -- rkc2: stages from the spectral radius, error and removal-event step control ----------
     def _error_scale(self) -> np.ndarray:
         """Per-row scales of the local error (engine docstring): 1 = tolerance x sigma_s."""
         p = self.params
         lam, mu, eta = p[template.P_LAMBDA], p[template.P_MU], p[template.P_ETA]
         rho0 = float(self.scene.get("material.rho0"))
-        if math.isfinite(self.yield_stress):
-            sigma = self.yield_stress
-        else:
-            sigma = max(p[template.P_VR] * float(self.scene.get("outputs.t_end")),
-                        float(np.abs(self.state[SXX:SXY + 1]).max(initial=0.0)))
+        sigma = (self.yield_stress if math.isfinite(self.yield_stress)
+                 else max(p[template.P_VR] * float(self.scene.get("outputs.t_end")),
+                          float(np.abs(self.state[SXX:SXY + 1]).max(initial=0.0))))
         sigma = sigma if sigma > 0 else 1.0
         modulus = lam + 2 * mu if lam + 2 * mu > 0 else 1.0
         velocity = min(self.h / eta if eta > 0 else math.inf,
@@ -378,8 +356,7 @@ class DryingEngine:
                     self.step_count, self.t, "eta/lambda")
         before = self.criterion
         self.state, self.f_current, self.stress = new, f_new, stress
-        self.t = t_new
-        self.dt = dt
+        self.t, self.dt = t_new, dt
         self.step_count += 1
         removed = self.remove_overstressed() if self.fracture else 0
         if removed:

@@ -48,15 +48,14 @@ naming the seed count where both reach 0.8. Reported too: the large-sample limit
 statistics under the drift, and under a drift that keeps the small sizes
 (:math:`X' \propto X^p`).
 
-**Check 16, onset** (source: fragments from 0.40 t*, some samples unbroken until 0.66 t*).
-Per sample: first removal time and break time (first snapshot with >= 2 fragments), with
-bootstrap percentile intervals in units of t*. Conditions: first sample broken by 0.45 t*, all
-broken by 0.9 t*. These are extremes of the source's 100 samples, so with fewer samples a pass
-of "all broken" or a miss of "first broken" is undecided (the maximum grows, the minimum falls
-with the count); the opposite outcomes are decided at any count. Reported at 100 samples drawn
-from the measured break times: the rate at which both hold, and the power against every sample
-breaking 25 % later.
-"""
+**Check 16, onset** (source: fragments from 0.40 t*, some samples unbroken until 0.66 t*). Per
+sample: first removal time and break time (first snapshot with >= 2 fragments), with bootstrap
+percentile intervals in units of t*. Conditions: first sample broken by 0.45 t*, all broken by
+0.9 t*. These are extremes of the source's 100 samples, so with fewer samples a pass of "all
+broken" or a miss of "first broken" is undecided (the maximum grows, the minimum falls with the
+count); the opposite outcomes are decided at any count. Reported at 100 samples drawn from the
+measured break times: the rate at which both hold, and the power against every sample breaking
+25 % later."""
 
 from __future__ import annotations
 
@@ -64,7 +63,7 @@ import math
 from typing import Any
 
 import numpy as np
-from scipy import stats
+from scipy import optimize, stats
 
 from craquelure.validation import POWER_NEEDED, bootstrap_interval, fraction_interval, verdict_of
 
@@ -89,9 +88,8 @@ POWER_SEED = 20261201
 def bootstrap_weights(n_samples: int, n_boot: int, rng: np.random.Generator) -> np.ndarray:
     """(n_boot, n_samples) multiplicities of each sample in each replicate."""
     draws = rng.integers(0, n_samples, size=(n_boot, n_samples))
-    weights = np.zeros((n_boot, n_samples))
-    np.add.at(weights, (np.repeat(np.arange(n_boot), n_samples), draws.ravel()), 1.0)
-    return weights
+    return np.array([np.bincount(d, minlength=n_samples) for d in draws],
+                    float).reshape(n_boot, n_samples)
 
 
 def seeds_needed(n_s: int, decides) -> int | None:
@@ -122,11 +120,6 @@ def inverse_area_errors(y: np.ndarray, y_boot: np.ndarray, count: np.ndarray
     return np.sqrt(variance), np.sqrt(k2 / n_t) * y, float((n_s - 1) * n_times)
 
 
-def _design(t: np.ndarray, quadratic: bool) -> np.ndarray:
-    cols = [np.ones_like(t), t] + ([(t - t.mean()) ** 2] if quadratic else [])
-    return np.stack(cols, axis=1)
-
-
 def shape_tests(t: np.ndarray, y: np.ndarray, se: np.ndarray, dof_scale: float = math.inf
                 ) -> dict[str, np.ndarray]:
     """Tests (a) and (b) on data rows ``y`` (..., n_t): weighted linear and quadratic fits,
@@ -136,7 +129,7 @@ def shape_tests(t: np.ndarray, y: np.ndarray, se: np.ndarray, dof_scale: float =
     w = 1.0 / se**2
     out: dict[str, Any] = {}
     for quadratic in (False, True):
-        x = _design(t, quadratic)
+        x = np.stack([np.ones_like(t), t] + ([(t - t.mean()) ** 2] if quadratic else []), axis=1)
         cov = np.linalg.inv(x.T @ (x * w[:, None]))
         coef = y @ (cov @ (x * w[:, None]).T).T
         if not quadratic:
@@ -240,16 +233,15 @@ def check_inverse_area(t: np.ndarray, total: np.ndarray, count: np.ndarray, t_st
         "inverse_mean_area": y.tolist(), "inverse_mean_area_se": se.tolist(),
         "inverse_mean_area_se_bootstrap": se_raw.tolist(), "error_scale_dof": nu,
         "slope_b": b, "slope_b_ci95": _ci(boot["b"]), "slope_over_b_star": b / b_star,
-        "intercept_a": a,
-        "x_intercept_t0": t0, "t0_ci95": _ci(t0_boot), "t0_over_t_star": t0 / t_star,
+        "intercept_a": a, "x_intercept_t0": t0, "t0_ci95": _ci(t0_boot),
+        "t0_over_t_star": t0 / t_star,
         "t0_bound_applied": bool(math.isfinite(t0_several)),
         "t0_several_fragments": t0_several, "t0_bound_note": t0_note,
         "several_fragments": SEVERAL_FRAGMENTS, "several_fragment_snapshots": int(several.sum()),
         "reduced_chi2": float(fit["reduced_chi2"]),
         "reduced_chi2_critical": fit["reduced_chi2_critical"],
         "quadratic_c": float(fit["c"]), "quadratic_c_z": float(fit["c_z"]),
-        "quadratic_c_p": float(fit["c_p"]),
-        "alpha_free_power_law": float(alpha),
+        "quadratic_c_p": float(fit["c_p"]), "alpha_free_power_law": float(alpha),
         "alternative": "1/<S>_t = A + B t^2 (t^-2 law) through the measured end points",
         "power": power, "power_needed": POWER_NEEDED, "seeds_needed": needed,
         "n_power_draws": int(n_power), "n_bootstrap": int(ok.sum()),
@@ -259,11 +251,8 @@ def check_inverse_area(t: np.ndarray, total: np.ndarray, count: np.ndarray, t_st
 
 
 def _ci(values: np.ndarray) -> list[float] | None:
-    values = np.asarray(values, float)
-    values = values[np.isfinite(values)]
-    if values.size < 2:
-        return None
-    return bootstrap_interval(values)
+    values = np.asarray(values, float)[np.isfinite(values)]
+    return bootstrap_interval(values) if values.size >= 2 else None
 
 
 # --- check 15 -----------------------------------------------------------------------------
@@ -296,11 +285,9 @@ class CollapseSample:
             mean = (weights @ self.s1) / (weights @ self.n)
             x2 = (weights @ self.s2) / (weights @ self.n) / mean**2
             cv = np.std(x2, axis=1, ddof=1) / np.mean(x2, axis=1)
-        (af, sf, tf), (al, sl, tl) = self.first, self.last
-        zero = np.zeros((weights.shape[0], 1))
-        cf = np.concatenate([zero, np.cumsum(weights[:, sf], axis=1)], axis=1)
-        cl = np.concatenate([zero, np.cumsum(weights[:, sl], axis=1)], axis=1)
-        with np.errstate(invalid="ignore", divide="ignore"):
+            # cumulative sample weights along each end's sorted sizes, normalised
+            (af, sf, tf), (al, sl, tl) = self.first, self.last
+            cf, cl = (np.cumsum(np.pad(weights[:, s], ((0, 0), (1, 0))), axis=1) for s in (sf, sl))
             cf /= cf[:, -1:]
             cl /= cl[:, -1:]
         ks = np.full(weights.shape[0], np.nan)
@@ -328,13 +315,12 @@ class CollapseSample:
 
 def drift_margins(x_first: np.ndarray, n_times: int, drift: float = WIDTH_DRIFT
                   ) -> dict[str, float]:
-    """Margins of check 15 from its named alternative: the KS
-    distance between the measured first-snapshot scaled sizes X and the same sizes with the
-    width of X - 1 scaled by 1 - drift (exact for that distribution: the large-sample limit),
-    and the CV (ddof = 1) of <X^2>_t = 1 + w_t^2 Var X over ``n_times`` snapshots with w_t
-    falling linearly from 1 to 1 - drift; the margins are half of each."""
-    x = np.asarray(x_first, float)
-    x = x[np.isfinite(x)]
+    """Margins of check 15 from its named alternative: the KS distance between the measured
+    first-snapshot scaled sizes X and the same sizes with the width of X - 1 scaled by 1 - drift
+    (exact for that distribution: the large-sample limit), and the CV (ddof = 1) of
+    <X^2>_t = 1 + w_t^2 Var X over ``n_times`` snapshots with w_t falling linearly from 1 to
+    1 - drift; the margins are half of each."""
+    x = np.asarray(x_first, float)[np.isfinite(x_first)]
     x = x / x.mean()
     ks = float(stats.ks_2samp(x, 1.0 + (x - 1.0) * (1.0 - drift)).statistic)
     w = 1.0 - drift * np.arange(n_times) / max(n_times - 1, 1)
@@ -367,8 +353,6 @@ def _shape_drift_limit(counts: np.ndarray, mean: np.ndarray, pool: np.ndarray,
                       rng: np.random.Generator) -> tuple[float, float]:
     """Large-sample KS and CV under a support-keeping drift of the same 25 %: X' = X^p / <X^p>,
     p per snapshot so that the coefficient of variation falls linearly to 0.75 of the pool's."""
-    from scipy import optimize
-
     n_s, n_t = counts.shape
     pool = pool[pool > 0]
     base = np.std(pool) / np.mean(pool)
@@ -467,9 +451,8 @@ def check_collapse(area: np.ndarray, sample: np.ndarray, time: np.ndarray, n_sam
         "cv_mean_x2": cv, "cv_mean_x2_upper95": cv_hi, "ks_raw_first_last": raw,
         "alternative": f"scaled width drifting by {WIDTH_DRIFT:.0%} across the window",
         "ks_margin": margins[0], "cv_margin": margins[1], "ks_drift_first": margin["ks_drift"],
-        "cv_drift_first": margin["cv_drift"],
-        "power": power, "confirmation_rate": confirm, "power_needed": POWER_NEEDED,
-        "seeds_needed": needed, "n_power_draws": int(n_draws),
+        "cv_drift_first": margin["cv_drift"], "power": power, "confirmation_rate": confirm,
+        "power_needed": POWER_NEEDED, "seeds_needed": needed, "n_power_draws": int(n_draws),
         "drift_large_sample_ks": ks_inf, "drift_large_sample_cv": cv_inf,
         "shape_drift_large_sample_ks": shape_drift[0],
         "shape_drift_large_sample_cv": shape_drift[1],
@@ -495,26 +478,25 @@ def check_onset(times: np.ndarray, n_fragments: np.ndarray, first_removal: np.nd
     removal = np.where(np.isfinite(first_removal), first_removal, np.inf)
     picks = rng.integers(0, n_s, size=(n_boot, n_s))
 
-    def stat(values: np.ndarray, how: str) -> dict[str, Any]:
-        f = {"min": np.min, "median": np.median, "max": np.max}[how]
+    def over(v: float) -> float | None:
+        return float(v / t_star) if np.isfinite(v) else None
+
+    def stat(values: np.ndarray, f) -> dict[str, Any]:
         point = float(f(values))
         boot = f(values[picks], axis=1)
         # Never-broken samples are inf: nearest-rank percentiles keep them without nan.
         lo = np.percentile(boot, 2.5, method="lower")
         hi = np.percentile(boot, 97.5, method="higher")
-
-        def over(v: float) -> float | None:
-            return float(v / t_star) if np.isfinite(v) else None
         return {"time": point if np.isfinite(point) else None, "over_t_star": over(point),
                 "ci95_over_t_star": [over(lo), over(hi)]}
 
     out = {
         "n_samples": int(n_s), "t_star": t_star, "pi": pi_number,
-        "first_removal_earliest": stat(removal, "min"),
-        "first_removal_median": stat(removal, "median"),
-        "first_sample_broken": stat(breaks, "min"),
-        "half_samples_broken": stat(breaks, "median"),
-        "all_samples_broken": stat(breaks, "max"),
+        "first_removal_earliest": stat(removal, np.min),
+        "first_removal_median": stat(removal, np.median),
+        "first_sample_broken": stat(breaks, np.min),
+        "half_samples_broken": stat(breaks, np.median),
+        "all_samples_broken": stat(breaks, np.max),
         "unbroken_at_end": int(np.sum(~np.isfinite(breaks))),
     }
     # the share of samples still one fragment at the end, with its exact 95 % interval

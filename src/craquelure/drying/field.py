@@ -2,10 +2,9 @@ r"""SPH fields sampled on a periodic square mesh, computed with a neighbour sear
 neighbours), never O(mesh x N)).
 
 :math:`\phi(\mathbf x) = \sum_J V_J\, W(|\mathbf x - \mathbf r_J|; s)` with :math:`V_J = m_J/\rho_J`
-is the Shepard (partition-of-unity) field: 1 inside intact material, about 0.5 on a free edge,
-0 in a crack. The drying model binarises it (:math:`\phi \ge \phi_0`) to find fragments.
-Mesh point (i, j) sits at ``(i * spacing, j * spacing)``; the array is indexed ``[j, i]``
-(row = y).
+is the Shepard (partition-of-unity) field: 1 inside intact material, about 0.5 on a free edge, 0 in
+a crack. The drying model binarises it (:math:`\phi \ge \phi_0`) to find fragments. Mesh point (i,
+j) sits at ``(i * spacing, j * spacing)``; the array is indexed ``[j, i]`` (row = y).
 
 Method: particles are sorted by y (a one-dimensional cell list of strips). Each mesh row j
 (in parallel) visits only the particles with :math:`|y_J - y_j| < s` (minimum image) and, for
@@ -21,8 +20,7 @@ particle's farthest point of a block bounds :math:`\phi` on the block from below
 nearest point from above. Blocks whose lower bound clears :math:`\phi_0` (by ``ROUNDING``, far
 above the round-off of either sum) are paste, blocks whose upper bound stays under it are
 crack, and only the rest, along the edges of cracks and removed particles, are summed, point by
-point exactly as for the whole field: the same terms in the same order, so the same bits.
-"""
+point exactly as for the whole field: the same terms in the same order, so the same bits."""
 
 from __future__ import annotations
 
@@ -51,8 +49,7 @@ def _add_row_range(acc, next_need, next_free, block, x, y, value, order, lo, hi,
     no index needs a modulo."""
     for p in range(lo, hi):
         q = order[p]
-        dy = py - y[q]
-        dy = minimum_image(dy, length)
+        dy = minimum_image(py - y[q], length)
         rem = s * s - dy * dy
         if rem <= 0.0:
             continue
@@ -127,12 +124,10 @@ def _mesh_sum_rows(x, y, value, order, y_sorted, length, s, kind, n_mesh, spacin
 
 @njit(parallel=True, cache=True)
 def _block_bounds(x, y, value, order, y_sorted, length, s, kind, n_mesh, spacing, block):
-    """Lower and upper bounds of the field over each block of ``block`` x ``block`` mesh
-    points: the sums of value W at each particle's farthest and nearest point of the block (W
-    does not increase with r), with W read from a table in r^2 at the grid point beyond (lower)
-    or before (upper). Each block row visits the particles of its strip (sorted by y) and, for
-    each, the blocks within the support. Every block is given the size of a whole one (the last
-    one may be smaller): the bounds stay bounds."""
+    """Lower and upper bounds of the field over each block of ``block`` x ``block`` mesh points
+    (module docstring), W read from a table in r^2 at the grid point beyond (lower) or before
+    (upper). Each block row visits the particles of its strip and, for each, the blocks within
+    the support; every block counts as a whole one (the last may be smaller): bounds stay bounds."""
     n = order.size
     n_block = (n_mesh + block - 1) // block
     width = block * spacing
@@ -151,8 +146,7 @@ def _block_bounds(x, y, value, order, y_sorted, length, s, kind, n_mesh, spacing
         else:
             a = np.searchsorted(y_sorted, (yc - h - s) % length)
             count = (np.searchsorted(y_sorted, (yc + h + s) % length, side="right") - a) % n
-        lo = lower[bj]
-        up = upper[bj]
+        lo, up = lower[bj], upper[bj]
         for t in range(count):
             q = order[(a + t) % n]
             vq = value[q]
@@ -186,8 +180,7 @@ def _prepare(x, y, value, box_length, support, spacing, active):
     length = float(box_length)
     keep = np.ones(len(x), np.bool_) if active is None else np.asarray(active).astype(np.bool_)
     # Wrap into [0, L) so the sorted strips and the minimum image agree.
-    xw = np.mod(np.asarray(x, np.float64), length)
-    yw = np.mod(np.asarray(y, np.float64), length)
+    xw, yw = (np.mod(np.asarray(v, np.float64), length) for v in (x, y))
     order = np.flatnonzero(keep)
     order = order[np.argsort(yw[order], kind="stable")].astype(np.int64)
     return xw, yw, np.asarray(value, np.float64), order, n_mesh, length / n_mesh
@@ -196,12 +189,10 @@ def _prepare(x, y, value, box_length, support, spacing, active):
 def mesh_field(x: np.ndarray, y: np.ndarray, value: np.ndarray, box_length: float,
                support: float, spacing: float, kernel: str = "quintic",
                active: np.ndarray | None = None) -> np.ndarray:
-    """:math:`\\sum_J value_J W(|x - r_J|; s)` on the periodic mesh of a square box.
-
-    ``spacing`` is rounded so that an integer number of mesh points tiles the box.
-    Inactive particles (``active == 0``) do not contribute. The box must be at least twice the
-    support wide (otherwise the minimum image is ambiguous, as in the neighbour search).
-    """
+    """:math:`\\sum_J value_J W(|x - r_J|; s)` on the periodic mesh of a square box, ``spacing``
+    rounded so that an integer number of points tiles it, inactive particles (``active == 0``)
+    left out. The box must be at least twice the support wide (else the minimum image is
+    ambiguous, as in the neighbour search)."""
     xw, yw, value, order, n_mesh, spacing = _prepare(x, y, value, box_length, support, spacing,
                                                      active)
     field = np.empty((n_mesh, n_mesh))

@@ -1,13 +1,12 @@
 r"""Figures of the drying-paste campaign (paper Figs. 2-6), from analysis datasets only.
 
-Every figure carries a caption line with the profile, N, L, the number of seeds, the time unit
-(:math:`t^* = \sigma_Y/v_r`, and the profile's speed-up over the paper) and the fitted numbers
-from the summary (:func:`craquelure.drying.summary.summarise`). Each is written as PNG and
-PDF.
-"""
+Every figure, written as PNG and PDF, carries a caption line with the profile, N, L, the number
+of seeds, the time unit (:math:`t^* = \sigma_Y/v_r`, and the profile's speed-up over the paper)
+and the fitted numbers from the summary (:func:`craquelure.drying.summary.summarise`)."""
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -34,8 +33,7 @@ def setup_line(campaign: xr.Dataset, profile: str) -> str:
     a = campaign.attrs
     tstar = float(a["t_star"])
     speed = paper_t_star() / tstar
-    mode = str(a.get("window_mode", "paper"))
-    window = ("paper's window rescaled by t*" if mode == "paper"
+    window = ("paper's window rescaled by t*" if str(a.get("window_mode", "paper")) == "paper"
               else "window from the first snapshot with every sample broken")
     pace = ("as the paper" if abs(speed - 1) < 1e-3
             else f"{speed:.3g}x faster than the paper; {window}")
@@ -99,9 +97,7 @@ def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any]
                   profile: str, n_panels: int = 4):
     """Fig. 2: crack patterns of one sample at four snapshot times after the initial stage,
     surviving particles coloured by mean stress / sigma_Y (the run's recorded snapshots)."""
-    a = campaign.attrs
-    sigma_y = float(a["yield_stress"])
-    tstar = float(a["t_star"])
+    sigma_y, tstar = float(campaign.attrs["yield_stress"]), float(campaign.attrs["t_star"])
     times = run["time"].values
     start = summary.get("initial_stage_end")  # None when no snapshot has every sample broken
     late = np.flatnonzero(times >= start) if start is not None else np.zeros(0, int)
@@ -129,11 +125,9 @@ def fig_snapshots(run: xr.Dataset, campaign: xr.Dataset, summary: dict[str, Any]
 
 
 def fig_inverse_mean_area(campaign: xr.Dataset, summary: dict[str, Any], profile: str):
-    """Fig. 3: 1/<S>_t with its standard error over seeds vs t, the linear fit over the window
-    and t*."""
-    t = campaign["time"].values
-    inv = campaign["inverse_mean_area"].values
-    err = campaign["inverse_mean_area_se"].values
+    """Fig. 3: 1/<S>_t (+- its SE over seeds) vs t, the linear fit over the window and t*."""
+    t, inv, err = (campaign[key].values
+                   for key in ("time", "inverse_mean_area", "inverse_mean_area_se"))
     fig, ax = plt.subplots(figsize=(6.4, 5.2))
     ax.errorbar(t, inv, yerr=np.where(np.isfinite(err), err, 0.0), fmt="o", ms=4,
                 capsize=2, label="1/<S>_t (pooled over seeds, +- 1 SE)")
@@ -163,8 +157,7 @@ def _ccdf_panel(ax, campaign: xr.Dataset, times: np.ndarray, scaled: bool) -> No
     if times.size > 7:
         times = times[np.linspace(0, times.size - 1, 7).astype(int)]
     all_times = campaign["time"].values
-    key = "x_hi" if scaled else "area_hi"
-    grid = np.linspace(0.0, float(campaign[key].values[-1]), 200)
+    grid = np.linspace(0.0, float(campaign["x_hi" if scaled else "area_hi"].values[-1]), 200)
     for colour, t in zip(_colours(times.size), times, strict=True):
         k = int(np.argmin(np.abs(all_times - t)))
         c = ccdf_bands(campaign, k, grid, scaled)
@@ -215,13 +208,11 @@ def fig_scaled_distribution(campaign: xr.Dataset, summary: dict[str, Any], profi
 def make_figures(campaign: xr.Dataset, summary: dict[str, Any], run: xr.Dataset,
                  outputs: dict[str, str | Path], profile: str) -> list[Path]:
     """All four figures; ``outputs`` maps each name of :data:`FIGURES` to its PNG path."""
-    makers = {
-        "snapshots": lambda: fig_snapshots(run, campaign, summary, profile),
-        "inverse_mean_area": lambda: fig_inverse_mean_area(campaign, summary, profile),
-        "size_distribution": lambda: fig_size_distribution(campaign, summary, profile),
-        "scaled_distribution": lambda: fig_scaled_distribution(campaign, summary, profile),
-    }
-    return [path for name in FIGURES for path in save_figure(makers[name](), outputs[name])]
+    makers = {"snapshots": partial(fig_snapshots, run), "inverse_mean_area": fig_inverse_mean_area,
+              "size_distribution": fig_size_distribution,
+              "scaled_distribution": fig_scaled_distribution}
+    return [path for name in FIGURES
+            for path in save_figure(makers[name](campaign, summary, profile), outputs[name])]
 
 
 # Comparison of archived ensembles (a headline and its companions), one figure each:
@@ -241,7 +232,7 @@ def comparison_series(name: str, summary: dict[str, Any], campaigns: dict[str, x
     for labelling, ds in campaigns.items():
         tstar, win = float(ds.attrs["t_star"]), window_of(ds)
         c14 = summary[CHECKS_OF[labelling]]["check14_inverse_mean_area_linear"]
-        ends = np.array([win["start"], win["end"]], float)
+        ends = np.array([win["start"], win["end"]] if "slope_b" in c14 else [], float)
         x = ds["fragment_scaled_area"].values[win["mask"][ds["fragment_time_index"].values]]
         x = np.sort(x[np.isfinite(x)])
         grid = np.linspace(0.0, x[-1] if x.size else 1.0, n_grid)
@@ -249,9 +240,8 @@ def comparison_series(name: str, summary: dict[str, Any], campaigns: dict[str, x
             "t_over_t_star": ds["time"].values / tstar,
             "inverse_mean_area": ds["inverse_mean_area"].values,
             "inverse_mean_area_se": ds["inverse_mean_area_se"].values,
-            "fit_t_over_t_star": ends / tstar if "slope_b" in c14 else [],
-            "fit_inverse_mean_area": (c14["intercept_a"] + c14["slope_b"] * ends
-                                      if "slope_b" in c14 else []),
+            "fit_t_over_t_star": ends / tstar,  # no fit: empty
+            "fit_inverse_mean_area": c14.get("intercept_a", 0.0) + c14.get("slope_b", 0.0) * ends,
             "x": grid, "ccdf": 1.0 - np.searchsorted(x, grid, side="right") / max(x.size, 1),
             "n_fragments": int(x.size)}
     return json_ready(out)
@@ -270,10 +260,9 @@ def make_comparison(series: list[dict[str, Any]], outputs: dict[str, str | Path]
             if d is None:
                 continue
             ax = figs["inverse_mean_area"][1][k]
-            y, err = (np.array(d[key], float) for key in ("inverse_mean_area",
-                                                          "inverse_mean_area_se"))
-            ax.errorbar(d["t_over_t_star"], y, yerr=np.nan_to_num(err), fmt="o", ms=3,
-                        capsize=2, color=colour, label=label)
+            ax.errorbar(d["t_over_t_star"], np.array(d["inverse_mean_area"], float),
+                        yerr=np.nan_to_num(np.array(d["inverse_mean_area_se"], float)),
+                        fmt="o", ms=3, capsize=2, color=colour, label=label)
             ax.plot(d["fit_t_over_t_star"], d["fit_inverse_mean_area"], "-", color=colour)
             figs["scaled_distribution"][1][k].step(
                 d["x"], _positive(np.array(d["ccdf"], float)), where="post", color=colour,
@@ -316,9 +305,8 @@ def fig_accuracy(study: xr.Dataset, profile: str):
     fig.subplots_adjust(bottom=0.24)
     names = study["integrator"].values
     for name, colour in zip(names, _colours(len(names)), strict=True):
-        err = study["error"].sel(integrator=name).values
-        wall = study["wall_time"].sel(integrator=name).values
-        order = study["observed_order"].sel(integrator=name).values
+        err, wall, order = (study[key].sel(integrator=name).values
+                            for key in ("error", "wall_time", "observed_order"))
         orders = ", ".join(_fmt(float(o), ".2f") for o in order)
         ax.loglog(wall, err, "o-", color=colour,
                   label=f"{name} (observed orders between successive dt: {orders})")
@@ -358,16 +346,14 @@ def fig_thickness(sweep: xr.Dataset, profile: str):
                       yerr=np.nan_to_num(row["mean_area_se"].values), fmt="o-", ms=3,
                       color=colour, capsize=2, label=f"H = {value:g}")
     late = sweep["late"].values.astype(bool)
-    ax_t.axvspan(times[late][0] if late.any() else np.nan,
-                 times[late][-1] if late.any() else np.nan, color="0.9", zorder=0,
-                 label="late snapshots (exponent)")
+    ax_t.axvspan(*(times[late][[0, -1]] if late.any() else (np.nan, np.nan)), color="0.9",
+                 zorder=0, label="late snapshots (exponent)")
     ax_t.set_yscale("log")
     label_axes(ax_t, "t [eta/lambda]", "<S>_t [length^2]", legend={"fontsize": 7})
     ax_t.set_title("Mean fragment area per layer thickness", fontsize=9)
     picks = np.flatnonzero(late)
     for colour, k in zip(_colours(picks.size), picks, strict=True):
-        area = sweep["mean_area"].values[:, k]
-        ax_h.loglog(h, area, "o-", color=colour,
+        ax_h.loglog(h, sweep["mean_area"].values[:, k], "o-", color=colour,
                     label=f"t = {times[k]:.3g}: beta = {sweep['exponent'].values[k]:.2f}")
     if picks.size:
         ref = sweep["mean_area"].values[:, picks[-1]]
@@ -393,9 +379,8 @@ def fig_thickness(sweep: xr.Dataset, profile: str):
 
 
 def fig_speed(study: xr.Dataset, profile: str):
-    """Drying-speed study: (a) onset in t* against Pi, (b) t0/t* and b/b*, (c) fragments per
-    unit area at fixed t/t*, each with its 95 % bootstrap interval; the paper's Pi and values
-    marked."""
+    """Drying-speed study: (a) onset in t* against Pi, (b) t0/t* and b/b*, (c) fragments per unit
+    area at fixed t/t*, each with its 95 % bootstrap interval; the paper's Pi and values marked."""
     pi = study["speed"].values
     a = study.attrs
     fig, (ax_o, ax_f, ax_n) = plt.subplots(1, 3, figsize=(14, 5.0))
@@ -465,10 +450,8 @@ def fig_kappa(study: xr.Dataset, profile: str):
     h/Delta at gap 0.8, per seed, with the predicted first removal t*/kappa_max."""
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), sharey=True)
     fig.subplots_adjust(bottom=0.25, wspace=0.08)
-    gap = study["min_gap"].values
-    hd = study["h_over_spacing"].values
-    kappa = study["kappa_max"].values
-    bound = study["kappa_initial_stress_bound"].values
+    gap, hd, kappa, bound = (study[key].values for key in (
+        "min_gap", "h_over_spacing", "kappa_max", "kappa_initial_stress_bound"))
     method = study["mass_solve"].values.astype(str)
     series = [(axes[0], np.isclose(hd, 4.0), gap, "minimum gap [L/sqrt(N)] at h/Delta = 4"),
               (axes[1], np.isclose(gap, 0.8) & (method == "truncated_cg"), hd,

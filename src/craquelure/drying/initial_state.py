@@ -4,8 +4,7 @@ Positions by random sequential addition (minimum separation ``rsa_min_separation
 square lattice; optional particle-free bands; particles sorted by cell for locality; masses from the
 truncated-CG mass-consistency solve, or its clamped variant that keeps every mass above the floor on
 more disordered positions (``numerics.mass_solve.method``), or equal masses (ablations); v = 0,
-rho = rho0, elastic stress components i.i.d. U(-a sigma_Y, a sigma_Y).
-"""
+rho = rho0, elastic stress components i.i.d. U(-a sigma_Y, a sigma_Y)."""
 
 from __future__ import annotations
 
@@ -22,8 +21,7 @@ from craquelure.sph.neighbours import Box, cell_order
 
 
 def initial_positions(scene: Scene, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    length = scene.get("domain.box_length")
-    n = scene.get("particles.n")
+    length, n = scene.get("domain.box_length"), scene.get("particles.n")
     if scene.get("particles.placement") == "square_lattice":
         side = math.isqrt(n)
         if side * side != n:
@@ -47,9 +45,8 @@ def build_initial_state(scene: Scene, seed: int, check: bool = True) -> xr.Datas
     spec check 3's bounds (their report is in the attributes): studies of more disordered
     positions than the solve can make consistent (benchmarks/drying_initial_disorder.py)."""
     rng = np.random.default_rng(seed)
-    length = float(scene.get("domain.box_length"))
-    h = float(scene.get("numerics.h"))
-    rho0 = float(scene.get("material.rho0"))
+    length, h, rho0 = (float(scene.get(key))
+                       for key in ("domain.box_length", "numerics.h", "material.rho0"))
     x, y = initial_positions(scene, rng)
     n = x.size
     solve = scene.get("numerics.mass_solve")

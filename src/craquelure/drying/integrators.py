@@ -1,15 +1,16 @@
-r"""Time integrators (drying spec section 8). They see only a state array ``y`` and a rate
-callable ``f(y, t) -> dy/dt``; they know nothing of the physics.
+r"""Time integrators (drying spec section 8). They see only a state array ``y`` and a rate callable
+``f(y, t) -> dy/dt``, nothing of the physics. Every step takes ``f0 = f(y_n, t_n)`` (the last
+evaluation of the previous step) and returns ``y_{n+1}``; the caller evaluates ``f(y_{n+1})`` once,
+which both ends this step (fracture test, ABM history, RKC error estimate) and starts the next.
 
-Fixed-step schemes (the paper's and the accuracy study's):
+Fixed-step schemes (the paper's and the accuracy study's), with their real-axis stability:
 
-- ``rk4``: classical four-stage Runge-Kutta (4th order; real-axis stability 2.785).
-- ``abm4``: Adams-Bashforth-Moulton PECE, 4th order, two evaluations per step:
+- ``rk4``: classical four-stage Runge-Kutta (4th order; 2.785).
+- ``abm4``: Adams-Bashforth-Moulton PECE, 4th order, two evaluations per step (1.285):
   :math:`Y^* = Y_n + \tfrac{\Delta t}{24}(55F_n - 59F_{n-1} + 37F_{n-2} - 9F_{n-3})`,
-  :math:`Y_{n+1} = Y_n + \tfrac{\Delta t}{24}(9F(Y^*) + 19F_n - 5F_{n-1} + F_{n-2})`
-  (real-axis stability 1.285). It needs the three previous rates; the caller restarts it with
-  RK4 steps at the start and whenever the history becomes invalid (particle removal, a change
-  of time step).
+  :math:`Y_{n+1} = Y_n + \tfrac{\Delta t}{24}(9F(Y^*) + 19F_n - 5F_{n-1} + F_{n-2})`. The
+  caller restarts it with RK4 steps at the start and whenever its history of rates becomes
+  invalid (particle removal, a change of time step).
 - ``rk2``: Heun's method, the cheap second-order scheme of the accuracy study.
 
 Stabilised explicit scheme for the real viscous spectrum, not bound by the viscous limit:
@@ -55,14 +56,9 @@ Stabilised explicit scheme for the real viscous spectrum, not bound by the visco
   no growth right after a rejection), capped at ``dt_max``. The max norm makes the step follow
   the worst particle: it shrinks where a removal starts a fast local transient.
 
-Every step takes ``f0 = f(y_n, t_n)`` (already known: it is the last evaluation of the previous
-step) and returns ``y_{n+1}``; the caller evaluates ``f(y_{n+1})`` once, which both ends this
-step (fracture test, ABM history, RKC error estimate) and starts the next.
-
 The per-step vector work (RKC stages, ABM4's predictor and corrector, the RKC error norm) runs
 in fused numba loops on the run's threads, each element computed in the same order as the
-numpy expression (bit-identical to it) instead of serial numpy temporaries.
-"""
+numpy expression (bit-identical to it) instead of serial numpy temporaries."""
 
 from __future__ import annotations
 
@@ -155,7 +151,6 @@ def abm4_step(y: np.ndarray, history: Sequence[np.ndarray], t: float, dt: float,
     return corrected
 
 
-# -- Runge-Kutta-Chebyshev ---------------------------------------------------------------------
 def rkc_stages(dt: float, spectral_radius: float) -> int:
     """Smallest stage count whose real stability interval covers ``dt * spectral_radius``."""
     return max(2, 1 + int(math.sqrt(1.0 + 1.54 * dt * max(spectral_radius, 0.0))))
@@ -217,9 +212,8 @@ def rkc2_step(y: np.ndarray, f0: np.ndarray, t: float, dt: float, f: Rate,
 
 def rkc2_error_norm(y0: np.ndarray, y1: np.ndarray, f0: np.ndarray, f1: np.ndarray, dt: float,
                     scale: np.ndarray, alive: np.ndarray) -> float:
-    """Scaled max-norm of the local error estimate (12 (y0 - y1) + 6 dt (f0 + f1)) / 15 of an
-    RKC2 step over the columns with ``alive`` (rows scaled by ``scale``), in one pass without
-    temporaries; inf if any scaled entry is not finite."""
+    """Scaled max-norm (module docstring) of an RKC2 step's local error estimate over the
+    columns with ``alive``, in one pass without temporaries; inf if any entry is not finite."""
     arrays = [np.ascontiguousarray(a, dtype=np.float64) for a in (y0, y1, f0, f1)]
     return float(_rkc2_error_norm(*arrays, 0.4 * dt, np.ascontiguousarray(scale, np.float64),
                                   np.ascontiguousarray(alive)))
@@ -238,8 +232,7 @@ class StepController:
         self.err_prev = 0.0  # 0: no accepted step yet (elementary control)
         self.dt_prev = 0.0
         self.rejected_last = False
-        self.accepted = 0
-        self.rejected = 0
+        self.accepted = self.rejected = 0
         self.spectral_radius = 0.0
         self.dt_event = math.inf
         self.error_scale = np.ones(1)

@@ -23,17 +23,11 @@ zero rates) and empty slots. Each particle's sums run over its cluster's J in li
 lane each, so the results do not depend on the thread count.
 
 The lane loops are written for LLVM's loop vectoriser (measured by
-benchmarks/drying_roofline.py): no branch in the body (the branch-free quintic
-:func:`~craquelure.sph.kernels.kernel_w_g`, 0 beyond the support and g = 0 at r = 0), the
-cluster's sums and its lanes' values in one local buffer (a loop of LANES iterations is only
-vectorised without run-time alias checks, and LLVM proves rows of one buffer apart), pass 2
-recomputing dW/dr / r (a per-pair store to another array would need such a check), an unsigned
-list index (a signed one gets numba's negative-index wraparound), the minimum image by
-multiplication with 1/L, numpy's error model (no ZeroDivisionError branch: a division by zero
-gives inf/NaN, which the engine's guards stop), one division for 1/r and XSPH's
-1/(rho_I + rho_J), and ``PAIR_FASTMATH`` (contraction to FMA; the sums' grouping, hence their
-last bits, is the compiler's).
-"""
+benchmarks/drying_roofline.py; the comments in the loops say why each choice): no branch in the
+body (the branch-free :func:`~craquelure.sph.kernels.kernel_w_g`), one local buffer per cluster,
+an unsigned list index (a signed one gets numba's negative-index wraparound), the minimum image
+by multiplication with 1/L, numpy's error model (a division by zero gives inf/NaN, which the
+engine's guards stop) and ``PAIR_FASTMATH``."""
 
 import numpy as np
 from numba import njit, prange
@@ -96,11 +90,8 @@ def rate(state, t, mass, alive, x0, y0, pairs, p, out, stress):
     scaled = np.empty((3, perm.size))
     to_clusters(state, mass, perm, c)
     for i in outside:
-        for v in range(NVAR):
-            out[v, i] = 0.0
-        stress[0, i] = 0.0
-        stress[1, i] = 0.0
-        stress[2, i] = 0.0
+        out[:, i] = 0.0
+        stress[:, i] = 0.0
     gradient_pass(c, state, t, alive, perm, start, jlist, p, out, stress, scaled)
     momentum_pass(c, state, alive, x0, y0, perm, start, jlist, p, scaled, out)
 
@@ -120,10 +111,8 @@ def to_clusters(state, mass, perm, c):
 def gradient_pass(c, state, t, alive, perm, start, jlist, p, out, stress, scaled):
     """Pass 1: L, XSPH, the total stress (and sigma/rho^2 for pass 2, in slot order) and every
     rate but the velocity's."""
-    s = p[P_SUPPORT]
-    inv_s = 1.0 / s
-    box = p[P_BOX]
-    inv_box = 1.0 / box
+    s, box = p[P_SUPPORT], p[P_BOX]
+    inv_s, inv_box = 1.0 / s, 1.0 / box
     for cl in prange(perm.size // LANES):
         base = cl * LANES
         # the cluster's sums (rows A_*) and its J-independent values (rows B + C_*) in one
@@ -137,13 +126,8 @@ def gradient_pass(c, state, t, alive, perm, start, jlist, p, out, stress, scaled
                 buf[r * LANES + m] = 0.0
         for k in range(np.uint64(start[cl]), np.uint64(start[cl + 1])):
             j = jlist[k]
-            xj = c[C_X, j]
-            yj = c[C_Y, j]
-            vxj = c[C_VX, j]
-            vyj = c[C_VY, j]
-            rhoj = c[C_RHO, j]
-            mj = c[C_M, j]
-            vj = c[C_V, j]
+            xj, yj, vxj, vyj = c[C_X, j], c[C_Y, j], c[C_VX, j], c[C_VY, j]
+            rhoj, mj, vj = c[C_RHO, j], c[C_M, j], c[C_V, j]
             # one J against the cluster's lanes, branch-free (vectorised by LLVM over the
             # lanes, contiguous loads): pairs beyond the support and coincident particles
             # have w = g = 0 and add exactly 0
@@ -203,55 +187,32 @@ def particle_rates(state, t, alive, p, a, i, slot, out, stress, scaled):
         lxx, lxy, lyx, lyy = corrected_gradient(lxx, lxy, lyx, lyy, a[A_MXX], a[A_MXY],
                                                 a[A_MYX], a[A_MYY])
     vxi, vyi, rhoi = state[VX, i], state[VY, i], state[RHO, i]
-    sxx = state[SXX, i]
-    syy = state[SYY, i]
-    sxy = state[SXY, i]
+    sxx, syy, sxy = state[SXX, i], state[SYY, i], state[SXY, i]
     if VISCOSITY:
         vxx, vyy, vxy = viscous_stress(lxx, lxy, lyx, lyy, p[P_ETA])
-        sxx += vxx
-        syy += vyy
-        sxy += vxy
+        sxx, syy, sxy = sxx + vxx, syy + vyy, sxy + vxy
     if DRYING:
         dry = drying_stress(t, p[P_VR], p[P_DRYCAP])
-        sxx += dry
-        syy += dry
-    stress[0, i] = sxx
-    stress[1, i] = syy
-    stress[2, i] = sxy
+        sxx, syy = sxx + dry, syy + dry
+    stress[0, i], stress[1, i], stress[2, i] = sxx, syy, sxy
     inv2 = 1.0 / (rhoi * rhoi)
-    scaled[0, slot] = sxx * inv2
-    scaled[1, slot] = syy * inv2
-    scaled[2, slot] = sxy * inv2
+    scaled[0, slot], scaled[1, slot], scaled[2, slot] = sxx * inv2, syy * inv2, sxy * inv2
     if ELASTICITY:
-        ra, rb, rc = jaumann_rate(lxx, lxy, lyx, lyy, state[SXX, i], state[SYY, i],
-                                  state[SXY, i], p[P_LAMBDA], p[P_MU])
-        out[SXX, i] = ra
-        out[SYY, i] = rb
-        out[SXY, i] = rc
+        out[SXX, i], out[SYY, i], out[SXY, i] = jaumann_rate(
+            lxx, lxy, lyx, lyy, state[SXX, i], state[SYY, i], state[SXY, i], p[P_LAMBDA],
+            p[P_MU])
     else:
-        out[SXX, i] = 0.0
-        out[SYY, i] = 0.0
-        out[SXY, i] = 0.0
-    if CONTINUITY:
-        out[RHO, i] = density_rate(rhoi, lxx, lyy)
-    else:
-        out[RHO, i] = 0.0
-    if XSPH:
-        out[X, i] = vxi + p[P_EPS] * a[A_HX]
-        out[Y, i] = vyi + p[P_EPS] * a[A_HY]
-    else:
-        out[X, i] = vxi
-        out[Y, i] = vyi
+        out[SXX:SXY + 1, i] = 0.0
+    out[RHO, i] = density_rate(rhoi, lxx, lyy) if CONTINUITY else 0.0
+    out[X, i] = vxi + p[P_EPS] * a[A_HX] if XSPH else vxi
+    out[Y, i] = vyi + p[P_EPS] * a[A_HY] if XSPH else vyi
 
 
 @njit(**PAIR_OPTIONS)
 def momentum_pass(c, state, alive, x0, y0, perm, start, jlist, p, scaled, out):
-    """Pass 2: the velocity rate (pairwise antisymmetric momentum sum, substrate, body
-    force)."""
-    s = p[P_SUPPORT]
-    inv_s = 1.0 / s
-    box = p[P_BOX]
-    inv_box = 1.0 / box
+    """Pass 2: the velocity rate (antisymmetric pair momentum sum, substrate, body force)."""
+    s, box = p[P_SUPPORT], p[P_BOX]
+    inv_s, inv_box = 1.0 / s, 1.0 / box
     for cl in prange(perm.size // LANES):
         base = cl * LANES
         buf = np.empty(7 * LANES)  # sums (rows 0, 1) and lane values (rows 2-6), as pass 1
@@ -265,12 +226,8 @@ def momentum_pass(c, state, alive, x0, y0, perm, start, jlist, p, scaled, out):
             buf[6 * LANES + m] = scaled[2, base + m]
         for k in range(np.uint64(start[cl]), np.uint64(start[cl + 1])):
             j = jlist[k]
-            xj = c[C_X, j]
-            yj = c[C_Y, j]
-            mj = c[C_M, j]
-            sxxj = scaled[0, j]
-            syyj = scaled[1, j]
-            sxyj = scaled[2, j]
+            xj, yj, mj = c[C_X, j], c[C_Y, j], c[C_M, j]
+            sxxj, syyj, sxyj = scaled[0, j], scaled[1, j], scaled[2, j]
             for m in range(LANES):
                 dx = minimum_image_inv(buf[2 * LANES + m] - xj, box, inv_box)
                 dy = minimum_image_inv(buf[3 * LANES + m] - yj, box, inv_box)
@@ -289,12 +246,10 @@ def momentum_pass(c, state, alive, x0, y0, perm, start, jlist, p, scaled, out):
             i = perm[base + m]
             if i < 0 or not alive[i]:
                 continue
-            ax = buf[m]
-            ay = buf[LANES + m]
+            ax, ay = buf[m], buf[LANES + m]
             if SUBSTRATE:
-                xi, yi = state[X, i], state[Y, i]
-                bx, by = substrate_acceleration(xi - x0[i], yi - y0[i], state[RHO, i],
-                                                p[P_MU], p[P_THICK])
+                bx, by = substrate_acceleration(state[X, i] - x0[i], state[Y, i] - y0[i],
+                                                state[RHO, i], p[P_MU], p[P_THICK])
                 ax += bx
                 ay += by
             if BODY_FORCE:

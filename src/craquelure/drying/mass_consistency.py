@@ -21,8 +21,7 @@ to ``guarded_rtol`` like a guard stop.
 [D] When the minimum-mass guard stops CG before it reaches ``rtol``, the kept iterate may sit
 just above it. The residual is then held to ``guarded_rtol`` (1e-2) instead, while every bound
 on the result itself (masses, density error, total mass, Shepard field) stays as strict as
-check 3 asks: those are what the solve is for (spec section 7).
-"""
+check 3 asks: those are what the solve is for (spec section 7)."""
 
 from __future__ import annotations
 
@@ -188,19 +187,14 @@ def consistent_masses(x: np.ndarray, y: np.ndarray, box_length: float, support: 
     spacing = shepard_spacing if shepard_spacing is not None else 0.02 * support
     phi = mesh_field(x, y, mass / rho0, box_length, support, spacing, kernel)
     report = MassSolveReport(
-        cg_iterations=int(state["iterations"]),
-        cg_residual=residual,
+        cg_iterations=int(state["iterations"]), cg_residual=residual,
         stopped_by=str(state["stopped_by"]),
-        mass_mean=float(mass.mean()),
-        mass_min=float(mass.min()),
-        mass_max=float(mass.max()),
+        mass_mean=float(mass.mean()), mass_min=float(mass.min()), mass_max=float(mass.max()),
         density_error_max=float(np.abs(density - rho0).max() / rho0),
         total_mass_error=float(abs(mass.sum() - rho0 * box_length**2) / (rho0 * box_length**2)),
-        shepard_min=float(phi.min()),
-        shepard_max=float(phi.max()),
+        shepard_min=float(phi.min()), shepard_max=float(phi.max()),
         shepard_spacing=float(box_length / phi.shape[0]),
-        neighbours_mean=float((a.nnz - n) / n),
-        masses_at_floor=at_floor,
+        neighbours_mean=float((a.nnz - n) / n), masses_at_floor=at_floor,
     )
     if check:
         check_mass_report(report, m_bar, bounds)

@@ -1,26 +1,22 @@
-r"""The onset in numbers (spec open doubt 7): kappa_max at a fixed drying
-stress against the disorder of the initial particles.
+r"""The onset in numbers (spec open doubt 7): kappa_max at a fixed drying stress against the
+disorder of the initial particles.
 
-Before any removal each particle's mean stress is :math:`\bar\sigma_I = \kappa_I F` (F the
-drying stress; the :math:`\pm 1\,\%` initial stress shifts it by about
-:math:`0.01\sigma_Y`), :math:`\kappa_I` coming from the SPH divergence of the uniform drying
-stress on irregular particles, so with the source's criterion the first removal comes at
-:math:`t^*/\kappa_{max}`. The study's runs (scene ``onset_fixed_f``) hold :math:`F = \sigma_Y`
-with fracture off; per run (one point: a minimum gap of the random placement in units of
-:math:`\Delta = L/\sqrt N`, a ratio :math:`h/\Delta`, i.e. N at fixed L and h, and a mass
-solve)
+Before any removal each particle's mean stress is :math:`\bar\sigma_I = \kappa_I F`
+(:mod:`craquelure.drying.engine`), :math:`\kappa_I` coming from the SPH divergence of the
+uniform drying stress on irregular particles. The study's runs (scene ``onset_fixed_f``) hold
+:math:`F = \sigma_Y` with fracture off; per run (one point: a minimum gap of the random
+placement in units of :math:`\Delta = L/\sqrt N`, a ratio :math:`h/\Delta`, i.e. N at fixed L
+and h, and a mass solve)
 
-- ``kappa_max``: max over live particles of :math:`\bar\sigma_I / F` at the last snapshot,
-  with the initial-stress scale :math:`a\sigma_Y / F` (0.01 at F = sigma_Y) as its
-  uncertainty;
+- ``kappa_max``: max over live particles of :math:`\bar\sigma_I / F` at the last snapshot, with the
+  initial-stress scale :math:`a\sigma_Y / F` (0.01 at F = sigma_Y) as its uncertainty;
 - ``kappa_change``: its change from the previous snapshot (relaxation check: the values are
   read once the non-uniform stress has relaxed, rate :math:`(\lambda + 2\mu)/\eta`);
 - ``predicted_first_removal_over_t_star`` :math:`= 1/\kappa_{max}` (source criterion).
 
 The mass solve is what limits the disorder: below a minimum gap of 0.8 the truncated CG gives
 negative masses (spec section 7) and the clamped CG is needed; a larger :math:`h/\Delta`
-smooths the SPH sums and with it the stress peaks.
-"""
+smooths the SPH sums and with it the stress peaks."""
 
 from __future__ import annotations
 
@@ -47,11 +43,9 @@ def kappa_point(run: xr.Dataset) -> dict[str, float | str]:
     amplitude = float(scene.get("material.initial_stress_amplitude"))
     return {
         "min_gap": float(scene.get("particles.rsa_min_separation")),
-        "h_over_spacing": float(scene.get("numerics.h")) / (length / np.sqrt(n)),
-        "n_particles": n,
+        "h_over_spacing": float(scene.get("numerics.h")) / (length / np.sqrt(n)), "n_particles": n,
         "mass_solve": str(scene.get("numerics.mass_solve")["method"]),
-        "seed": int(run.attrs.get("seed", -1)),
-        "drying_stress": float(force[-1]),
+        "seed": int(run.attrs.get("seed", -1)), "drying_stress": float(force[-1]),
         "kappa_max": float(kappa[-1]),
         "kappa_change": float(kappa[-1] - kappa[-2]) if kappa.size > 1 else float("nan"),
         "kappa_initial_stress_bound": amplitude * sigma_y / float(force[-1]),
@@ -62,20 +56,19 @@ def kappa_point(run: xr.Dataset) -> dict[str, float | str]:
 def kappa_study(runs: Sequence[xr.Dataset], labels: Sequence[str]) -> xr.Dataset:
     """One dataset (dim ``point``) of :func:`kappa_point` over the study's runs."""
     rows = [kappa_point(run) for run in runs]
-    units = {"kappa_max": "1", "kappa_change": "1", "kappa_initial_stress_bound": "1",
-             "predicted_first_removal_over_t_star": "1", "min_gap": "L/sqrt(N)",
-             "h_over_spacing": "1", "drying_stress": "lambda", "n_particles": "1", "seed": "1"}
-    names = {
-        "kappa_max": "max_I sigma_bar_I / F at fixed F, fracture off",
-        "kappa_change": "change of kappa_max since the previous snapshot",
-        "kappa_initial_stress_bound": "largest shift of kappa by the initial stress, a sigma_Y/F",
-        "predicted_first_removal_over_t_star": "predicted first removal 1/kappa_max in t*",
-        "min_gap": "minimum gap of the random placement",
-        "h_over_spacing": "kernel support over the mean spacing h/Delta",
-        "drying_stress": "drying stress F held", "n_particles": "particles N", "seed": "seed",
+    names = {  # long name, units
+        "kappa_max": ("max_I sigma_bar_I / F at fixed F, fracture off", "1"),
+        "kappa_change": ("change of kappa_max since the previous snapshot", "1"),
+        "kappa_initial_stress_bound": ("largest shift of kappa by the initial stress, a "
+                                       "sigma_Y/F", "1"),
+        "predicted_first_removal_over_t_star": ("predicted first removal 1/kappa_max in t*", "1"),
+        "min_gap": ("minimum gap of the random placement", "L/sqrt(N)"),
+        "h_over_spacing": ("kernel support over the mean spacing h/Delta", "1"),
+        "drying_stress": ("drying stress F held", "lambda"), "n_particles": ("particles N", "1"),
+        "seed": ("seed", "1"),
     }
-    data = {key: ("point", np.array([r[key] for r in rows]),
-                  {"long_name": names[key], "units": units[key]}) for key in names}
+    data = {key: ("point", np.array([r[key] for r in rows]), {"long_name": name, "units": units})
+            for key, (name, units) in names.items()}
     data["mass_solve"] = ("point", np.array([r["mass_solve"] for r in rows]),
                           {"long_name": "mass solve of the initial state"})
     ds = xr.Dataset(data, coords={"point": ("point", list(labels))})

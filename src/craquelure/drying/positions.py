@@ -4,8 +4,7 @@ regular lattices.
 RSA (drying spec section 7): candidates uniform in the box, accepted if no accepted point lies
 closer than ``d_min`` (minimum image). A grid of cells of side ``d_min / sqrt(2)`` holds at
 most one point per cell, so each test looks at a fixed 5 x 5 block of cells. Candidates come
-from a seeded :class:`numpy.random.Generator`, so the same seed gives the same points.
-"""
+from a seeded :class:`numpy.random.Generator`, so the same seed gives the same points."""
 
 from __future__ import annotations
 
@@ -28,8 +27,7 @@ def _rsa_accept(cand_x, cand_y, px, py, n_placed, n_target, grid, ng, csize, len
         if n_placed >= n_target:
             break
         x, y = cand_x[k], cand_y[k]
-        gx = int(x / csize) % ng
-        gy = int(y / csize) % ng
+        gx, gy = int(x / csize) % ng, int(y / csize) % ng
         ok = True
         for oy in range(-2, 3):
             if not ok:
@@ -37,10 +35,8 @@ def _rsa_accept(cand_x, cand_y, px, py, n_placed, n_target, grid, ng, csize, len
             for ox in range(-2, 3):
                 q = grid[(gy + oy) % ng, (gx + ox) % ng]
                 if q >= 0:
-                    dx = x - px[q]
-                    dx = minimum_image(dx, length)
-                    dy = y - py[q]
-                    dy = minimum_image(dy, length)
+                    dx = minimum_image(x - px[q], length)
+                    dy = minimum_image(y - py[q], length)
                     if dx * dx + dy * dy < d2:
                         ok = False
                         break
@@ -52,10 +48,9 @@ def _rsa_accept(cand_x, cand_y, px, py, n_placed, n_target, grid, ng, csize, len
     return n_placed
 
 
-def random_sequential_addition(n: int, box_length: float, d_min: float,
-                               rng: np.random.Generator,
-                               max_attempts_per_particle: int = 2000) -> tuple[np.ndarray,
-                                                                               np.ndarray]:
+def random_sequential_addition(n: int, box_length: float, d_min: float, rng: np.random.Generator,
+                               max_attempts_per_particle: int = 2000
+                               ) -> tuple[np.ndarray, np.ndarray]:
     """``n`` points in the periodic square ``[0, L)^2`` with pairwise distance >= ``d_min``."""
     # Cells no larger than d_min/sqrt(2) hold at most one point; with >= 5 cells per side a
     # point's rivals lie within 2 cells (d_min/csize <= sqrt(2) * ng/(ng-1) < 2).

@@ -15,20 +15,21 @@ doubles) under ``tables/``:
   that differs is refused.
 
 :func:`read_tables` turns the tables back into fragment datasets of
-:func:`craquelure.drying.analysis.analyse_run`'s layout (the variables the campaign reads).
-"""
+:func:`craquelure.drying.analysis.analyse_run`'s layout (the variables the campaign reads)."""
 
 from __future__ import annotations
 
 import csv
 import io
 import json
+import shutil
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
+from craquelure.archive import MANIFEST, SNAKEMAKE_MARKER, manifest_text, sha256_file
 from craquelure.errors import CraquelureError
 from craquelure.io import write_text_atomic
 
@@ -107,8 +108,7 @@ def _column(values: list[str], name: str) -> np.ndarray:
 
 
 def read_tables(folder: str | Path) -> list[xr.Dataset]:
-    """The fragment datasets (one per sample, in seed order) of the tables in
-    ``folder/tables/``."""
+    """The fragment datasets (one per sample, in seed order) of the tables in folder/tables/."""
     tables = Path(folder) / "tables"
     common_path = tables / "common.json"
     if not common_path.is_file():
@@ -173,10 +173,6 @@ def publish(tables_dir: str | Path, rebuilt_dir: str | Path | None, dest: str | 
     the summary, validation rows and figures rebuilt from the whole (rule drying_published;
     None: not yet, the tables alone), and the SHA-256 manifest that ``craquelure verify dest``
     checks. Every file is written to a temporary name first."""
-    import shutil
-
-    from craquelure.archive import MANIFEST, SNAKEMAKE_MARKER, manifest_text, sha256_file
-
     tables_dir, dest = Path(tables_dir), Path(dest)
     common = tables_dir / "tables" / "common.json"
     if (dest / "tables" / "common.json").is_file() and common.is_file() and json.loads(

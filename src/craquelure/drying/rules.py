@@ -14,10 +14,9 @@ SNAPSHOTS_WITHOUT_TIMES = 10
 def viscous_spectral_radius(scene) -> float:
     """Estimate 6.7 eta/(rho0 h^2) of the viscous operator (drying spec section 8); 0 without
     the viscosity effect (which requires eta)."""
-    if not scene.has("viscosity"):
-        return 0.0
-    return 6.7 * scene.get("material.eta") / (scene.get("material.rho0")
-                                              * scene.get("numerics.h") ** 2)
+    return (6.7 * scene.get("material.eta") / (scene.get("material.rho0")
+                                               * scene.get("numerics.h") ** 2)
+            if scene.has("viscosity") else 0.0)
 
 
 def run_step(data: dict) -> float:
@@ -29,7 +28,6 @@ def run_step(data: dict) -> float:
     if not lookup(data, "numerics.adapt_dt"):
         return dt
     if lookup(data, "numerics.integrator") == "rkc2":
-        # error-controlled, not bound by the viscous limit: at dt_max between removal events
         return float(lookup(data, "numerics.step_control.dt_max"))
     radius = viscous_spectral_radius(SceneView(data))
     if not radius > 0:
@@ -52,10 +50,8 @@ def scene_problems(data: dict) -> list[str]:
     if dt > t_end:
         out.append(f"numerics.dt: {dt!r} is not allowed; the step must not be longer than "
                    f"outputs.t_end = {t_end!r} (the run would take no step)")
-    else:
-        problem = steps_problem("numerics.dt", t_end, run_step(data))
-        if problem:
-            out.append(problem)
+    elif problem := steps_problem("numerics.dt", t_end, run_step(data)):
+        out.append(problem)
     h, length = float(lookup(data, "numerics.h")), float(lookup(data, "domain.box_length"))
     radius = h * (1 + float(lookup(data, "numerics.neighbour_skin")))
     if lookup(data, "domain.periodic") and length < 2 * radius:

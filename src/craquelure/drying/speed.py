@@ -3,11 +3,9 @@ converge toward the paper's as the drying slows down?
 
 The dimensionless drying speed is :math:`\Pi = \tau/t^*` with the Voigt shear retardation time
 :math:`\tau = \eta/(2\mu)` and :math:`t^* = \sigma_Y/v_r` (paper: :math:`\Pi = 5/227.3 =
-0.022`). Each speed is a campaign of the same scene with
-:math:`v_r = \Pi\sigma_Y/\tau`, snapshots at fixed fractions of :math:`t^*`. Per speed, in units
-of :math:`t^*` and each with its 95 % bootstrap interval over seeds
-(:func:`craquelure.drying.ensemble.check_onset`, :func:`craquelure.drying.ensemble.
-check_inverse_area`):
+0.022`). Each speed is a campaign of the same scene with :math:`v_r = \Pi\sigma_Y/\tau`,
+snapshots at fixed fractions of :math:`t^*`. Per speed, in units of :math:`t^*` and each with
+its 95 % bootstrap interval over seeds (:mod:`craquelure.drying.ensemble`'s checks 16 and 14):
 
 - onset: earliest and median first removal, first / half / all samples broken (>= 2 fragments);
 - the 1/t law over the snapshots with every sample broken: :math:`t_0/t^*` and :math:`b/b^*`
@@ -16,8 +14,7 @@ check_inverse_area`):
   seeds of the mean count divided by :math:`L^2`).
 
 The paper's values for comparison (source: fragments from 0.40 t*, all samples broken before
-0.8 t*; dimensional analysis: :math:`t_0 \le t^*`) are attributes of the dataset.
-"""
+0.8 t*; dimensional analysis: :math:`t_0 \le t^*`) are attributes of the dataset."""
 
 from __future__ import annotations
 
@@ -108,9 +105,8 @@ def _one_speed(fragments: Sequence[xr.Dataset], fixed: np.ndarray, n_boot: int
 
 def speed_study(fragments: Mapping[Any, Sequence[xr.Dataset]],
                 fixed_over_t_star: Sequence[float], n_boot: int = N_BOOT) -> xr.Dataset:
-    """Study dataset (dims ``speed``, ``fixed_time``) from fragment datasets grouped by drying
-    speed (any key; each group one campaign: same scene, its own seeds; Pi is read from the
-    data)."""
+    """Study dataset (dims ``speed``, ``fixed_time``) from fragment datasets grouped by drying speed
+    (any key; each group one campaign: same scene, its own seeds; Pi is read from the data)."""
     if len(fragments) < 2:
         raise CraquelureError(f"speed study: needs at least two drying speeds, got "
                               f"{sorted(fragments)}")

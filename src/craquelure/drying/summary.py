@@ -2,17 +2,12 @@ r"""Summary of a drying campaign: the statistics that test the paper's claims, t
 ``results/drying/summary.json`` (stage 3 of :mod:`craquelure.drying.analysis`; drying spec
 section 13, checks 14-16).
 
-Quantities (all from data):
-
 - :math:`\alpha`: least-squares slope of :math:`-\log\langle S\rangle_t` against
-  :math:`\log t` over the window (after the initial stage); 95 % bootstrap interval over seeds
-  (resample whole samples with replacement, recompute the pooled mean, refit; percentile
-  interval, fixed generator seed so the summary is reproducible).
-- The line :math:`1/\langle S\rangle_t = a + b t` is fitted once, by check 14
-  (:func:`craquelure.drying.ensemble.check_inverse_area`, weighted by the bootstrap errors):
-  its slope b over the order-of-magnitude slope
-  :math:`b^* = \mu v_r / ((\lambda+2\mu) H^2 \sigma_Y)` and its x-intercept :math:`t_0 = -a/b`
-  are quoted here and drawn in Fig. 3.
+  :math:`\log t` over the window (after the initial stage); 95 % percentile interval of its
+  refits over the bootstrap replicates of :mod:`craquelure.drying.ensemble`.
+- The line :math:`1/\langle S\rangle_t = a + b t` is check 14's weighted fit
+  (:func:`craquelure.drying.ensemble.check_inverse_area`): its slope over :math:`b^*`
+  (:func:`b_star_of`) and its x-intercept :math:`t_0 = -a/b` are quoted here and drawn in Fig. 3.
 - Onset of the scaling regime, each also divided by :math:`t^*`: median time of the first
   removal, first snapshot with every sample broken (>= 2 fragments), x-intercept :math:`t_0`,
   and the collapse onset (earliest snapshot from which on every scaled distribution is within
@@ -28,8 +23,7 @@ Quantities (all from data):
 
 Checks 14-16 as revised are :mod:`craquelure.drying.ensemble`'s; :math:`\alpha` is
 descriptive. The spec's sample-size precondition (:math:`N_s \ge 100` at N = 4e4, or >= 300 at
-N = 1e4) is reported as well, since a pass or miss on a smaller campaign is indicative only.
-"""
+N = 1e4) is reported as well, since a pass or miss on a smaller campaign is indicative only."""
 
 from __future__ import annotations
 
@@ -86,43 +80,34 @@ def _fits(times: np.ndarray, total: np.ndarray, count: np.ndarray, window: np.nd
         out["error"] = "fewer than 3 usable snapshots in the window"
         return out
     alpha = -_slopes(np.log(t), np.log(m))
-    # Bootstrap over seeds: weights = how often each seed is drawn.
     weights = ensemble.bootstrap_weights(total.shape[0], n_boot,
                                        np.random.default_rng(BOOTSTRAP_SEED))
     with np.errstate(invalid="ignore", divide="ignore"):
         boot_mean = (weights @ total[:, window]) / (weights @ count[:, window])
     ok = np.all(np.isfinite(boot_mean) & (boot_mean > 0), axis=1)
     boot_alpha = -_slopes(np.log(t), np.log(boot_mean[ok]))
-    out.update({
-        "alpha": float(alpha),
-        "alpha_ci95": bootstrap_interval(boot_alpha) if ok.any() else None,
-        "n_bootstrap": int(ok.sum()),
-    })
+    out.update({"alpha": float(alpha),
+                "alpha_ci95": bootstrap_interval(boot_alpha) if ok.any() else None,
+                "n_bootstrap": int(ok.sum())})
     return out
 
 
 def _mean_pairwise_ks(samples: list[np.ndarray]) -> float | None:
     usable = [s for s in samples if s.size >= 2]
-    if len(usable) < 2:
-        return None
-    return float(np.mean([stats.ks_2samp(a, b).statistic
-                          for a, b in itertools.combinations(usable, 2)]))
+    distances = [stats.ks_2samp(a, b).statistic for a, b in itertools.combinations(usable, 2)]
+    return float(np.mean(distances)) if distances else None
 
 
 def _collapse(campaign: xr.Dataset, win: dict[str, Any]) -> dict[str, Any]:
-    times = campaign["time"].values.astype(float)
-    window = win["mask"]
-    raw_area = campaign["fragment_area"].values
-    raw_time = campaign["fragment_time"].values
-    x_all = campaign["fragment_scaled_area"].values
-    scaled = {float(t): x_all[raw_time == t] for t in times}
-    tk = win["collapse_times"]
-    pooled = (np.concatenate([scaled[t] for t in times[window]]) if window.any()
-              else np.zeros(0))
+    times, window, tk = campaign["time"].values.astype(float), win["mask"], win["collapse_times"]
+    raw_area, raw_time = campaign["fragment_area"].values, campaign["fragment_time"].values
+    scaled = {float(t): campaign["fragment_scaled_area"].values[raw_time == t] for t in times}
+    before = [scaled[float(t)] for t in times[:np.argmax(window) if window.any() else None]]
+    after = [scaled[float(t)] for t in times[window]]
+    pooled = np.concatenate([np.zeros(0), *after])
 
     def ks_row(t: float) -> dict[str, Any]:
-        """KS distance of the scaled sizes at t to the window-pooled ones, and its critical
-        value."""
+        """KS distance of the scaled sizes at t to the window-pooled ones, its critical value."""
         x = scaled[float(t)]
         if x.size == 0 or pooled.size == 0:
             return {"time": float(t), "n": int(x.size), "ks": None, "critical": None,
@@ -140,22 +125,13 @@ def _collapse(campaign: xr.Dataset, win: dict[str, Any]) -> dict[str, Any]:
         a, b = raw_area[raw_time == tk[0]], raw_area[raw_time == tk[-1]]
         if a.size and b.size:
             raw_ks = float(stats.ks_2samp(a, b).statistic)
-    start = np.argmax(window) if window.any() else times.size
-    before = [scaled[float(t)] for t in times[:start]]
-    after = [scaled[float(t)] for t in times[window]]
-    # Collapse onset: earliest snapshot from which on all are within the critical value.
     stays = holds_from([ks_row(t)["below_critical"] for t in times])
     onset = float(times[np.argmax(stays)]) if stays.any() else None
     return {
-        "collapse_times": tk.tolist(),
-        "per_time": rows,
-        "n_pooled": int(pooled.size),
-        "ks_alpha": KS_ALPHA,
-        "cv_mean_x2": cv,
-        "raw_ks_first_last": raw_ks,
+        "collapse_times": tk.tolist(), "per_time": rows, "n_pooled": int(pooled.size),
+        "ks_alpha": KS_ALPHA, "cv_mean_x2": cv, "raw_ks_first_last": raw_ks,
         "mean_pairwise_ks_before": _mean_pairwise_ks(before),
-        "mean_pairwise_ks_after": _mean_pairwise_ks(after),
-        "collapse_onset_time": onset,
+        "mean_pairwise_ks_after": _mean_pairwise_ks(after), "collapse_onset_time": onset,
     }
 
 
@@ -169,9 +145,7 @@ def _onset(campaign: xr.Dataset, tstar: float, x_intercept: float | None,
         return None if value is None or not np.isfinite(value) else float(value / tstar)
 
     def median(key: str) -> float | None:
-        if key not in campaign:
-            return None
-        v = campaign[key].values.astype(float)
+        v = campaign[key].values.astype(float) if key in campaign else np.zeros(0)
         v = v[np.isfinite(v)]
         return float(np.median(v)) if v.size else None
 
@@ -195,20 +169,15 @@ def _onset(campaign: xr.Dataset, tstar: float, x_intercept: float | None,
         }
 
     return {
-        **kappa,
-        "t_star": tstar,
-        "median_first_removal_time": first_removal,
+        **kappa, "t_star": tstar, "median_first_removal_time": first_removal,
         "median_first_removal_over_t_star": ratio(first_removal),
-        "all_samples_broken_time": all_broken,
-        "all_samples_broken_over_t_star": ratio(all_broken),
+        "all_samples_broken_time": all_broken, "all_samples_broken_over_t_star": ratio(all_broken),
         "fit_x_intercept_over_t_star": ratio(x_intercept),
-        "collapse_onset_time": collapse_onset,
-        "collapse_onset_over_t_star": ratio(collapse_onset),
+        "collapse_onset_time": collapse_onset, "collapse_onset_over_t_star": ratio(collapse_onset),
     }
 
 
-def checks_of(campaign: xr.Dataset, n_boot: int = N_BOOTSTRAP,
-              n_power: int = ensemble.N_POWER,
+def checks_of(campaign: xr.Dataset, n_boot: int = N_BOOTSTRAP, n_power: int = ensemble.N_POWER,
               n_power_collapse: int = ensemble.N_POWER_COLLAPSE) -> dict[str, Any]:
     """Checks 14-16 (:mod:`craquelure.drying.ensemble`) of one campaign (one labelling), with
     whether its sample meets the spec's size."""
@@ -238,15 +207,10 @@ def checks_of(campaign: xr.Dataset, n_boot: int = N_BOOTSTRAP,
                          conditions={}, undecided={check["error"]: "a longer or larger run"})
     for check in (c14, c15, c16):
         check["pass"] = check["verdict"] == "reproduced"
-    enough = (n_particles >= 40000 and n_seeds >= 100) or (n_particles >= 10000
-                                                           and n_seeds >= 300)
-    return {
-        "labelling": str(attrs.get("labelling", "periodic")),
-        "sample_size_meets_spec": bool(enough),
-        "check14_inverse_mean_area_linear": c14,
-        "check15_scaling_collapse": c15,
-        "check16_onset": c16,
-    }
+    enough = (n_particles >= 40000 and n_seeds >= 100) or (n_particles >= 10000 and n_seeds >= 300)
+    return {"labelling": str(attrs.get("labelling", "periodic")),
+            "sample_size_meets_spec": bool(enough), "check14_inverse_mean_area_linear": c14,
+            "check15_scaling_collapse": c15, "check16_onset": c16}
 
 
 def b_star_of(attrs) -> float:
@@ -265,12 +229,11 @@ def campaign_sizing(checks: dict[str, dict[str, Any]], minimum: int = 40,
     needed: dict[str, dict[str, int | None]] = {}
     for name, c in checks.items():
         n_s = int(c["check14_inverse_mean_area_linear"].get("n_samples", 0))
-        per = {}
+        needed[name] = per = {}
         for key in ("check14_inverse_mean_area_linear", "check15_scaling_collapse"):
             rates = [c[key].get("power", 0.0), c[key].get("confirmation_rate", 1.0)]
             decided = all(r is not None and r >= ensemble.POWER_NEEDED for r in rates)
             per[key] = n_s if decided else c[key].get("seeds_needed")
-        needed[name] = per
     values = [v for per in needed.values() for v in per.values()]
     size = maximum if None in values else min(maximum, max([minimum, *values]))
     return {"seeds_needed": needed, "seeds_to_run": int(size), "minimum": minimum,
@@ -289,8 +252,6 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
     times = campaign["time"].values.astype(float)
     h = float(attrs["h"])
     s_min = math.pi * h * h
-    # Checks 14-16 (craquelure.drying.ensemble); check 14's weighted fit is the 1/<S>_t line
-    # of the summary and the figure.
     checks = checks_of(campaign, n_boot, n_power, n_power_collapse)
     c14 = checks["check14_inverse_mean_area_linear"]
     collapse = _collapse(campaign, win)
@@ -298,12 +259,10 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
     pi = drying_number(attrs)
     measure = str(attrs.get("fracture_stress_measure", SOURCE_MEASURE))
     return {
-        "profile": profile,
-        "scene": scene_name or str(attrs.get("scene_name", "")),
+        "profile": profile, "scene": scene_name or str(attrs.get("scene_name", "")),
         "fracture_stress_measure": measure,
         "criterion_departs_from_source": departure_note(measure) or None,
-        "n_particles": int(attrs["n_particles"]),
-        "box_length": float(attrs["box_length"]),
+        "n_particles": int(attrs["n_particles"]), "box_length": float(attrs["box_length"]),
         "n_seeds": int(campaign.sizes["seed"]),
         "phi0": float(attrs.get("phi0", float("nan"))),
         "mesh_spacing": float(attrs.get("mesh_spacing", float("nan"))),
@@ -312,13 +271,9 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
                        f"Pi = tau/t* = {'n/a' if pi['pi'] is None else format(pi['pi'], '.3g')}"
                        " with tau = eta/(2 mu) "
                        f"(paper {paper_pi():.3g})"),
-        "t_star": tstar,
-        "time_scale_vs_paper": time_scale(tstar),
-        "retardation_time_tau": pi["tau"],
-        "pi": pi["pi"],
-        "pi_paper": pi["pi_paper"],
-        "window_mode": win["mode"],
-        "window": [lo, hi],
+        "t_star": tstar, "time_scale_vs_paper": time_scale(tstar),
+        "retardation_time_tau": pi["tau"], "pi": pi["pi"], "pi_paper": pi["pi_paper"],
+        "window_mode": win["mode"], "window": [lo, hi],
         "window_over_t_star": [lo / tstar, hi / tstar],
         "initial_stage_end": win["initial_stage_end"],
         "fit": _fits(times, *per_sample_totals(campaign), win["mask"], n_boot),
@@ -326,10 +281,8 @@ def summarise(campaign: xr.Dataset, profile: str = "", scene_name: str = "",
         "slope_over_b_star": c14.get("slope_over_b_star"),
         "sensitivity_s_min": {"s_min": s_min, "fit": _fits(
             times, *per_sample_totals(campaign, s_min), win["mask"], n_boot)},
-        "onset": onset,
-        "collapse": collapse,
-        "labelling": str(attrs.get("labelling", "periodic")),
-        "checks": checks,
+        "onset": onset, "collapse": collapse,
+        "labelling": str(attrs.get("labelling", "periodic")), "checks": checks,
     }
 
 def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: bool,
@@ -342,12 +295,9 @@ def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: 
     area = campaign["fragment_area"].values[sel]
     seeds = campaign["seed"].values
     owner = np.searchsorted(seeds, campaign["fragment_seed"].values[sel])
-    rng = np.random.default_rng(seed)
-    weights = ensemble.bootstrap_weights(seeds.size, n_boot, rng)
-    out = {"ccdf": np.full(grid.size, np.nan), "lo": np.full(grid.size, np.nan),
-           "hi": np.full(grid.size, np.nan), "n": int(area.size)}
+    weights = ensemble.bootstrap_weights(seeds.size, n_boot, np.random.default_rng(seed))
     if area.size == 0:
-        return out
+        return {key: np.full(grid.size, np.nan) for key in ("ccdf", "lo", "hi")} | {"n": 0}
 
     def curve(w: np.ndarray) -> np.ndarray:
         wf = w[owner]
@@ -359,10 +309,8 @@ def ccdf_bands(campaign: xr.Dataset, time_index: int, grid: np.ndarray, scaled: 
         tail = np.concatenate([np.cumsum(wf[order][::-1])[::-1], [0.0]]) / total
         return tail[np.searchsorted(values[order], grid, side="right")]
 
-    out["ccdf"] = curve(np.ones(seeds.size))
-    boot = np.array([curve(w) for w in weights])
-    out["lo"], out["hi"] = bootstrap_interval(boot, axis=0)
-    return out
+    lo, hi = bootstrap_interval(np.array([curve(w) for w in weights]), axis=0)
+    return {"ccdf": curve(np.ones(seeds.size)), "lo": lo, "hi": hi, "n": int(area.size)}
 
 def json_ready(value: Any) -> Any:
     """Plain JSON types; NaN and inf become null (strict JSON has no NaN)."""
@@ -379,9 +327,7 @@ def json_ready(value: Any) -> Any:
     return value
 
 
-# Which labelling the source most likely used: it binarises a snapshot and clusters it, and
-# never says that its clusters wrap around the periodic box.
-SOURCE_LABELLING = "open"
+SOURCE_LABELLING = "open"  # the labelling the source most likely used, and why:
 SOURCE_LABELLING_NOTE = ("it binarises a snapshot and clusters it, and never says the clusters "
                          "wrap around the periodic box")
 
@@ -403,10 +349,8 @@ def write_summary(campaign_path: str | Path, out: str | Path, profile: str = "",
     summary["provenance"] = {
         "campaign": str(campaign_path),
         "campaign_git_commit": str(campaign.attrs.get("git_commit", "")),
-        "git_commit": git_commit(),
-        "seeds": str(campaign.attrs.get("seeds", "")),
-        "bootstrap_seed": BOOTSTRAP_SEED,
-        "version_craquelure": craquelure.__version__,
+        "git_commit": git_commit(), "seeds": str(campaign.attrs.get("seeds", "")),
+        "bootstrap_seed": BOOTSTRAP_SEED, "version_craquelure": craquelure.__version__,
     }
     summary = json_ready(summary)
     write_text_atomic(out, json.dumps(summary, indent=2, allow_nan=False) + "\n")

@@ -18,8 +18,7 @@ and says nothing about H), the exponent :math:`\beta_t` is the least-squares slo
 :math:`\log\langle S\rangle_{H,t}` against :math:`\log H`; the prediction is
 :math:`\beta = 2`. The summary exponent is the mean of :math:`\beta_t` over the usable snapshots
 in the last third of the run (late times, furthest from the box-limited initial stage), with
-the spread of :math:`\beta_t` there.
-"""
+the spread of :math:`\beta_t` there."""
 
 from __future__ import annotations
 
@@ -53,8 +52,7 @@ def _totals_at(ds: xr.Dataset, times: np.ndarray) -> tuple[np.ndarray, np.ndarra
 
 def thickness_sweep(fragments: Mapping[float, Sequence[xr.Dataset]]) -> xr.Dataset:
     """Sweep dataset from fragment datasets grouped by layer thickness H (dims ``thickness``,
-    ``time``); the snapshot times must agree across all datasets (compared on the common
-    ones)."""
+    ``time``); the snapshot times must agree across all datasets (compared on the common ones)."""
     if len(fragments) < 2:
         raise CraquelureError("thickness sweep: needs at least two thicknesses, got "
                               f"{sorted(fragments)}")
@@ -92,14 +90,10 @@ def thickness_sweep(fragments: Mapping[float, Sequence[xr.Dataset]]) -> xr.Datas
                             {"long_name": "fragments summed over seeds"}),
             # the rest: long names and units from craquelure.cf's table on writing
             "all_broken": (("thickness", "time"), all_broken.astype(np.int8)),
-            "n_seeds": ("thickness", n_seeds),
-            "usable": ("time", usable.astype(np.int8)),
-            "exponent": ("time", exponent),
-            "late": ("time", late.astype(np.int8)),
+            "n_seeds": ("thickness", n_seeds), "usable": ("time", usable.astype(np.int8)),
+            "exponent": ("time", exponent), "late": ("time", late.astype(np.int8)),
         },
         coords={"thickness": thicknesses, "time": times},
-        attrs={"predicted_exponent": PREDICTED_EXPONENT,
-               "exponent_late_mean": summary_exponent,
-               "exponent_late_std": spread,
-               "n_late_times": int(late.sum())},
+        attrs={"predicted_exponent": PREDICTED_EXPONENT, "exponent_late_mean": summary_exponent,
+               "exponent_late_std": spread, "n_late_times": int(late.sum())},
     )

@@ -16,8 +16,7 @@ crack network forms later in units of :math:`t^*`. Every summary and caption sta
 unbroken"): the window runs from the first snapshot from which on every sample has at least two
 fragments to the last snapshot, and the collapse times :math:`t_k` are 7 snapshots evenly spread
 over it. The mode and the window are attributes of the campaign dataset (:func:`campaign_window`),
-so the statistics and the figures read one decision; the summary and every caption state it.
-"""
+so the statistics and the figures read one decision; the summary and every caption state it."""
 
 from __future__ import annotations
 
@@ -86,8 +85,7 @@ def collapse_times(times: np.ndarray, tstar: float) -> np.ndarray:
 
 
 def broken_from(n_fragments: np.ndarray) -> np.ndarray:
-    """Mask of the snapshots from which on every sample has >= 2 fragments (dims (seed,
-    time))."""
+    """Mask of the snapshots from which on every sample (dim 0) has >= 2 fragments."""
     return holds_from(np.all(np.asarray(n_fragments) >= 2, axis=0))
 
 

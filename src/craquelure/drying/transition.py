@@ -1,9 +1,8 @@
-r"""The damage-to-fragmentation transition (beyond the source), after
-Szatmari, Nakahara, Kitsunezaki & Kun, arXiv:2503.06177 (2025): in a discrete-element model of
-shrinking layers on a substrate a dominant piece persists up to a critical damage
-:math:`d_c` (damage phase), beyond which the layer breaks into many pieces (fragmentation
-phase), a continuous transition with finite-size scaling of the largest and the average
-fragment.
+r"""The damage-to-fragmentation transition (beyond the source), after Szatmari, Nakahara,
+Kitsunezaki & Kun, arXiv:2503.06177 (2025): in a discrete-element model of shrinking layers on a
+substrate a dominant piece persists up to a critical damage :math:`d_c` (damage phase), beyond which
+the layer breaks into many pieces (fragmentation phase), a continuous transition with finite-size
+scaling of the largest and the average fragment.
 
 Per sample s and snapshot t of each box size L (fragment datasets of
 :mod:`craquelure.drying.analysis`, measures of :mod:`craquelure.drying.crack_measures`):
@@ -28,13 +27,10 @@ Finite-size scaling [D], with sizes :math:`L_1 < \dots < L_k`:
 The slope of P needs the transition to span bins: it underestimates :math:`1/\nu` once the
 largest size's transition is narrower than about two bins.
 
-With two sizes every exponent is fixed by two points (no test of the scaling form): the
-validation rows are inconclusive below three sizes. References [for the rows]: the paper
-states that its exponents agree "to a reasonable accuracy" with the 2D Ising model's
-(abstract, https://arxiv.org/html/2503.06177v2): :math:`\beta/\nu = 1/8`,
-:math:`\gamma/\nu = 7/4`, :math:`1/\nu = 1`; 2D percolation has 5/48, 43/24, 3/4. The
-paper's own fitted values and :math:`d_c` are not in the sources available to us.
-"""
+The validation rows (:mod:`craquelure.drying.claims`) compare the exponents with the 2D Ising
+values the paper's abstract says they agree with "to a reasonable accuracy" (:data:`ISING`)
+and with 2D percolation's (:data:`PERCOLATION`); its own fitted values and :math:`d_c` are not
+in the sources available to us."""
 
 from __future__ import annotations
 
@@ -64,8 +60,7 @@ def sample_records(fragments: xr.Dataset) -> dict[str, np.ndarray]:
     area = fragments["fragment_area"].values
     index = fragments["fragment_time_index"].values
     n_t = fragments.sizes["time"]
-    m_max = np.zeros(n_t)
-    m_2 = np.zeros(n_t)
+    m_max, m_2 = np.zeros((2, n_t))
     order = np.lexsort((area, index))  # by snapshot, then size
     area, index = area[order], index[order]
     bounds = np.searchsorted(index, np.arange(n_t + 1))
@@ -79,21 +74,19 @@ def sample_records(fragments: xr.Dataset) -> dict[str, np.ndarray]:
 
 
 def _binned(records: Sequence[dict[str, np.ndarray]], edges: np.ndarray) -> dict[str, np.ndarray]:
-    d = np.concatenate([r["damage"] for r in records])
-    m = np.concatenate([r["m_max"] for r in records])
-    m2 = np.concatenate([r["m_2"] for r in records])
+    d, m, m2 = (np.concatenate([r[key] for r in records]) for key in ("damage", "m_max", "m_2"))
     k = np.clip(np.digitize(d, edges) - 1, 0, edges.size - 2)
     n = np.bincount(k, minlength=edges.size - 1).astype(float)
+
+    def per_bin(values: np.ndarray) -> np.ndarray:  # mean over each bin's records
+        return np.bincount(k, values, edges.size - 1) / n
+
     with np.errstate(invalid="ignore", divide="ignore"):
-        mean = np.bincount(k, m, edges.size - 1) / n
-        second = np.bincount(k, m**2, edges.size - 1) / n
-        return {
-            "n": n, "m_max": mean, "m_max_sigma": np.sqrt(np.maximum(second - mean**2, 0.0)),
-            "m_2": np.bincount(k, m2, edges.size - 1) / n,
-            "fragmented": np.bincount(k, (m < FRAGMENTED_BELOW).astype(float),
-                                      edges.size - 1) / n,
-            "damage": np.bincount(k, d, edges.size - 1) / n,
-        }
+        mean = per_bin(m)
+        return {"n": n, "m_max": mean,
+                "m_max_sigma": np.sqrt(np.maximum(per_bin(m**2) - mean**2, 0.0)),
+                "m_2": per_bin(m2), "fragmented": per_bin((m < FRAGMENTED_BELOW).astype(float)),
+                "damage": per_bin(d)}
 
 
 def _crossing(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
@@ -109,9 +102,8 @@ def _crossing(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
 
 def _at(x: np.ndarray, y: np.ndarray, x0: float) -> float:
     ok = np.isfinite(x) & np.isfinite(y)
-    if not math.isfinite(x0) or ok.sum() < 2 or not x[ok][0] <= x0 <= x[ok][-1]:
-        return float("nan")
-    return float(np.interp(x0, x[ok], y[ok]))
+    inside = math.isfinite(x0) and ok.sum() >= 2 and x[ok][0] <= x0 <= x[ok][-1]
+    return float(np.interp(x0, x[ok], y[ok])) if inside else float("nan")
 
 
 def _slope_at(x: np.ndarray, y: np.ndarray, x0: float) -> float:
@@ -132,9 +124,8 @@ def _slope_at(x: np.ndarray, y: np.ndarray, x0: float) -> float:
 
 def _log_slope(lengths: np.ndarray, values: np.ndarray) -> float:
     ok = np.isfinite(values) & (values > 0)
-    if ok.sum() < 2:
-        return float("nan")
-    return float(np.polyfit(np.log(lengths[ok]), np.log(values[ok]), 1)[0])
+    return (float(np.polyfit(np.log(lengths[ok]), np.log(values[ok]), 1)[0]) if ok.sum() >= 2
+            else float("nan"))
 
 
 def scaling(lengths: np.ndarray, curves: Sequence[dict[str, np.ndarray]]) -> dict[str, float]:
@@ -144,8 +135,8 @@ def scaling(lengths: np.ndarray, curves: Sequence[dict[str, np.ndarray]]) -> dic
                  for i, j in itertools.combinations(range(len(curves)), 2)]
     crossings = [c for c in crossings if math.isfinite(c)]
     d_c = float(np.mean(crossings)) if crossings else float("nan")
-    m_max = np.array([_at(c["damage"], c["m_max"], d_c) for c in curves])
-    m_2 = np.array([_at(c["damage"], c["m_2"], d_c) for c in curves])
+    m_max, m_2 = (np.array([_at(c["damage"], c[key], d_c) for c in curves])
+                  for key in ("m_max", "m_2"))
     slope = np.array([_slope_at(c["damage"], c["fragmented"], d_c) for c in curves])
     return {"d_c": d_c, "beta_over_nu": -_log_slope(lengths, m_max),
             "gamma_over_nu": _log_slope(lengths, m_2 * lengths**2),
@@ -169,12 +160,9 @@ def transition(fragments: Mapping[str, Sequence[xr.Dataset]], variant: str = "",
     edges = np.linspace(0.0, float(np.nanmax(d_all)) * (1 + 1e-9), n_bins + 1)
     curves = [_binned(g[2], edges) for g in groups]
     point = scaling(lengths, curves)
-    rng = np.random.default_rng(BOOT_SEED)
-    boot = []
-    for _ in range(n_boot):
-        resampled = [_binned([g[2][i] for i in rng.integers(0, len(g[2]), len(g[2]))], edges)
-                     for g in groups]
-        boot.append(scaling(lengths, resampled))
+    rng = np.random.default_rng(BOOT_SEED)  # whole samples, within each size
+    boot = [scaling(lengths, [_binned([g[2][i] for i in rng.integers(0, len(g[2]), len(g[2]))],
+                                      edges) for g in groups]) for _ in range(n_boot)]
     names = {"n": ("records (sample x snapshot) in the bin", "1"),
              "damage": ("mean damage d of the bin's records", "1"),
              "m_max": ("mean largest-fragment fraction m_max = S_max/L^2", "1"),
@@ -204,11 +192,9 @@ def transition(fragments: Mapping[str, Sequence[xr.Dataset]], variant: str = "",
     ds.attrs.update({
         "scenes": ",".join(g[1] for g in groups), "variant": variant,
         "fragmented_below": FRAGMENTED_BELOW, "n_bootstrap": n_boot,
-        "fracture_stress_measure": str(first.attrs.get("fracture_stress_measure",
-                                                        "half_trace")),
+        "fracture_stress_measure": str(first.attrs.get("fracture_stress_measure", "half_trace")),
         "drying_rate": float(scene.get("material.drying_rate")),
-        "yield_stress": float(scene.get("material.yield_stress")),
-        "reference": PAPER_URL,
+        "yield_stress": float(scene.get("material.yield_stress")), "reference": PAPER_URL,
         "ising_exponents": ", ".join(f"{k} = {v:.4g}" for k, v in ISING.items()),
         "percolation_exponents": ", ".join(f"{k} = {v:.4g}" for k, v in PERCOLATION.items()),
     })

@@ -6,8 +6,7 @@ No physics here: a drying-speed run's drying rate, end and snapshot times come f
 rule ``drying_speed_scene`` (:func:`craquelure.drying.speed.speed_run_settings`); the scene
 values read while the DAG is built are the scene's own layer thickness H, so that the
 thickness sweep reuses the scene's runs at that H, and the onset study scene's L and h, which
-turn a point's h/Delta into its particle count.
-"""
+turn a point's h/Delta into its particle count."""
 
 from __future__ import annotations
 
@@ -28,10 +27,8 @@ CRITERION_PATTERN = "|".join(CRITERION_MEASURES)
 
 def published_seeds(name: str | None, root: str = "results/published") -> set[int]:
     """Seeds whose tables the archived ensemble ``root/name`` holds (none without a name)."""
-    if not name:
-        return set()
-    path = Path(root) / name / "tables" / "seeds.csv"
-    if not path.is_file():
+    path = Path(root) / (name or "") / "tables" / "seeds.csv"
+    if not name or not path.is_file():
         return set()
     with open(path, newline="") as fh:
         return {int(float(row["seed"])) for row in csv.DictReader(fh)}
@@ -46,8 +43,7 @@ def published_companions(name: str, root: str = "results/published") -> list[str
 
 
 def rebuilt_with_companions(wildcards) -> list[str]:
-    """The rebuilt folders (rule drying_published) of the archived ensemble
-    ``wildcards.name`` and of its archived companions."""
+    """Rebuilt folders (rule drying_published) of ensemble ``wildcards.name`` and companions."""
     names = [wildcards.name, *published_companions(wildcards.name)]
     return [f"results/drying_published/{name}" for name in names]
 
@@ -112,14 +108,12 @@ class Jobs:
     def criterion_folders(self) -> list[str]:
         """results/drying/<folder> of the criterion sensitivity runs (none if n_seeds = 0)."""
         study = self.section["criterion"]
-        if study["n_seeds"] <= 0:
-            return []
-        return [f"{self.section['scene']}_C{m}" for m in study["measures"]]
+        return ([f"{self.section['scene']}_C{m}" for m in study["measures"]]
+                if study["n_seeds"] > 0 else [])
 
     def transition_fragments(self, wildcards=None) -> dict[str, list[str]]:
-        """Fragment datasets of the transition study, grouped by scene (inputs <scene>): the
-        runs of each scene in ``transition.variant`` (its own, a criterion or a drying speed
-        folder)."""
+        """Fragment datasets of the transition study, grouped by scene (inputs <scene>): the runs of
+        each scene in ``transition.variant`` (its own, a criterion or a drying speed folder)."""
         study = self.section["transition"]
         if len(study["scenes"]) != len(study["n_seeds"]):
             raise ValueError(
@@ -143,12 +137,10 @@ class Jobs:
         reuses its runs."""
         sweep = self.section["thickness"]
         own = float(load_scene(self.scene_path(wildcards)).get("material.thickness"))
-        files = {}
-        for value in sweep["values"]:
-            folder = (wildcards.scene if abs(value - own) < 1e-12
-                      else f"{wildcards.scene}_H{label(value)}")
-            files[f"H{label(value)}"] = fragment_files(folder, self.seeds()[: sweep["n_seeds"]])
-        return files
+        return {f"H{label(v)}": fragment_files(wildcards.scene if abs(v - own) < 1e-12
+                                               else f"{wildcards.scene}_H{label(v)}",
+                                               self.seeds()[: sweep["n_seeds"]])
+                for v in sweep["values"]}
 
     @staticmethod
     def speed_value(wildcards) -> float:
@@ -173,8 +165,7 @@ class Jobs:
                 if t <= end * (1 + 1e-9)]
 
     def speed_overrides(self) -> str:
-        """`--set` arguments of the study's own scene overrides (``speed.set``), applied after
-        the speed settings."""
+        """`--set` arguments of the study's own overrides (``speed.set``), after the speed's."""
         items = self.section["speed"].get("set", [])
         return " ".join(f"--set {shlex.quote(item)}" for item in items)
 
@@ -214,8 +205,7 @@ class KappaJobs:
 
     @staticmethod
     def point_overrides(wildcards) -> str:
-        """`--set` arguments of one point: gap, N from h/Delta at the scene's L and h, mass
-        solve."""
+        """`--set` arguments of one point: gap, N from h/Delta at the scene's L and h, solve."""
         match = re.fullmatch(KAPPA_PATTERN, wildcards.point)
         if match is None:
             raise ValueError(f"onset study point {wildcards.point!r} does not match "

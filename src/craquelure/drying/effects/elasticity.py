@@ -6,8 +6,7 @@ r"""Hypo-elastic stress with the Jaumann rate (drying spec section 2).
 with :math:`L_{ab} = \partial v_a/\partial x_b`, :math:`D = (L + L^T)/2`,
 :math:`\Omega = (L - L^T)/2`. In 2D (components xx, yy, xy), with :math:`w = \Omega_{xy}`:
 :math:`(\Omega\sigma - \sigma\Omega)_{xx} = 2 w \sigma_{xy}`,
-:math:`(\ldots)_{yy} = -2 w \sigma_{xy}`, :math:`(\ldots)_{xy} = w(\sigma_{yy} - \sigma_{xx})`.
-"""
+:math:`(\ldots)_{yy} = -2 w \sigma_{xy}`, :math:`(\ldots)_{xy} = w(\sigma_{yy} - \sigma_{xx})`."""
 
 from numba import njit
 

@@ -5,11 +5,9 @@ with the rates of the accepted state) is the scene's ``material.fracture_stress_
 
 - ``half_trace`` (default, the source's text): :math:`s = \bar\sigma = \mathrm{tr}\,\sigma/2`;
 - ``trace``: :math:`s = \mathrm{tr}\,\sigma`: a factor 2 between load and threshold, the
-  headline Table I profile's one declared departure (open doubt 7). Before removals the model
-  is linear in stress, so this is the same model as ``half_trace`` with :math:`\sigma_Y/2` (and
-  the initial stress amplitude doubled, which is drawn in units of :math:`\sigma_Y`), removing
-  the same particles at the same steps; it keeps :math:`\sigma_Y`, :math:`v_r` and hence
-  :math:`t^* = \sigma_Y/v_r` and the statistics window at Table I's values;
+  headline Table I profile's one declared departure (open doubt 7; why this form: the drying
+  page): the same model as ``half_trace`` with :math:`\sigma_Y/2` and the initial stress
+  amplitude doubled, at Table I's :math:`\sigma_Y`, :math:`v_r` and :math:`t^*`;
 - ``max_principal``: :math:`s = \sigma_1 = \mathrm{tr}\,\sigma/2 +
   \sqrt{((\sigma_{xx} - \sigma_{yy})/2)^2 + \sigma_{xy}^2}` (Rankine).
 

@@ -12,8 +12,7 @@ underestimates the strain rate there by about 2. The correction makes L exact fo
 velocity field, at free edges too. Only L (hence D, the viscous and elastic stress, continuity)
 is corrected; the momentum equation keeps its symmetric pairwise form, so momentum is still
 conserved exactly. Where :math:`|\det M| < 10^{-3}` (a particle with almost no neighbours)
-the raw L is kept [D].
-"""
+the raw L is kept [D]."""
 
 from numba import njit
 
