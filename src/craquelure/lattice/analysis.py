@@ -49,10 +49,8 @@ def glen_summary(runs: dict[str, list[str]], out_json, out_tsv) -> tuple[dict, l
             r = glen.strain_rate(ds.time.values, ds.load_ux.values, height)
             rows.append({"kind": kind, "tau": tau, **r, "mu": glen.viscosity(tau, r["gamma_dot"]),
                          "steadiness": abs(r["gamma_dot_second"] / r["gamma_dot_first"] - 1)})
-    fits = {}
-    for kind in runs:
-        sel = [r for r in rows if r["kind"] == kind]
-        fits[kind] = glen.fit_power_law([r["tau"] for r in sel], [r["mu"] for r in sel])
+    fits = {kind: glen.fit_power_law([r["tau"] for r in rows if r["kind"] == kind],
+                                     [r["mu"] for r in rows if r["kind"] == kind]) for kind in runs}
     summary = {
         "viscosity_slope": fits["glen"][0], "strain_rate_exponent": 1 - fits["glen"][0],
         "check8_glen_slope_pass": abs(fits["glen"][0] + 2) <= 0.2,

@@ -30,20 +30,17 @@ from craquelure.lattice.initial_state import (
     engine_params,
     make_engine,
 )
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 from craquelure.throughput import prediction_lines
 
 
 def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
-    clock = WallClock()
     s, labels = build_system(scene, seed)
-    ds = xr.Dataset({"x": ("particle", s.x), "y": ("particle", s.y),
-                     "body": ("particle", labels["body"]), "row": ("particle", labels["row"]),
-                     "bond_i": ("bond", s.bi), "bond_j": ("bond", s.bj),
-                     "bond_state": ("bond", s.state)})
-    ds.attrs.update(provenance_attrs(scene, seed, clock))
-    return ds
+    return xr.Dataset({"x": ("particle", s.x), "y": ("particle", s.y),
+                       "body": ("particle", labels["body"]), "row": ("particle", labels["row"]),
+                       "bond_i": ("bond", s.bi), "bond_j": ("bond", s.bj),
+                       "bond_state": ("bond", s.state)})
 
 
 def derived_numbers(scene: Scene) -> dict[str, object]:
@@ -161,9 +158,8 @@ def to_dataset(scene: Scene, engine: Engine, labels: dict, frames: dict) -> xr.D
 
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None, **checkpoints) -> Path:
-    """``craquelure run lattice/<scene>`` through :func:`craquelure.runner.run_to_file`
-    (checkpoints every ``numerics.checkpoint_every`` frames). The initial state is built from
-    the scene and seed (``--init`` is refused)."""
+    """``craquelure run lattice/<scene>`` (checkpoints every ``numerics.checkpoint_every``
+    frames); the initial state is built from the scene and seed (``--init`` is refused)."""
     if init is not None:
         raise CraquelureError("lattice runs build their initial state from the scene and seed: "
                               "run without --init")

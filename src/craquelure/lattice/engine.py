@@ -19,12 +19,12 @@ import numba
 import numpy as np
 
 from craquelure.codegen import effect_flags, specialise
-from craquelure.lattice.geometry import INTACT, find_bonds
+from craquelure.lattice.geometry import INTACT, find_bonds, search_box
 from craquelure.lattice.kernel_template import PARAMS
 from craquelure.periodic import minimum_image
 from craquelure.registry import kernel_parameters, parameter_vector
 from craquelure.runner import Divergence, diverged, heartbeat, non_finite
-from craquelure.sph.neighbours import Box, neighbour_list
+from craquelure.sph.neighbours import neighbour_list
 
 # below this many bonds a serial kernel is faster (thread start-up per parallel region;
 # benchmarks/lattice_engine.py)
@@ -261,30 +261,24 @@ class Engine:
     def time(self) -> float:
         return self.step * self.dt
 
-    def _box(self, radius):
-        s = self.system
-        x, y = self.q[0], self.q[1]
-        if s.period_x > 0:
-            pad = 3 * radius
-            xw = np.mod(x - x.min(), s.period_x) + x.min()
-            return Box(s.period_x, float(y.max() - y.min()) + 2 * pad, True, float(x.min()),
-                       float(y.min()) - pad), xw, y
-        return Box.around(x, y, radius), x, y
+    def _neighbours(self, radius):
+        """Neighbour list of the current positions (x wrapped into one period)."""
+        x, y, period = self.q[0], self.q[1], self.system.period_x
+        if period > 0:
+            x = np.mod(x - x.min(), period) + x.min()
+        return neighbour_list(x, y, radius, search_box(x, y, radius, period))
 
     def rebuild_contacts(self):
         """Verlet list of unbonded (or broken-bond) pairs within d_max + skin."""
         s = self.system
-        radius = float(s.diameter.max()) + float(self.p[PARAMS.index("skin")])
-        box, x, y = self._box(radius)
-        off, idx = neighbour_list(x, y, radius, box)
+        off, idx = self._neighbours(float(s.diameter.max()) + float(self.p[PARAMS.index("skin")]))
         self.cpi, self.cpj = unbonded_pairs(off, idx, self.poff, self.pidx, s.bi, s.bj, s.state)
         self.qbuild = self.q[:2].copy()
 
     def refreeze(self):
         """New stress-free beams between unbonded pairs closer than r_f L (melting)."""
         s = self.system
-        box, x, y = self._box(self.refreeze_radius * s.L)
-        off, idx = neighbour_list(x, y, self.refreeze_radius * s.L, box)
+        off, idx = self._neighbours(self.refreeze_radius * s.L)
         i = np.repeat(np.arange(s.n), np.diff(off))
         keep = i < idx
         i, j = i[keep], idx[keep]

@@ -16,13 +16,6 @@ def _save(fig, out, title=None, **title_kw) -> None:
     save(fig, out)
 
 
-def _broken_midpoints(ds, frame=0):
-    broken = ds.bond_state.values == 0
-    i, j = ds.bond_i.values[broken], ds.bond_j.values[broken]
-    x, y = ds.x.values[frame], ds.y.values[frame]
-    return 0.5 * (x[i] + x[j]), 0.5 * (y[i] + y[j]), ds.bond_break_time.values[broken]
-
-
 def calving(ds, labels, summary, out, title):
     """Fragments at the last frame (``labels``), broken beams in time and the size
     distribution with the fits of ``summary`` (:func:`craquelure.lattice.analysis.
@@ -73,9 +66,11 @@ def fretting(ds, labels, per_cycle, out, title):
     fig, ax = plt.subplots(3, 1, figsize=(10, 9), gridspec_kw={"height_ratios": [1, 1, 0.8]})
     body = ds.body.values == 0
     x0, y0 = ds.x.values[0], ds.y.values[0]
-    mx, my, tb = _broken_midpoints(ds, 0)
+    broken = ds.bond_state.values == 0
+    i, j = ds.bond_i.values[broken], ds.bond_j.values[broken]
     ax[0].scatter(x0[body], y0[body], s=1, color="0.8")
-    sc = ax[0].scatter(mx, my, c=tb, s=6, cmap="viridis")
+    sc = ax[0].scatter(0.5 * (x0[i] + x0[j]), 0.5 * (y0[i] + y0[j]),
+                       c=ds.bond_break_time.values[broken], s=6, cmap="viridis")
     fig.colorbar(sc, ax=ax[0], label="break time")
     ax[0].set(aspect="equal", title="broken beams in the reference configuration")
     counts = np.bincount(labels[labels >= 0])
@@ -161,8 +156,7 @@ def accuracy(rows, out, title):
                            textcoords="offset points", color=line.get_color())
         ax[1].loglog(n, err, "o-", color=line.get_color(), label=f"dt factor {f:g}")
     n_all = np.array(sorted({r["rows"] for r in rows}))
-    chain = np.array([next(r["chain_prediction"] for r in rows if r["rows"] == k)
-                      for k in n_all])
+    chain = np.array([next(r["chain_prediction"] for r in rows if r["rows"] == k) for k in n_all])
     ax[1].loglog(n_all, chain, "k--", lw=0.8, label="fixed-free chain (sin x/x - 1)")
     label_axes(ax[0], "wall time of the run [s] (compilation excluded)",
                "|T / T_continuum - 1|", legend={"fontsize": 8})
