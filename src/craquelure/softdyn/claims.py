@@ -131,10 +131,8 @@ def accuracy_claim(n: dict) -> Claim:
                         figure="accuracy.png")
 
 
-BY_KIND = {"sweep": sweep_claims, "phase": lambda n: [phase_claim(n)],
-           "t1": lambda n: [t1_claim(n)], "approach": approach_claims,
-           "separation": lambda n: [separation_claim(n)],
-           "accuracy": lambda n: [accuracy_claim(n)]}
+BY_KIND = {"sweep": sweep_claims, "phase": phase_claim, "t1": t1_claim,
+           "approach": approach_claims, "separation": separation_claim, "accuracy": accuracy_claim}
 
 
 def claims(sources: list[Path]) -> list[Claim]:
@@ -142,5 +140,6 @@ def claims(sources: list[Path]) -> list[Claim]:
     out: list[Claim] = []
     for path in sources:
         for numbers in json.loads(Path(path).read_text())["sources"]:
-            out += BY_KIND[numbers["kind"]](numbers)
+            found = BY_KIND[numbers["kind"]](numbers)  # one claim or a list
+            out += found if isinstance(found, list) else [found]
     return out

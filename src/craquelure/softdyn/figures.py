@@ -61,8 +61,7 @@ def fig5(ds, path, profile: str, scene: str):
 def fig3(ds, path, profile: str, scene: str):
     fig, ax = plt.subplots(figsize=(5.5, 5))
     fh, fv, occ = ds.f_h.values.ravel(), ds.f_v.values.ravel(), ds.occurred.values.ravel()
-    ax.scatter(fh[occ == 1], fv[occ == 1], marker="o", facecolor="white", edgecolor="k",
-               label="T1")
+    ax.scatter(fh[occ == 1], fv[occ == 1], marker="o", facecolor="white", edgecolor="k", label="T1")
     ax.scatter(fh[occ == 0], fv[occ == 0], marker="s", color="grey", label="no T1")
     top = max(fh.max(), fv.max() / math.sqrt(3)) * 1.1
     # many points: a two-point segment is drawn straight in display space (symlog x, log y)

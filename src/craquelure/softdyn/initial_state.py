@@ -174,36 +174,26 @@ def series_dataset(setup: Setup, result: Result) -> xr.Dataset:
         return np.array([row[key] for row in rows])
 
     # variables without attributes: long names and units from craquelure.cf's table on writing
-    ds = xr.Dataset(
-        {
-            "position": (("time", "particle", "dim"), stack("x") / sysm.radius),
-            "velocity": (("time", "particle", "dim"), stack("v") * tau / sysm.radius),
-            "gap": (("time", "pair"), stack("h") / sysm.radius),
-            "deflection_normal": (("time", "pair"), stack("s") / sysm.radius,
-                                  {"units": "R", "long_name": "s (> 0: compression)"}),
-            "interaction_radius": (("time", "pair"), stack("a") / sysm.radius),
-            "force_normal": (("time", "pair"), stack("f_n") / setup.f_v,
-                             {"units": "F_v", "long_name": "f_ij . n (> 0: compressive)"}),
-            "force_tangential": (("time", "pair"),
-                                 np.linalg.norm(stack("f_t"), axis=-1) / setup.f_v),
-            "zeta_n": (("time", "pair"), stack("zeta_n") / (sysm.viscosity * sysm.radius)),
-            "zeta_t": (("time", "pair"), stack("zeta_t") / (sysm.viscosity * sysm.radius)),
-            "balance_residual": ("time",
-                                 np.abs(stack("residual")).max(axis=(1, 2)) / setup.f_v,
-                                 {"units": "F_v", "long_name": "max_i |F_i + sum_j f_ij|"}),
-        },
+    ds = xr.Dataset({
+        "position": (("time", "particle", "dim"), stack("x") / sysm.radius),
+        "velocity": (("time", "particle", "dim"), stack("v") * tau / sysm.radius),
+        "gap": (("time", "pair"), stack("h") / sysm.radius),
+        "deflection_normal": (("time", "pair"), stack("s") / sysm.radius,
+                              {"units": "R", "long_name": "s (> 0: compression)"}),
+        "interaction_radius": (("time", "pair"), stack("a") / sysm.radius),
+        "force_normal": (("time", "pair"), stack("f_n") / setup.f_v,
+                         {"units": "F_v", "long_name": "f_ij . n (> 0: compressive)"}),
+        "force_tangential": (("time", "pair"), np.linalg.norm(stack("f_t"), axis=-1) / setup.f_v),
+        "zeta_n": (("time", "pair"), stack("zeta_n") / (sysm.viscosity * sysm.radius)),
+        "zeta_t": (("time", "pair"), stack("zeta_t") / (sysm.viscosity * sysm.radius)),
+        "balance_residual": ("time", np.abs(stack("residual")).max(axis=(1, 2)) / setup.f_v,
+                             {"units": "F_v", "long_name": "max_i |F_i + sum_j f_ij|"})},
         coords={"time": result.t / tau, "particle": list(sysm.particle_names),
-                "pair": list(sysm.pair_names), "dim": list(dims)},
-    )
+                "pair": list(sysm.pair_names), "dim": list(dims)})
     if setup.arrangement == "t1":
         ds["theta"] = ("time", np.degrees([t1_angle(row["x"]) for row in rows]))
-    ds.attrs.update(run_attrs(setup, result))
-    return ds
-
-
-def run_attrs(setup: Setup, result: Result) -> dict[str, object]:
     sc = setup.scene
-    return {
+    ds.attrs.update({
         "tau": setup.tau, "force_unit": setup.force, "F_v": setup.f_v, "F_h": setup.f_h,
         "h0": setup.h0, "reduced_force": sc.get("loads.reduced_force"),
         **predictions(sc), "stop": sc.get("outputs.stop"),
@@ -212,4 +202,5 @@ def run_attrs(setup: Setup, result: Result) -> dict[str, object]:
         "n_rhs": result.n_rhs, "n_rejected": result.n_rejected,
         "integration_wall_time_s": result.wall_time_s, "linear_solver": setup.system.solver,
         "deflection_rule": sc.get("numerics.deflection_rule"),
-    }
+    })
+    return ds

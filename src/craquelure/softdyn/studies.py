@@ -116,8 +116,7 @@ def aggregate_sweep(scene, points: list[xr.Dataset]) -> xr.Dataset:
     shape = (h0.size, force.size)
     ds = xr.Dataset(coords={"h0": h0, "force": force})
     ds["h_star"] = ("force", hs)
-    numeric = ["duration", "finished", "theta_end", "T_sep", "n_rhs", "n_steps",
-               "run_wall_time_s"]
+    numeric = ["duration", "finished", "theta_end", "T_sep", "n_rhs", "n_steps", "run_wall_time_s"]
     for name in numeric:
         ds[name] = (("h0", "force"), np.full(shape, np.nan))
     ds["computed"] = (("h0", "force"), mask.astype(np.int8))
