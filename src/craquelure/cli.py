@@ -62,8 +62,7 @@ def _fail(command: str, message: str, what: str = "error") -> int:
     """One line on stderr (a multi-line message's items joined by "; "); exit 2."""
     head, *items = [line.strip() for line in message.splitlines() if line.strip()] or [""]
     if items:
-        head = f"{head} {'; '.join(items)}" if head.endswith(":") else \
-            "; ".join([head, *items])
+        head = f"{head} {'; '.join(items)}" if head.endswith(":") else "; ".join([head, *items])
     print(f"craquelure {command}: {what}: {head}", file=sys.stderr)
     return 2
 

@@ -17,10 +17,8 @@ import os
 import threading
 import time
 
-# Waiting OpenMP threads sleep instead of spinning: on shared cores a spinning thread steals
-# the core its partner needs (see docs/performance.md). numba's OpenMP pool reads this at its
-# first parallel call, after every engine's code generator imported this module; an explicit
-# OMP_WAIT_POLICY in the environment wins.
+# numba's OpenMP pool reads this at its first parallel call, after every engine's code
+# generator imported this module; an explicit OMP_WAIT_POLICY in the environment wins.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 _LIMITER = None
@@ -53,11 +51,8 @@ def set_threads(n: int | None) -> int:
 
 def thread_cpu() -> dict[str, int]:
     """CPU nanoseconds used so far by each thread of this process, by thread id (Linux
-    schedstat; empty elsewhere). For benchmarks: per-thread CPU time does not depend on what
-    else runs on the machine, so the busiest thread's share of a parallel section measures its
-    serial part and imbalance under any load. schedstat is brought up to date when a thread
-    stops running, so it is exact for waiting workers; the calling thread's own figure (up to a
-    scheduler tick stale) is its thread CPU clock instead."""
+    schedstat, exact for waiting workers; the calling thread's own is its thread CPU clock;
+    empty elsewhere). For benchmarks: per-thread CPU time does not depend on the machine's load."""
     out = {}
     for path in glob.glob(f"/proc/{os.getpid()}/task/*/schedstat"):
         try:

@@ -1,26 +1,12 @@
-"""Validation report: the papers' claims, one row each, with what was measured and a verdict.
+"""Validation report: the papers' claims, one row each, with what was measured and a verdict
+(docs/outputs.md, "Validation report").
 
-Last stage of the pipeline: it reads analysis outputs only (``summary.json`` files and analysis
-datasets), never runs a simulation. Each model states its claims in ``craquelure.<model>.claims``
-(``claims(sources) -> list[Claim]``, ``sources`` being the files its rules registered); this
-module collects them and writes ``results/validation.json`` and ``results/validation.html``
-(the latter embedded in the Snakemake report).
-
-Verdicts are computed from the criterion's conditions, never typed in:
-
-- ``reproduced``: every condition holds;
-- ``partly``: some hold; the row names the ones that do not;
-- ``not reproduced``: none holds (or, for a claim whose source states it as a single test, any
-  fails);
-- ``inconclusive``: no condition fails, but the sample cannot decide the claim (a test without
-  the power to reject the named alternative, too few samples for an extreme-value statement);
-  the row says what cannot be decided and the sample it would need. A small profile therefore
-  never prints ``reproduced`` on a claim its sample cannot decide.
-
-Verdicts follow from the data alone, so the same analysis outputs give the same report byte
-for byte whatever the machine's load: no claim is judged on a timing. A claim whose only
-measurement is a timing (a speed target) is judged by a script in ``benchmarks/`` instead; its
-model lists it in ``BENCHMARKED`` and the report names it with that script
+Last stage of the pipeline: it reads analysis outputs only, never runs a simulation. Each model
+states its claims in ``craquelure.<model>.claims`` (``claims(sources) -> list[Claim]``); this
+module collects them and writes ``results/validation.json`` and ``results/validation.html``.
+Verdicts are computed from the criterion's conditions (:func:`verdict_of`), never typed in, and
+from the data alone, so the same analysis outputs give the same report byte for byte: a claim
+whose only measurement is a timing is judged by a script in ``benchmarks/`` instead
 (:func:`benchmarked`).
 """
 
@@ -105,11 +91,7 @@ def fraction_decided(successes: int, n: int, threshold: float,
     if n <= 0:
         return None
     lo, hi = fraction_interval(successes, n, level)
-    if lo >= threshold:
-        return True
-    if hi < threshold:
-        return False
-    return None
+    return True if lo >= threshold else (False if hi < threshold else None)
 
 
 def fraction_interval(k: float, n: int, level: float = DECISION_LEVEL) -> tuple[float, float]:
@@ -198,9 +180,7 @@ def collect(sources: Mapping[str, Sequence[str | Path]]) -> list[Claim]:
 
 def benchmarked(models: Sequence[str] = MODELS) -> list[dict[str, str]]:
     """Claims a model leaves out of the report because their only measurement is a timing
-    (``BENCHMARKED = {claim: benchmark script}`` in its claims module): a verdict must follow
-    from the data, and a timing follows from the machine's load as well. The report lists them
-    with the benchmark that judges them."""
+    (``BENCHMARKED = {claim: benchmark script}`` in its claims module), with that script."""
     out = []
     for model in models:
         table = getattr(import_module(f"craquelure.{model}.claims"), "BENCHMARKED", {})
@@ -332,20 +312,13 @@ def _badge(verdict: str) -> str:
     return f'<span class="cq-badge {verdict.replace(" ", "-")}">{html.escape(verdict)}</span>'
 
 
-def _tally_text(n: Mapping[str, int]) -> str:
-    return (f'{n["reproduced"]} reproduced, {n["partly"]} partly, '
-            f'{n["not reproduced"]} not reproduced, {n["inconclusive"]} inconclusive')
-
-
 def render_summary(claims: Sequence[Claim], profile: str,
                    figures: Sequence[str | Path] = (), heading: str = "",
                    not_judged: str = "") -> str:
-    """The one-screen summary: per claim a thumbnail of the figure that decides it, the claim,
-    a verdict badge and the one deciding number, in two balanced columns; the source,
-    criterion, measured numbers, note and the figure itself are folded under each row
-    (``<details>``). A self-contained HTML fragment (its own style, figures embedded), the
-    body of results/validation.html and the lead of the Snakemake report's first page.
-    ``heading`` replaces the title; ``not_judged`` (why) shows the rows without verdicts."""
+    """The one-screen summary (docs/outputs.md, "The page") as a self-contained HTML fragment
+    (its own style, figures embedded): the body of results/validation.html and the lead of the
+    Snakemake report's first page. ``heading`` replaces the title; ``not_judged`` (why) shows
+    the rows without verdicts."""
     counts = tally(claims)
     total = counts.get("all", dict.fromkeys(VERDICTS, 0))
     shown = dict.fromkeys(p for c in claims if (p := figure_for(c, figures)) is not None)
@@ -359,7 +332,7 @@ def render_summary(claims: Sequence[Claim], profile: str,
         mine = [c for c in claims if c.model == model]
         if not mine:
             continue
-        told = "" if not_judged else f": {_tally_text(counts[model])}"
+        told = "" if not_judged else ": " + ", ".join(f"{counts[model][v]} {v}" for v in VERDICTS)
         rows.append(("", f'<tr class="cq-model"><th colspan="4">{html.escape(model)}{told}'
                          f'</th></tr>'))
         for c in mine:
@@ -373,12 +346,10 @@ def render_summary(claims: Sequence[Claim], profile: str,
                 thumb = (f'<span class="cq-thumb cq-f{i}" role="img" '
                          f'aria-label="figure {name}" title="{name}"></span>')
                 large = _figure_div(i, path.name, ratios[i])
-            items = [("source", c.source), ("criterion", c.criterion), ("measured", c.measured)]
-            if c.note:
-                items.append(("note", c.note))
-            if path is not None:
-                items.append(("figure", path.name))
-            dl = "".join(f"<dt>{k}</dt><dd>{html.escape(v)}</dd>" for k, v in items)
+            items = [("source", c.source), ("criterion", c.criterion), ("measured", c.measured),
+                     ("note", c.note or None), ("figure", path.name if path else None)]
+            dl = "".join(f"<dt>{k}</dt><dd>{html.escape(v)}</dd>" for k, v in items
+                         if v is not None)
             number = html.escape(c.deciding or "-")
             rows.append((model, (
                 f'<tr class="cq-row" data-verdict="{"" if not_judged else html.escape(c.verdict)}">'
