@@ -1,7 +1,8 @@
 """Command line: ``craquelure <command> ...``.
 
 Commands live in :mod:`craquelure.commands`, one module each with ``NAME``, ``HELP``,
-``add_arguments(parser)`` and ``main(args) -> int``; this module discovers them.
+``main(args) -> int`` and, if it takes arguments, ``add_arguments(parser)``; this module
+discovers them.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ def build_parser() -> argparse.ArgumentParser:
         if not hasattr(module, "NAME"):
             continue
         p = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
-        module.add_arguments(p)
+        getattr(module, "add_arguments", lambda parser: None)(p)
         p.set_defaults(_main=module.main)
     return parser
 
@@ -65,7 +66,3 @@ def _fail(command: str, message: str, what: str = "error") -> int:
         head = f"{head} {'; '.join(items)}" if head.endswith(":") else "; ".join([head, *items])
     print(f"craquelure {command}: {what}: {head}", file=sys.stderr)
     return 2
-
-
-if __name__ == "__main__":
-    sys.exit(main())

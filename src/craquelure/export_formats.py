@@ -178,9 +178,7 @@ def write_extxyz(frames: Frames, out: Path) -> Path:
             cols = [np.full(n, "X", dtype=object), *frames.positions[k].T]
             for values in frames.fields.values():
                 cols.extend(values[k].T if values[k].ndim == 2 else [values[k]])
-            table = np.empty((n, len(cols)), dtype=object)
-            for c, col in enumerate(cols):
-                table[:, c] = col
+            table = np.column_stack([np.asarray(col, dtype=object) for col in cols])
             np.savetxt(fh, table, fmt=fmt, delimiter=" ")
     os.replace(tmp, out)
     return out

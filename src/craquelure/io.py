@@ -202,9 +202,7 @@ def diagnose_file(path: str | Path) -> str | None:
     if not head.startswith(HDF5_SIGNATURE):
         return "not a netCDF file (no netCDF/HDF5 signature): unreadable"
     end = _hdf5_end_of_file(head)
-    if end is not None and end > size:
-        return f"truncated: {size} of {end} bytes"
-    return None
+    return f"truncated: {size} of {end} bytes" if end is not None and end > size else None
 
 
 def open_dataset(path: str | Path) -> xr.Dataset:

@@ -170,23 +170,17 @@ def collect(sources: Mapping[str, Sequence[str | Path]]) -> list[Claim]:
     if unknown:
         raise ValueError(f"validation sources: unknown model(s) {', '.join(unknown)}; allowed "
                          f"values: {', '.join(MODELS)}")
-    claims: list[Claim] = []
-    for model in MODELS:
-        paths = [Path(p) for p in sources.get(model, ())]
-        if paths:
-            claims.extend(import_module(f"craquelure.{model}.claims").claims(paths))
-    return claims
+    return [claim for model in MODELS if sources.get(model)
+            for claim in import_module(f"craquelure.{model}.claims").claims(
+                [Path(p) for p in sources[model]])]
 
 
 def benchmarked(models: Sequence[str] = MODELS) -> list[dict[str, str]]:
     """Claims a model leaves out of the report because their only measurement is a timing
     (``BENCHMARKED = {claim: benchmark script}`` in its claims module), with that script."""
-    out = []
-    for model in models:
-        table = getattr(import_module(f"craquelure.{model}.claims"), "BENCHMARKED", {})
-        out += [{"model": model, "claim": claim, "judged_by": script}
-                for claim, script in table.items()]
-    return out
+    return [{"model": model, "claim": claim, "judged_by": script} for model in models
+            for claim, script in getattr(import_module(f"craquelure.{model}.claims"),
+                                         "BENCHMARKED", {}).items()]
 
 
 def _models_of(claims: Sequence[Claim]) -> list[str]:
@@ -328,6 +322,7 @@ def render_summary(claims: Sequence[Claim], profile: str,
         uri, ratios[i] = _figure_data(path)
         styles.append(f".cq-f{i} {{ background-image: url({uri}); }}")
     rows: list[tuple[str, str]] = []  # (model, row); a model heading row has model ""
+    key: dict[str, Path] = {}  # one key figure per model: its first claim's that has one
     for model in MODELS:
         mine = [c for c in claims if c.model == model]
         if not mine:
@@ -343,6 +338,7 @@ def render_summary(claims: Sequence[Claim], profile: str,
                 large = ""
             else:
                 i = used[path]
+                key.setdefault(model, path)
                 thumb = (f'<span class="cq-thumb cq-f{i}" role="img" '
                          f'aria-label="figure {name}" title="{name}"></span>')
                 large = _figure_div(i, path.name, ratios[i])
@@ -375,15 +371,12 @@ def render_summary(claims: Sequence[Claim], profile: str,
         f'<table class="cq-table">{cols}{head}<tbody>{"".join(r for _, r in part)}'
         f'</tbody></table>' for part in (rows[:split], rows[split:]) if part)
     keyfigs = []
-    for model in MODELS:  # one key figure per model: its first claim's that has one
-        path = next((figure_for(c, figures) for c in claims if c.model == model
-                     and figure_for(c, figures) is not None), None)
-        if path is not None:
-            i = used[path]
-            width = min(KEY_FIGURE_SIZE[0], KEY_FIGURE_SIZE[1] / ratios[i])
-            keyfigs.append(f'<figure style="width: {width:.0f}px">'
-                           f'{_figure_div(i, path.name, ratios[i])}<figcaption>'
-                           f'{html.escape(model)}: {html.escape(path.name)}</figcaption></figure>')
+    for model, path in key.items():
+        i = used[path]
+        width = min(KEY_FIGURE_SIZE[0], KEY_FIGURE_SIZE[1] / ratios[i])
+        keyfigs.append(f'<figure style="width: {width:.0f}px">'
+                       f'{_figure_div(i, path.name, ratios[i])}<figcaption>'
+                       f'{html.escape(model)}: {html.escape(path.name)}</figcaption></figure>')
     keys = (f'<h3>Key figures</h3><div class="cq-keyfigs">{"".join(keyfigs)}</div>'
             if keyfigs else "")
     timed = "; ".join(f"{html.escape(b['model'])}: {html.escape(b['claim'])}, judged by "
@@ -401,10 +394,9 @@ def render_summary(claims: Sequence[Claim], profile: str,
                 f'</section>\n')
     return (f'<section class="{SUMMARY_CLASS}"><style>{_STYLE}\n' + "\n".join(styles) +
             f'</style>\n<h2>{heading}</h2>\n'
-            f'<p class="cq-tally">{len(claims)} claims: {total["reproduced"]} '
-            f'{_badge("reproduced")}, {total["partly"]} {_badge("partly")}, '
-            f'{total["not reproduced"]} {_badge("not reproduced")}, {total["inconclusive"]} '
-            f'{_badge("inconclusive")}. Verdicts are computed from each criterion\'s conditions: '
+            f'<p class="cq-tally">{len(claims)} claims: '
+            + ", ".join(f"{total[v]} {_badge(v)}" for v in VERDICTS) +
+            '. Verdicts are computed from each criterion\'s conditions: '
             f'"partly" names the conditions that fail, "inconclusive" means none fails but the '
             f'sample cannot decide (the row names the sample it would need).</p>\n'
             f'<div class="cq-grid">{tables}</div>\n{timed}{keys}</section>\n')

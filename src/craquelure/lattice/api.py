@@ -1,15 +1,11 @@
-"""Model API of the beam lattice for the CLI: initial state, derived numbers and the run,
-which writes the run dataset (energy series, frames, final bonds).
+"""Model API of the beam lattice for the CLI: initial state, derived numbers and the run.
 
-Dataset layout: dimension ``sample`` (energy series every ``numerics.series_every`` steps:
-the columns of :data:`SERIES`), ``frame`` (snapshots x, y, theta at ``outputs.frames``
-equally spaced times, the first at t = 0), ``particle`` (mass, body, row, col) and ``bond``
-(end indices, final state 1 intact / 0 broken / 2 removed, break time, unbreakable).
-Attributes: derived constants (dt, k_n, k_s, E, nu, P-wave modulus, rho_2) and provenance.
-A diverged run raises :class:`~craquelure.errors.SimulationDiverged` and writes nothing.
-
-The loop, checkpoints and ``--resume`` are the runner's (:mod:`craquelure.runner`); a
-checkpoint holds :meth:`Engine.state` and the frames so far.
+Run dataset: dimension ``sample`` (energy series every ``numerics.series_every`` steps: the
+columns of ``SERIES``), ``frame`` (snapshots x, y, theta at ``outputs.frames`` equally spaced
+times, the first at t = 0), ``particle`` (mass, body, row, col) and ``bond`` (end indices,
+final state 1 intact / 0 broken / 2 removed, break time, unbreakable); attributes: derived
+constants (dt, k_n, k_s, E, nu, P-wave modulus, rho_2) and provenance. A checkpoint of the
+runner (:mod:`craquelure.runner`) holds :meth:`Engine.state` and the frames so far.
 """
 
 from __future__ import annotations

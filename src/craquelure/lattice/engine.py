@@ -1,12 +1,7 @@
-"""The lattice engine: a struct-of-arrays system and the time loop around the generated kernel.
-
-:class:`LatticeState` holds particles (positions x, y, rotation theta at t and t - dt, mass, moment
-of inertia, diameter, fixed / driven dof masks, loads) and bonds (end indices, rest state
-L0, rest chord direction (cos, sin alpha0), theta refs, stiffnesses k_n, a, b, state,
-unbreakable flag). :class:`Engine` compiles the kernel for the effect set, advances in
-chunks, rebuilds the contact list and re-freezes bonds (melting) between chunks, and raises
-:class:`SimulationDiverged` on NaN or runaway energy. Stable step (spec section 5): the quick
-estimate omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, k_s).
+"""The lattice engine: a struct-of-arrays system (:class:`LatticeState`) and the time loop
+around the generated kernel (:class:`Engine`: chunks of steps, contact-list rebuilds and
+re-freezing of bonds between them, the NaN/runaway guard). Stable step (spec section 5): the
+quick estimate omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, k_s).
 """
 
 from __future__ import annotations
