@@ -1,8 +1,7 @@
 """Command line: ``craquelure <command> ...``.
 
 Commands live in :mod:`craquelure.commands`, one module each with ``NAME``, ``HELP``,
-``main(args) -> int`` and, if it takes arguments, ``add_arguments(parser)``; this module
-discovers them.
+``add_arguments(parser)`` and ``main(args) -> int``; this module discovers them.
 """
 
 from __future__ import annotations
@@ -27,7 +26,7 @@ def build_parser() -> argparse.ArgumentParser:
         if not hasattr(module, "NAME"):
             continue
         p = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
-        getattr(module, "add_arguments", lambda parser: None)(p)
+        module.add_arguments(p)
         p.set_defaults(_main=module.main)
     return parser
 

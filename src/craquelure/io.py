@@ -1,11 +1,6 @@
-"""Dataset writing and reading.
-
-Writing: compressed netCDF4 with CF-1.11 metadata (:mod:`craquelure.cf`), written to a
-temporary name and renamed (:func:`atomic_write`), so a killed job never leaves a file that
-looks finished and a failed write leaves the previous file untouched.
-
-Reading: :func:`open_dataset` and :func:`read_dataset` name the file and what is wrong with it
-(:class:`DatasetError`).
+"""Dataset writing (compressed netCDF4 with CF-1.11 metadata, written to a temporary name and
+renamed: :func:`atomic_write`, so a killed job never leaves a file that looks finished) and
+reading (:func:`open_dataset`, :func:`read_dataset`: errors name the file and what is wrong).
 """
 
 from __future__ import annotations

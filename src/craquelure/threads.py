@@ -1,13 +1,10 @@
 """Threads of a run: numba's workers and nothing else.
 
-A time step's work runs in numba ``prange`` loops on ``numba.get_num_threads()`` workers. A library
-call that starts its own thread pool inside a step (an OpenBLAS ``dot`` or ``solve``, an OpenMP
-section) would put a second set of busy threads on the same cores. So every engine, when it imports
-its generated kernels (:func:`craquelure.codegen.import_generated`, the one place all of them pass
-through), calls :func:`single_threaded_libraries`, which holds the BLAS pools of numpy and scipy
-(the one numba's ``np.linalg`` uses) to one thread with threadpoolctl for the rest of the process,
-and numba's OpenMP workers sleep while they wait (``OMP_WAIT_POLICY=PASSIVE``) rather than spin
-against the thread they wait for.
+A library call that starts its own thread pool inside a step (an OpenBLAS ``dot`` or ``solve``,
+an OpenMP section) would put a second set of busy threads on the cores of numba's ``prange``
+workers. So every engine, on importing its generated kernels
+(:func:`craquelure.codegen.import_generated`), calls :func:`single_threaded_libraries`, and
+numba's OpenMP workers sleep while they wait (``OMP_WAIT_POLICY=PASSIVE``) rather than spin.
 """
 
 from __future__ import annotations

@@ -103,8 +103,7 @@ LONG_RUN_S = 3600.0
 def long_run_warning(engine: str, workload: dict, threads: int = 1) -> str | None:
     """A one-line warning when the predicted wall time of a run exceeds :data:`LONG_RUN_S`:
     the figure, the workload it was predicted from and the throughput model; else None."""
-    fixed, compute = predicted_parts(engine, workload, threads)
-    seconds = fixed + compute
+    seconds = predicted_wall_time(engine, workload, threads)
     if not seconds > LONG_RUN_S:
         return None
     model, meta = cost_model(engine), table()

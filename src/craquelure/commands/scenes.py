@@ -6,6 +6,10 @@ NAME = "scenes"
 HELP = "list built-in scenes with a one-line description"
 
 
+def add_arguments(parser) -> None:
+    pass
+
+
 def main(args) -> int:
     rows = scenes()
     width = max(map(len, rows), default=0)

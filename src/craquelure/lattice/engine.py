@@ -404,8 +404,7 @@ class Engine:
         self._alloc_bond_arrays()
         for name in ("qm", "q", "qref", "qbuild", "acc", *self.BOND_STATE):
             setattr(self, name, np.ascontiguousarray(ck[name], np.float64))
-        self.cpi = np.ascontiguousarray(ck["cpi"], np.int64)
-        self.cpj = np.ascontiguousarray(ck["cpj"], np.int64)
+        self.cpi, self.cpj = (np.ascontiguousarray(ck[k], np.int64) for k in ("cpi", "cpj"))
         self.step = int(ck["step"])
         self.series = list(np.asarray(ck["series"]).reshape(-1, self.kernel.N_SERIES))
 

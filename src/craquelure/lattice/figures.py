@@ -55,10 +55,9 @@ def calving(ds, labels, summary, out, title):
         expected, _ = np.histogram(grid, edges, weights=(sz.size - 1) * w / w.sum())
         ax[3].loglog(c[sel], (expected / np.diff(edges))[sel], "-", color="tab:blue",
                      label=f"ML s^-{tau:.2f} exp(-s/{cut:.0f}), same bins")
-    label_axes(ax[3], "fragment size s (particles)", "n(s)")
+    label_axes(ax[3], "fragment size s (particles)", "n(s)", legend={"fontsize": 8})
     ax[3].set_title(f"{sz.size - 1} fragments: ML exponent {tau:.2f} (cut-off {cut:.0f}); "
                     f"binned slope {slope:.2f} over {decades:.1f} dec.", fontsize=9)
-    ax[3].legend(fontsize=8)
     _save(fig, out, title)
 
 
@@ -130,10 +129,9 @@ def scaling(rows, out, title):
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     ax[0].loglog(n, t * 1e9, "o-", label="wall time")
     ax[0].loglog(n, cpu * 1e9, "s--", label="CPU time per thread")
-    label_axes(ax[0], "particles N", "time per step per particle [ns]")
+    label_axes(ax[0], "particles N", "time per step per particle [ns]", legend={})
     both = np.concatenate([t, cpu])
     ax[0].set_ylim(both.min() * 1e9 / 3, both.max() * 1e9 * 3)
-    ax[0].legend()
     ax[1].semilogx(n, rate / 1e6, "o-")
     ax[1].axhline(20, color="tab:red", ls="--", label="target 2e7/s")
     label_axes(ax[1], "particles N", "bond updates per second [1e6]", legend={})

@@ -1,10 +1,8 @@
 """Model API of Soft Dynamics for the CLI: initial state, derived numbers, runs.
 
-``run`` dispatches on ``study.kind``: ``single`` writes the time series of one run (T1 or
-two-sphere), ``sweep`` the duration map over (h0, F~) (serially; the workflow runs batches of
-points as parallel jobs), ``phase`` the T1 occurrence over (F_h/F_v, F~), ``accuracy`` the
-integrators' error versus wall time on one T1 (:mod:`craquelure.softdyn.accuracy`). The runs
-are deterministic: the seed is recorded but nothing is random.
+``run`` dispatches on ``study.kind``: ``single`` (the time series of one T1 or two-sphere run),
+``sweep`` (the duration map over (h0, F~)), ``phase`` (T1 occurrence over (F_h/F_v, F~)) and
+``accuracy`` (:mod:`craquelure.softdyn.accuracy`). Nothing is random: the seed is only recorded.
 """
 
 from __future__ import annotations

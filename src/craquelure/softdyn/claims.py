@@ -83,8 +83,7 @@ def t1_claim(n: dict) -> Claim:
 def approach_claims(n: dict) -> list[Claim]:
     """Check 4 on the approach run: exponential while h >= 100 h*, h^-2 linear once h <= h*/100."""
     out = []
-    if n["rate"] is not None:
-        rate = n["rate"]
+    if (rate := n["rate"]) is not None:
         out.append(Claim.judged(MODEL, "far apart (h >> h*), two spheres pressed together "
                                 "approach exponentially, h = h0 exp(-t / (c_n tau))",
                                 "paper 1 (Poiseuille limit); softdyn spec check 4",
@@ -93,8 +92,7 @@ def approach_claims(n: dict) -> list[Claim]:
                                 {"rate within 1 %": abs(rate - 1) <= 0.01},
                                 deciding=f"rate {rate - 1:+.2%} (within 1 %)",
                                 figure="gaps.png"))
-    if n["hertz_ratio"] is not None:
-        ratio = n["hertz_ratio"]
+    if (ratio := n["hertz_ratio"]) is not None:
         out.append(Claim.judged(MODEL, "in elastic contact (h << h*) the gap closes as h^-2 - "
                                 "h0^-2 = 2t / (c_n tau h*^2)",
                                 "paper 1 (Hertz limit); softdyn spec check 4",

@@ -47,9 +47,8 @@ def fig5(ds, path, profile: str, scene: str):
         ax[1].loglog(col.h0_over_h_star.values[ok], col.duration.values[ok], "o-", color=c,
                      label=f"F~ = {force:g}")
     ax[0].set_ylim(5, None)
-    label_axes(ax[0], "h0 / R", "T / tau")
+    label_axes(ax[0], "h0 / R", "T / tau", legend={"fontsize": 8})
     ax[0].set_title("dotted: T_P (Eq. 33), dashed: T_H (Eq. 34)", fontsize=8)
-    ax[0].legend(fontsize=8)
     ax[1].axvline(1.0, color="grey", lw=0.8)
     label_axes(ax[1], "h0 / h*", "T / tau", legend={"fontsize": 8})
     fig.suptitle(f"T1 duration ({profile} profile, scene {scene}): "

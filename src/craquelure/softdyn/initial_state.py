@@ -192,8 +192,13 @@ def series_dataset(setup: Setup, result: Result) -> xr.Dataset:
                 "pair": list(sysm.pair_names), "dim": list(dims)})
     if setup.arrangement == "t1":
         ds["theta"] = ("time", np.degrees([t1_angle(row["x"]) for row in rows]))
+    ds.attrs.update(run_attrs(setup, result))
+    return ds
+
+
+def run_attrs(setup: Setup, result: Result) -> dict[str, object]:
     sc = setup.scene
-    ds.attrs.update({
+    return {
         "tau": setup.tau, "force_unit": setup.force, "F_v": setup.f_v, "F_h": setup.f_h,
         "h0": setup.h0, "reduced_force": sc.get("loads.reduced_force"),
         **predictions(sc), "stop": sc.get("outputs.stop"),
@@ -201,6 +206,4 @@ def series_dataset(setup: Setup, result: Result) -> xr.Dataset:
         "integrator": sc.get("numerics.integrator"), "n_steps": result.n_steps,
         "n_rhs": result.n_rhs, "n_rejected": result.n_rejected,
         "integration_wall_time_s": result.wall_time_s, "linear_solver": setup.system.solver,
-        "deflection_rule": sc.get("numerics.deflection_rule"),
-    })
-    return ds
+        "deflection_rule": sc.get("numerics.deflection_rule")}

@@ -58,6 +58,4 @@ def regime(h0: float, reduced_force: float, k_n: float) -> str:
     ratio = h0 / h_star(reduced_force, k_n)
     if ratio <= 1.0 / 3.0:
         return "hertz"
-    if ratio >= 3.0:
-        return "poiseuille"
-    return "crossover"
+    return "poiseuille" if ratio >= 3.0 else "crossover"
