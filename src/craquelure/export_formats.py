@@ -108,7 +108,6 @@ def frames_from_dataset(ds: xr.Dataset) -> Frames:
             frames.fields[key] = _pad3(np.asarray(var.values, float))
         elif var.dims == (PARTICLE,):
             static[name] = np.asarray(var.values)
-    # a static variable named as a field or the position is the last frame's state: left out
     frames.fields.update({name: np.broadcast_to(values, (n_frames, *values.shape))
                           for name, values in static.items() if name not in frames.fields
                           and name not in ("x", "y", "z", "position")})

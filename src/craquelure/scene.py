@@ -30,8 +30,7 @@ from craquelure.registry import known_effects
 
 class _SceneLoader(yaml.SafeLoader):
     """SafeLoader that also reads ``1e-3`` and ``1.0e6`` as floats (YAML 1.2; PyYAML's YAML 1.1
-    resolver needs a dot and a signed exponent),
-    and refuses a key given twice in one mapping (PyYAML silently keeps the last)."""
+    resolver needs a dot and a signed exponent) and refuses a key given twice in one mapping."""
 
     def construct_mapping(self, node, deep=False):
         seen: dict[Any, int] = {}

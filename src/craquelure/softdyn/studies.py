@@ -3,12 +3,11 @@ occurrence of the T1 in the (F_h, F_v) plane (Fig. 3).
 
 Sweep: grid ``study.h0`` x ``study.reduced_force``; only points with h0/h* inside
 ``study.window`` are run (the informative window of spec 9.2; outside it a run is either pure
-Poiseuille or hopelessly long), the others are NaN with ``computed = 0``. Each point runs to the
-end of the T1 (``stop: cd_force``); points that do not finish by ``outputs.t_end`` have
-``finished = 0`` and a NaN duration. The workflow runs the points in ``n`` batches of similar
-estimated cost (:func:`sweep_batches`), one process each, since a process start costs more than
-most points. Phase: grid ``study.fh_over_fv`` x ``study.reduced_force``, each run until theta
-<= ``outputs.theta_end_deg`` or ``outputs.t_end`` (units of tau of the AB load |F_v/sqrt3 - F_h|).
+Poiseuille or hopelessly long), the others are NaN with ``computed = 0``; a point that does not
+finish by ``outputs.t_end`` has ``finished = 0`` and a NaN duration. The workflow runs the
+points in batches of similar estimated cost (:func:`sweep_batches`): a process start costs more
+than most points. Phase: grid ``study.fh_over_fv`` x ``study.reduced_force``, each run until
+theta <= ``outputs.theta_end_deg`` or ``outputs.t_end``.
 """
 
 from __future__ import annotations
