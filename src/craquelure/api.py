@@ -4,8 +4,6 @@ in :mod:`craquelure.commands` parse their arguments, call it and print), for eve
 errors are the commands' one-line :class:`~craquelure.errors.CraquelureError` messages.
 """
 
-from __future__ import annotations
-
 import sys
 import tempfile
 from collections.abc import Iterable, Mapping

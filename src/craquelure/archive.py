@@ -9,8 +9,6 @@ flags are only a permission bit: the manifest is what lets anyone check later th
 changed.
 """
 
-from __future__ import annotations
-
 import csv
 import hashlib
 import io

@@ -8,8 +8,6 @@ true ratios keep their units. Impact is in SI per unit thickness (2D); a 3D impa
 ``long_name``/``units`` win over the model's table (``<model>/metadata.py``).
 """
 
-from __future__ import annotations
-
 import shlex
 import sys
 from dataclasses import dataclass, field

@@ -4,8 +4,6 @@ Commands live in :mod:`craquelure.commands`, one module each with ``NAME``, ``HE
 ``add_arguments(parser)`` and ``main(args) -> int``; this module discovers them.
 """
 
-from __future__ import annotations
-
 import argparse
 import importlib
 import pkgutil

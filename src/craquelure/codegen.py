@@ -24,8 +24,6 @@ a process loading the cache the copies inside the caller; where a kernel reassoc
 (``fastmath`` ``reassoc``) the two round differently in the last bits.
 """
 
-from __future__ import annotations
-
 import hashlib
 import importlib
 import importlib.util

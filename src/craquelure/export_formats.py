@@ -16,8 +16,6 @@ Works on the run dataset of any model by its layout, not by model name:
 2D models get z = 0. Each field keeps its name; units and long names stay in the netCDF file.
 """
 
-from __future__ import annotations
-
 import os
 import re
 from dataclasses import dataclass, field

@@ -3,8 +3,6 @@ renamed: :func:`atomic_write`, so a killed job never leaves a file that looks fi
 reading (:func:`open_dataset`, :func:`read_dataset`: errors name the file and what is wrong).
 """
 
-from __future__ import annotations
-
 import errno
 import os
 import struct

@@ -1,8 +1,6 @@
 """Figure output shared by the models' figures modules: matplotlib's non-interactive Agg
 backend (figures are written by jobs, never shown) and one way to write a figure."""
 
-from __future__ import annotations
-
 from pathlib import Path
 
 import matplotlib

@@ -1,8 +1,6 @@
 """Provenance attributes carried by every dataset: scene text, seed, effects, versions,
 git commit, wall time and start time."""
 
-from __future__ import annotations
-
 import platform
 import subprocess
 import time

@@ -10,8 +10,6 @@ parameter tuple and index constants (:func:`parameter_names`) and the packed par
 where it enters the equations and its test.
 """
 
-from __future__ import annotations
-
 import importlib
 import math
 import pkgutil

@@ -11,8 +11,6 @@ point (a long one calls :func:`heartbeat` between sub-steps), a checkpoint is wr
 acts as it would without the runner.
 """
 
-from __future__ import annotations
-
 import hashlib
 import signal
 import sys

@@ -8,8 +8,6 @@ hence :func:`non_finite_values`; the model's own rules and memory estimate are
 ``scene_problems(data)`` and ``memory_estimate(data)`` of ``craquelure.<model>.rules``.
 """
 
-from __future__ import annotations
-
 import math
 from typing import Any
 

@@ -7,8 +7,6 @@ workers. So every engine, on importing its generated kernels
 numba's OpenMP workers sleep while they wait (``OMP_WAIT_POLICY=PASSIVE``) rather than spin.
 """
 
-from __future__ import annotations
-
 import glob
 import os
 import threading

@@ -12,8 +12,6 @@ measured and Amdahl's law gives S beyond. The numbers are in ``throughput.yaml``
 file, written by ``benchmarks/predictions.py --calibrate``.
 """
 
-from __future__ import annotations
-
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path

@@ -2,8 +2,6 @@
 numbers and check verdicts) and table; the figures (:mod:`craquelure.lattice.figures`) draw
 these numbers, the claims read only the summaries."""
 
-from __future__ import annotations
-
 import json
 import math
 

@@ -8,8 +8,6 @@ constants (dt, k_n, k_s, E, nu, P-wave modulus, rho_2) and provenance. A checkpo
 runner (:mod:`craquelure.runner`) holds :meth:`Engine.state` and the frames so far.
 """
 
-from __future__ import annotations
-
 import math
 from pathlib import Path
 

@@ -5,8 +5,6 @@ reports its serial form: time per step per particle versus N (constant = ideal) 
 updates per second.
 """
 
-from __future__ import annotations
-
 import math
 import time
 

@@ -4,8 +4,6 @@
 scaling) is a speed target whose only measurement is a timing: :data:`BENCHMARKED`.
 """
 
-from __future__ import annotations
-
 import json
 from pathlib import Path
 

@@ -4,8 +4,6 @@ re-freezing of bonds between them, the NaN/runaway guard). Stable step (spec sec
 quick estimate omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, k_s).
 """
 
-from __future__ import annotations
-
 import math
 import time
 from dataclasses import dataclass, field

@@ -2,8 +2,6 @@
 :mod:`craquelure.lattice.analysis` (fragment labels, fits, summaries), with a title that
 states the profile, scene and sizes; nothing here fits or judges."""
 
-from __future__ import annotations
-
 import numpy as np
 
 from craquelure.lattice import fragments

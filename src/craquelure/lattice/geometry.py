@@ -9,8 +9,6 @@ n_x L) is supported for the Glen and wave tests (bonds then use the minimum imag
 Decision [D]: polydisperse packings are not implemented.
 """
 
-from __future__ import annotations
-
 import math
 
 import numpy as np

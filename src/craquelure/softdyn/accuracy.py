@@ -15,8 +15,6 @@ explicit step must resolve 1/tau_B, so the accuracy scene sets tau_B = 0.1 tau a
 tolerance (heun has no error control on the constraint; its residual is O(dt^2)).
 """
 
-from __future__ import annotations
-
 import numpy as np
 import xarray as xr
 

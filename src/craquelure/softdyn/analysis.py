@@ -3,8 +3,6 @@ study, T1 or sphere-pair run, told apart by their content: :func:`numbers`) to `
 the numbers the claims judge (the same quantities as the spec checks in ``tests/softdyn``).
 """
 
-from __future__ import annotations
-
 import json
 import math
 from pathlib import Path

@@ -5,8 +5,6 @@
 ``accuracy`` (:mod:`craquelure.softdyn.accuracy`). Nothing is random: the seed is only recorded.
 """
 
-from __future__ import annotations
-
 import math
 from functools import partial
 from pathlib import Path

@@ -2,8 +2,6 @@
 numbers of ``results/softdyn/summary.json`` (:mod:`craquelure.softdyn.analysis`), never on runs.
 """
 
-from __future__ import annotations
-
 import json
 import math
 from pathlib import Path

@@ -11,8 +11,6 @@ velocity removed afterwards; LSQR with the sum rows when ``lubrication_tangentia
 the system may be singular). The sparsity pattern is fixed by the pair list and built once.
 """
 
-from __future__ import annotations
-
 from dataclasses import dataclass, field
 
 import numpy as np

@@ -2,8 +2,6 @@
 (T1 occurrence in the (F_h, F_v) plane), the two-sphere gap history and the integrators' error
 versus wall time."""
 
-from __future__ import annotations
-
 import math
 
 import numpy as np

@@ -18,8 +18,6 @@ Pair: spheres 0 and 1 on the x axis at distance 2R + h0, loaded by F = F~ E R^2 
 (compression) or apart (tension), optionally with a tangential couple T (y) for sliding.
 """
 
-from __future__ import annotations
-
 import math
 from dataclasses import dataclass
 

@@ -14,8 +14,6 @@ A stop condition ``g(t, y)`` ends the run at its first upward zero crossing, loc
 solver's dense output (Brent's method; linear interpolation for ``heun``).
 """
 
-from __future__ import annotations
-
 import math
 import time
 from collections.abc import Callable

@@ -10,8 +10,6 @@ than most points. Phase: grid ``study.fh_over_fv`` x ``study.reduced_force``, ea
 theta <= ``outputs.theta_end_deg`` or ``outputs.t_end``.
 """
 
-from __future__ import annotations
-
 import math
 
 import numpy as np

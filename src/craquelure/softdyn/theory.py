@@ -8,8 +8,6 @@ r"""Predicted T1 durations and crossover gap (spec sections 6-7), in units of R 
   units :math:`k_n \sqrt{h + \sigma}\,\sigma = \tilde F`.
 """
 
-from __future__ import annotations
-
 import math
 
 from scipy.integrate import quad
