@@ -56,14 +56,11 @@ def run_sweep_point(scene, i: int, j: int) -> xr.Dataset:
     x = setup.system.unpack(res.y_stop)[0]
     values = {
         "duration": res.t_stop / setup.tau if res.stopped else math.nan,
-        "finished": int(res.stopped),
-        "theta_end": math.degrees(t1_angle(x)),
-        "T_P": theory.t_poiseuille(h0[i], c_n),
-        "T_H": theory.t_hertz(h0[i], force[j], k_n, c_n),
+        "finished": int(res.stopped), "theta_end": math.degrees(t1_angle(x)),
+        "T_P": theory.t_poiseuille(h0[i], c_n), "T_H": theory.t_hertz(h0[i], force[j], k_n, c_n),
         "T_sep": theory.t_separation(h0[i], force[j], k_n, c_n),
         "h0_over_h_star": h0[i] / theory.h_star(force[j], k_n),
-        "n_rhs": res.n_rhs, "n_steps": res.n_steps, "run_wall_time_s": res.wall_time_s,
-    }
+        "n_rhs": res.n_rhs, "n_steps": res.n_steps, "run_wall_time_s": res.wall_time_s}
     ds = xr.Dataset({k: (("h0", "force"), [[v]]) for k, v in values.items()},
                     coords={"h0": [h0[i]], "force": [force[j]]})
     ds["regime"] = (("h0", "force"), [[theory.regime(h0[i], force[j], k_n)]])
