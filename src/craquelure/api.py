@@ -1,19 +1,8 @@
-"""The Python API: the command line's verbs as functions, for scripts and notebooks.
-
-Each function does what the command of the same name does (the commands in
-:mod:`craquelure.commands` parse their arguments, call it and print), for every model::
-
-    import craquelure as cq
-
-    scene = cq.load_scene("drying/ci", overrides={"outputs.t_end": 4, "outputs.times": [2, 4]})
-    print(cq.check(scene)["steps"])
-    run = cq.run(scene, seed=1)            # an xarray.Dataset, as `craquelure run` writes it
-    frag = cq.fragments(run)               # drying: the fragment areas of every snapshot
-
-Errors are the commands' one-line :class:`~craquelure.errors.CraquelureError` messages.
+"""The Python API: the command line's verbs as functions, for scripts and notebooks (example
+in :mod:`craquelure`). Each function does what the command of the same name does (the commands
+in :mod:`craquelure.commands` parse their arguments, call it and print), for every model;
+errors are the commands' one-line :class:`~craquelure.errors.CraquelureError` messages.
 """
-
-from __future__ import annotations
 
 import sys
 import tempfile
@@ -188,30 +177,17 @@ def run(scene: Scene | str, seed: int = 0, init: RunInput | None = None,
     """
     with ExitStack() as stack:
         out = _temporary(stack, "run.nc") if out is None else out
-        return _load(run_to_file(scene, out, seed, init, **checkpoints))
+        return open_dataset(run_to_file(scene, out, seed, init, **checkpoints))
 
 
 def _temporary(stack: ExitStack, name: str) -> Path:
     return Path(stack.enter_context(tempfile.TemporaryDirectory())) / name
 
 
-def _load(path: Path) -> xr.Dataset:
-    with open_dataset(path) as ds:
-        return ds.load()
-
-
 def _run_path(run: RunInput, stack: ExitStack) -> Path:
     """A run dataset's file: the path given, or the dataset written to a temporary folder."""
     return write_dataset(run, _temporary(stack, "run.nc")) if isinstance(run, xr.Dataset) \
         else Path(run)
-
-
-def _model(run: RunInput) -> str:
-    """The model a run dataset names (provenance ``model``; drying's datasets before it)."""
-    if isinstance(run, xr.Dataset):
-        return str(run.attrs.get("model", "drying"))
-    with open_dataset(run) as ds:
-        return str(ds.attrs.get("model", "drying"))
 
 
 def fragments(run: RunInput, out: str | Path | None = None, phi0: float | None = None,
@@ -229,9 +205,9 @@ def fragments(run: RunInput, out: str | Path | None = None, phi0: float | None =
         >>> frag["n_fragments"].dims, int(frag["n_fragments"][-1])
         (('time',), 1)
     """
-    model = _model(run)
+    ds = run if isinstance(run, xr.Dataset) else open_dataset(run)
+    model = str(ds.attrs.get("model", "drying"))  # drying's datasets before the attribute
     if model == "lattice":
-        ds = run if isinstance(run, xr.Dataset) else _load(Path(run))
         labels = model_module("lattice", "analysis").fragment_labels(ds)
         frag = xr.Dataset({"fragment_label": ("particle", labels, {
             "long_name": "fragment of the body particle at the last frame (0: not in one)",
@@ -248,7 +224,7 @@ def fragments(run: RunInput, out: str | Path | None = None, phi0: float | None =
         path = _run_path(run, stack)
         target = Path(out) if out is not None else _temporary(stack, "fragments.nc")
         analysis = model_module("drying", "analysis")
-        return _load(analysis.fragments_from_run_file(path, target, phi0, spacing))
+        return open_dataset(analysis.fragments_from_run_file(path, target, phi0, spacing))
 
 
 def export(run: RunInput, to: str = "vtu", out: str | Path | None = None) -> list[Path]:

@@ -1,18 +1,13 @@
 """Archive of a finished workflow: the final datasets, figures, reports and resolved
 configuration in one ``.tar.gz`` with a SHA-256 manifest, and the check of an archive or of its
-unpacked folder against that manifest.
+unpacked folder against that manifest (docs/outputs.md, "Archive").
 
-Layout of ``craquelure-<profile>-<date>.tar.gz``: one top folder of the same name holding
-``MANIFEST.sha256`` (``sha256sum`` format: ``<hex digest>  <path>``, one line per file, sorted,
-so ``sha256sum -c MANIFEST.sha256`` works in the unpacked folder too) and the files under their
-project paths (``results/...``, ``config/...``, ``profiles/...``, ``resolved-config.yaml``).
-Beside the archive, ``<archive>.sha256`` holds the digest of the archive file itself.
-
-``protected()`` output flags are only a permission bit (and nothing for root): the manifest is
-what lets anyone check later that nothing changed.
+``craquelure-<profile>-<date>.tar.gz`` holds one top folder of the same name with
+``MANIFEST.sha256`` (``sha256sum -c`` format) and the files under their project paths; beside
+it, ``<archive>.sha256`` holds the digest of the archive file itself. ``protected()`` output
+flags are only a permission bit: the manifest is what lets anyone check later that nothing
+changed.
 """
-
-from __future__ import annotations
 
 import csv
 import hashlib
@@ -77,8 +72,7 @@ def build_archive(out: str | Path, files: Iterable[str | Path],
         if not path.is_file():
             raise CraquelureError(f"archive member {f} does not exist")
         members[path.as_posix()] = path
-    for name, text in (texts or {}).items():
-        members[name] = text.encode()
+    members.update({name: text.encode() for name, text in (texts or {}).items()})
     if MANIFEST in members:
         raise CraquelureError(f"{MANIFEST} is written by the archive itself")
     digests = {name: (hashlib.sha256(src).hexdigest() if isinstance(src, bytes)
@@ -142,13 +136,9 @@ def _folder_root(path: Path) -> Path:
 
 
 def verify(path: str | Path) -> tuple[list[str], int]:
-    """Check an archive (.tar.gz) or its unpacked folder against its manifest.
-
-    Returns (problems, number of files checked); no problems means every file listed is there
-    with its digest and nothing else is. Each problem names the file: ``changed``, ``missing``,
-    ``not in manifest``; for an archive also a mismatch with ``<archive>.sha256`` and an
-    unreadable (corrupted) archive.
-    """
+    """Check an archive (.tar.gz) or its unpacked folder against its manifest: (problems,
+    number of files checked). Each problem names the file: ``changed``, ``missing``, ``not in
+    manifest``, ``unreadable`` (a corrupted archive)."""
     path = Path(path)
     problems: list[str] = []
     if path.is_dir():

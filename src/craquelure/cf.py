@@ -1,23 +1,12 @@
 """CF-1.11 metadata for every dataset, applied in one place (:func:`craquelure.io.write_dataset`
-calls :func:`apply`), so a model's writer only says what its variables are.
+calls :func:`apply`), so a model's writer only says what its variables are (docs/outputs.md).
 
-Global attributes: ``Conventions``, ``title``, ``source``, ``history`` (UTC time and command
-line, one line per write, appended), ``references`` (the model's source papers) and, for
-models in reduced units, ``reduced_unit_system`` (what the unit of each quantity is).
-
-Variables: every variable gets ``long_name`` and ``units`` that UDUNITS parses. A model in
-reduced units (drying, lattice, softdyn) writes its quantities as multiples of the model's own
-scales; those get ``units = "1"`` and the scale in ``reduced_units`` (e.g. ``"eta/lambda"`` for a
-drying time, ``"R/tau"`` for a Soft Dynamics velocity). Wall times (``"s"``), angles
-(``"degree"``) and true ratios (``"1"``) keep their units. Impact is in SI per unit thickness
-(2D): masses kg/m, energies J/m, forces N/m; a 3D impact dataset (attribute ``dim`` = 3) takes
-the whole-body units instead (kg, J, N; :func:`per_body`).
-
-A model writer's own ``long_name``/``units`` attributes win over the model's table
-(``<model>/metadata.py``), which fills in the rest. Strings (labels) get a long name, no units.
+A model in reduced units (drying, lattice, softdyn) writes its quantities as multiples of its
+own scales: they get ``units = "1"`` and the scale in ``reduced_units``; wall times, angles and
+true ratios keep their units. Impact is in SI per unit thickness (2D); a 3D impact dataset
+(attribute ``dim`` = 3) takes the whole-body units (:func:`per_body`). A writer's own
+``long_name``/``units`` win over the model's table (``<model>/metadata.py``).
 """
-
-from __future__ import annotations
 
 import shlex
 import sys
@@ -46,8 +35,7 @@ class ModelMetadata:
 
 
 # per unit thickness (2D) -> whole body (3D)
-_BODY_UNITS = {"kg m-1": "kg", "J m-1": "J", "N m-1": "N", "kg s-1": "kg m s-1",
-               "N s m-1": "N s"}
+_BODY_UNITS = {"kg m-1": "kg", "J m-1": "J", "N m-1": "N", "kg s-1": "kg m s-1", "N s m-1": "N s"}
 
 
 def per_body(variables: dict[str, tuple[str, str | None]]) -> dict[str, tuple[str, str | None]]:
@@ -92,12 +80,9 @@ def apply(ds: xr.Dataset, argv: list[str] | None = None) -> xr.Dataset:
     attrs["Conventions"] = CONVENTIONS
     line = history_line(argv)
     attrs["history"] = f"{attrs['history']}\n{line}" if attrs.get("history") else line
-    parts = [f"craquelure {craquelure.__version__}"]
-    if meta is not None:
-        parts.append(f"{ds.attrs['model']} model")
-    if ds.attrs.get("scene_name"):
-        parts.append(f"scene {ds.attrs['scene_name']}")
-    attrs["source"] = ", ".join(parts)
+    parts = [f"craquelure {craquelure.__version__}", f"{model} model" if meta else "",
+             f"scene {attrs['scene_name']}" if attrs.get("scene_name") else ""]
+    attrs["source"] = ", ".join(p for p in parts if p)
     if meta is None:
         attrs.setdefault("title", "craquelure dataset")
         return ds
@@ -114,11 +99,9 @@ def apply(ds: xr.Dataset, argv: list[str] | None = None) -> xr.Dataset:
         long_name, units = table.get(str(name), (None, None))
         if long_name and not var.attrs.get("long_name"):
             var.attrs["long_name"] = long_name
-        if var.dtype.kind not in "fiub":
-            continue  # labels: no units
         units = var.attrs.get("units", units)
-        if units is None:
-            continue
+        if var.dtype.kind not in "fiub" or units is None:
+            continue  # labels: no units
         udunits, reduced = _units(meta, str(units))
         var.attrs["units"] = udunits
         if reduced is not None:

@@ -4,8 +4,6 @@ Commands live in :mod:`craquelure.commands`, one module each with ``NAME``, ``HE
 ``add_arguments(parser)`` and ``main(args) -> int``; this module discovers them.
 """
 
-from __future__ import annotations
-
 import argparse
 import importlib
 import pkgutil
@@ -62,11 +60,6 @@ def _fail(command: str, message: str, what: str = "error") -> int:
     """One line on stderr (a multi-line message's items joined by "; "); exit 2."""
     head, *items = [line.strip() for line in message.splitlines() if line.strip()] or [""]
     if items:
-        head = f"{head} {'; '.join(items)}" if head.endswith(":") else \
-            "; ".join([head, *items])
+        head = f"{head} {'; '.join(items)}" if head.endswith(":") else "; ".join([head, *items])
     print(f"craquelure {command}: {what}: {head}", file=sys.stderr)
     return 2
-
-
-if __name__ == "__main__":
-    sys.exit(main())

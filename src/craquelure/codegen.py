@@ -8,29 +8,21 @@ A kernel template is an ordinary module with one flag block::
     # END FLAGS
 
 :func:`specialise` copies the template with that block rewritten for one scene (the effect
-flags come from the registry, :func:`effect_flags`; each :class:`~craquelure.registry.Effect`
-declares its flag) and imports the copy. Numba treats module globals as compile-time
-constants, so ``if ELASTICITY:`` with ``ELASTICITY = False`` is pruned: an absent effect is
-compiled out, not skipped at run time.
+flags come from the registry, :func:`effect_flags`) and imports the copy. Numba treats module
+globals as compile-time constants, so ``if ELASTICITY:`` with ``ELASTICITY = False`` is pruned:
+an absent effect is compiled out, not skipped at run time.
 
-The copy is named by one hash of the generated text and of every craquelure module the template
-imports (followed transitively: fragments, kernels, shared helpers), so editing any of them gives
-a new module and a fresh numba cache. It is written atomically (temporary name, then rename), so
-Snakemake jobs that generate the same module at once never read half a file, and
-``@njit(cache=True)`` caches the machine code beside it for later processes. Generated modules
-live under ``$CRAQUELURE_CACHE`` (default ``~/.cache/craquelure``), one folder per engine.
+The copy is named by a hash of its text and of every craquelure module the template imports
+(transitively), so editing any of them gives a fresh numba cache; it is written atomically
+under ``$CRAQUELURE_CACHE`` (default ``~/.cache/craquelure``), one folder per engine.
 
-Every process runs the cached machine code, the one that compiled it included: a kernel whose
-signature is not in the cache yet is compiled in a child process, and then loaded from the cache.
-Numba links each callee (a ``prange`` loop's gufunc, a called kernel) into its caller as a weak
-copy optimised again inside the caller, and the JIT resolves a weak symbol to its first
-definition: the compiling process runs the callees' own copies, loaded first, while a process
-that loads the caller from the cache runs the copies inside it. Where a kernel reassociates sums
-(``fastmath`` ``reassoc``) the two copies round differently, so a run that compiled and a run
-that loaded the cache would differ in their last bits.
+Every process runs the cached machine code, the one that compiled it included: a signature not
+in the cache yet is compiled in a child process, then loaded from the cache. Why: numba links
+each callee into its caller as a weak copy optimised again there, and the JIT resolves a weak
+symbol to its first definition, so the compiling process would run the callees' own copies and
+a process loading the cache the copies inside the caller; where a kernel reassociates sums
+(``fastmath`` ``reassoc``) the two round differently in the last bits.
 """
-
-from __future__ import annotations
 
 import hashlib
 import importlib

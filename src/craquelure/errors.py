@@ -19,8 +19,7 @@ class RunInterrupted(CraquelureError):
     "this run cannot work"."""
 
 
-# exit status of a run stopped by SIGTERM/SIGINT after writing its checkpoint (1: an
-# unexpected error with a traceback; 2: a clear error, as for every CraquelureError)
+# exit status of a run stopped after writing its checkpoint (2: a clear error, 1: a traceback)
 INTERRUPTED_EXIT = 3
 
 

@@ -16,8 +16,6 @@ Works on the run dataset of any model by its layout, not by model name:
 2D models get z = 0. Each field keeps its name; units and long names stay in the netCDF file.
 """
 
-from __future__ import annotations
-
 import os
 import re
 from dataclasses import dataclass, field
@@ -94,7 +92,7 @@ def frames_from_dataset(ds: xr.Dataset) -> Frames:
             comps.append(ds[f"{prefix}z"].values)
             used.add(f"{prefix}z")
         positions = _pad3(np.stack(comps, axis=-1).astype(float))
-    n_frames, n = positions.shape[:2]
+    n_frames = positions.shape[0]
     frames = Frames(_frame_times(ds, tdim, n_frames), positions)
 
     static = {}
@@ -108,11 +106,9 @@ def frames_from_dataset(ds: xr.Dataset) -> Frames:
             frames.fields[key] = _pad3(np.asarray(var.values, float))
         elif var.dims == (PARTICLE,):
             static[name] = np.asarray(var.values)
-    position_names = {"x", "y", "z", "position"}
-    for name, values in static.items():
-        if name in frames.fields or name in position_names:
-            continue  # the last frame's state, already written under that name
-        frames.fields[name] = np.broadcast_to(values, (n_frames, *values.shape))
+    frames.fields.update({name: np.broadcast_to(values, (n_frames, *values.shape))
+                          for name, values in static.items() if name not in frames.fields
+                          and name not in ("x", "y", "z", "position")})
     length = ds.attrs.get("box_length")
     if isinstance(length, int | float | np.number) and float(length) > 0:
         frames.box = np.diag([float(length), float(length), 0.0])
@@ -143,7 +139,9 @@ def write_vtu_series(frames: Frames, out: Path) -> Path:
             if v.ndim == 2:  # vector
                 data[name] = tuple(np.ascontiguousarray(v[:, c], dtype=float) for c in range(3))
             else:
-                data[name] = np.ascontiguousarray(v, dtype=_vtk_dtype(v.dtype))
+                # VTK readers handle int32 and float64 everywhere; int8/uint8 become int32
+                data[name] = np.ascontiguousarray(v, np.int32 if v.dtype.kind in "iub"
+                                                  else np.float64)
         stem = folder / f"frame_{k:0{width}d}"
         path = pointsToVTK(str(stem), *(np.ascontiguousarray(pos[:, c]) for c in range(3)),
                            data=data)
@@ -153,17 +151,7 @@ def write_vtu_series(frames: Frames, out: Path) -> Path:
     return out
 
 
-def _vtk_dtype(dtype: np.dtype) -> type:
-    # VTK readers handle int32 and float64 everywhere; int8/uint8 flags become int32.
-    return np.int32 if dtype.kind in "iub" else np.float64
-
-
 # --- OVITO: extended XYZ ------------------------------------------------------------------
-
-
-def _xyz_name(name: str) -> str:
-    # Property names in the comment line: no spaces, colons or quotes.
-    return re.sub(r"[^A-Za-z0-9_]", "_", name)
 
 
 def write_extxyz(frames: Frames, out: Path) -> Path:
@@ -173,7 +161,8 @@ def write_extxyz(frames: Frames, out: Path) -> Path:
     for name, values in frames.fields.items():
         kind = "I" if values.dtype.kind in "iub" else "R"
         ncol = 3 if values.ndim == 3 else 1
-        props.append(f"{_xyz_name(name)}:{kind}:{ncol}")
+        # property names in the comment line: no spaces, colons or quotes
+        props.append(f"{re.sub(r'[^A-Za-z0-9_]', '_', name)}:{kind}:{ncol}")
         fmt += ["%d" if kind == "I" else "%.17g"] * ncol
     header = "Properties=" + ":".join(props)
     cell = "" if frames.box is None else " ".join(f"{v:.17g}" for v in frames.box.ravel())
@@ -186,9 +175,7 @@ def write_extxyz(frames: Frames, out: Path) -> Path:
             cols = [np.full(n, "X", dtype=object), *frames.positions[k].T]
             for values in frames.fields.values():
                 cols.extend(values[k].T if values[k].ndim == 2 else [values[k]])
-            table = np.empty((n, len(cols)), dtype=object)
-            for c, col in enumerate(cols):
-                table[:, c] = col
+            table = np.column_stack([np.asarray(col, dtype=object) for col in cols])
             np.savetxt(fh, table, fmt=fmt, delimiter=" ")
     os.replace(tmp, out)
     return out

@@ -1,14 +1,7 @@
-"""Dataset writing and reading.
-
-Writing: compressed netCDF4 with CF-1.11 metadata (:mod:`craquelure.cf`), written to a
-temporary name and renamed (:func:`atomic_write`), so a killed job never leaves a file that
-looks finished and a failed write leaves the previous file untouched.
-
-Reading: :func:`open_dataset` and :func:`read_dataset` name the file and what is wrong with it
-(:class:`DatasetError`).
+"""Dataset writing (compressed netCDF4 with CF-1.11 metadata, written to a temporary name and
+renamed: :func:`atomic_write`, so a killed job never leaves a file that looks finished) and
+reading (:func:`open_dataset`, :func:`read_dataset`: errors name the file and what is wrong).
 """
-
-from __future__ import annotations
 
 import errno
 import os
@@ -202,9 +195,7 @@ def diagnose_file(path: str | Path) -> str | None:
     if not head.startswith(HDF5_SIGNATURE):
         return "not a netCDF file (no netCDF/HDF5 signature): unreadable"
     end = _hdf5_end_of_file(head)
-    if end is not None and end > size:
-        return f"truncated: {size} of {end} bytes"
-    return None
+    return f"truncated: {size} of {end} bytes" if end is not None and end > size else None
 
 
 def open_dataset(path: str | Path) -> xr.Dataset:

@@ -11,8 +11,6 @@ predicts the wall time from) and ``run(scene, out, seed, init=None, resume=False
 (through :func:`craquelure.runner.run`, so every model checkpoints and ``--resume`` continues).
 """
 
-from __future__ import annotations
-
 import importlib
 from types import ModuleType
 

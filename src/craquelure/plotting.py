@@ -1,8 +1,6 @@
 """Figure output shared by the models' figures modules: matplotlib's non-interactive Agg
 backend (figures are written by jobs, never shown) and one way to write a figure."""
 
-from __future__ import annotations
-
 from pathlib import Path
 
 import matplotlib
@@ -22,8 +20,7 @@ def label_axes(ax, xlabel: str | None = None, ylabel: str | None = None,
         ax.legend(**legend)
 
 
-def save(fig, path: str | Path, *, dpi: int = 120, tight: bool = True,
-         pdf: bool = False) -> Path:
+def save(fig, path: str | Path, *, dpi: int = 120, tight: bool = True, pdf: bool = False) -> Path:
     """Write ``fig`` to ``path`` (its folder created; ``tight``: tight layout first; ``pdf``:
     also a PDF beside it with the same stem) and close it."""
     path = Path(path)

@@ -2,8 +2,6 @@
 (Snakemake logs): the first ``first_line_s`` seconds after the start (so that a run shows its
 rate and ETA at once), then at most one line per ``log_every_s`` seconds."""
 
-from __future__ import annotations
-
 import sys
 import time
 

@@ -1,8 +1,6 @@
 """Provenance attributes carried by every dataset: scene text, seed, effects, versions,
 git commit, wall time and start time."""
 
-from __future__ import annotations
-
 import platform
 import subprocess
 import time
@@ -54,22 +52,14 @@ class WallClock:
 
 def provenance_attrs(scene, seed: int | None, clock: WallClock, effects=None,
                      extra_wall_time: float = 0.0) -> dict[str, object]:
-    """Global attributes for a dataset produced from ``scene`` (a :class:`Scene`).
-
-    ``extra_wall_time`` adds time spent in earlier (checkpointed) parts of a resumed run.
-    """
+    """Global attributes for a dataset produced from ``scene`` (a :class:`Scene`);
+    ``extra_wall_time`` adds time spent in earlier (checkpointed) parts of a resumed run."""
     attrs: dict[str, object] = {
-        "model": scene.model,
-        "scene_name": scene.name,
-        "scene": scene.text,
-        "scene_source": scene.source_text,
-        "scene_overrides": " ".join(scene.overrides),
+        "model": scene.model, "scene_name": scene.name, "scene": scene.text,
+        "scene_source": scene.source_text, "scene_overrides": " ".join(scene.overrides),
         "effects": ",".join(scene.effects if effects is None else effects),
-        "git_commit": clock.git_commit,
-        "start_time": clock.start_iso,
-        "wall_time_s": float(clock.elapsed + extra_wall_time),
-        "host": platform.node(),
-    }
+        "git_commit": clock.git_commit, "start_time": clock.start_iso,
+        "wall_time_s": float(clock.elapsed + extra_wall_time), "host": platform.node()}
     if seed is not None:
         attrs["seed"] = int(seed)
     attrs.update(library_versions())

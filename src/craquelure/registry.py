@@ -10,8 +10,6 @@ parameter tuple and index constants (:func:`parameter_names`) and the packed par
 where it enters the equations and its test.
 """
 
-from __future__ import annotations
-
 import importlib
 import math
 import pkgutil
@@ -113,10 +111,8 @@ def known_effects(model: str) -> dict[str, Effect]:
 def get_effect(model: str, name: str) -> Effect:
     effects = known_effects(model)
     if name not in effects:
-        raise SceneError(
-            f"effects: unknown effect {name!r} for model {model!r}; "
-            f"known effects: {', '.join(effects) or '(none)'}"
-        )
+        raise SceneError(f"effects: unknown effect {name!r} for model {model!r}; "
+                         f"known effects: {', '.join(effects) or '(none)'}")
     return effects[name]
 
 

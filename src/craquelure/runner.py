@@ -1,37 +1,15 @@
 """One run loop for every model (in the spirit of HOOMD-blue's ``Simulation.run``).
 
-An engine adapter exposes a few small methods and the runner does the rest:
-
-- ``start()``: record what is due at t = 0 (not called on resume);
-- ``advance()``: one step, or one chunk that ends at a safe point (lattice: one frame);
-- ``divergence()``: ``None`` or a :class:`Divergence` (which guard, what, the worst particle);
-- ``sample()``: record the outputs due now (output schedule: the engine's own);
-- ``state()`` / ``restore(state)``: everything that evolves, as arrays, so that a run resumed
-  from ``state()`` is bit-identical to the uninterrupted run (taking a checkpoint must not
-  change the trajectory);
-- ``done()``, and the attributes ``time``, ``steps`` and ``n_particles``;
-- ``finish()``: record what is due at the end (:func:`run_to_file`; not after an early stop).
-
-The runner writes checkpoints (``<out>.checkpoint.npz``, atomically) every ``every`` advances
-or ``minutes`` of wall time, each with a fingerprint of the resolved scene, the seed and the
-package's source code (a checkpoint that is damaged or of another scene, seed or code is
-refused with the reason, :func:`usable_checkpoint`); it raises
-:class:`~craquelure.errors.SimulationDiverged` with one message format (check, step, time,
-worst particle); it logs progress lines with throughput and ETA and ends with a summary (steps,
-simulated time, wall time, particle-steps per second) that goes into the run dataset.
-
-SIGTERM and SIGINT (a scheduler's time limit or preemption, Ctrl-C) do not kill a run: the
-runner notes the signal, lets the current advance reach its next safe point, writes a
-checkpoint and raises :class:`~craquelure.errors.RunInterrupted` naming it (``craquelure run``
-exits with status 3); ``--resume`` continues bit-identically. An advance that can take long
-(a lattice frame, a Soft Dynamics integration) calls :func:`heartbeat` between its safe
-sub-steps: it prints the progress line when due and raises :class:`Interrupted` once a signal
-came, leaving the adapter's ``state()`` consistent (lattice: the step reached inside the frame;
-Soft Dynamics: the finished points, the point in progress is redone on resume). A second signal
-acts as it would without the runner (SIGINT: KeyboardInterrupt; SIGTERM: the process ends).
+A model's adapter (:class:`EngineRun`) says how to ``advance()`` to the next safe point, what
+to ``sample()``, its ``divergence()`` and its checkpoint ``state()`` / ``restore()`` (a run
+resumed from ``state()`` is bit-identical to the uninterrupted run). The runner does the rest:
+checkpoints with a fingerprint of scene, seed and code (:func:`usable_checkpoint`), the one
+:class:`~craquelure.errors.SimulationDiverged` message, progress lines, the end-of-run
+:class:`Summary` and the stop on SIGTERM/SIGINT: the current advance reaches its next safe
+point (a long one calls :func:`heartbeat` between sub-steps), a checkpoint is written and
+:class:`~craquelure.errors.RunInterrupted` names it (docs/reliability.md). A second signal
+acts as it would without the runner.
 """
-
-from __future__ import annotations
 
 import hashlib
 import signal
@@ -74,10 +52,12 @@ def diverged(desc: str, bad: Divergence, step: int, time: float,
 
 
 class EngineRun:
-    """Base of the models' adapters: ``time`` and ``steps`` read from ``self.engine`` (its
-    attributes named by ``TIME`` and ``STEPS``); nothing to record at the start or the end, no
-    guard and no sample unless overridden; the checkpoint ``state()`` / ``restore()`` is every
-    attribute of the objects ``parts()`` names (``{prefix: object}``) unless overridden."""
+    """Base of the models' adapters, which define ``advance()``, ``done()`` and
+    ``n_particles``: ``time`` and ``steps`` read from ``self.engine`` (its attributes named by
+    ``TIME`` and ``STEPS``); nothing to record at the ``start()`` (not on resume) or the
+    ``finish()``, no guard and no sample unless overridden; the checkpoint ``state()`` /
+    ``restore()`` is every attribute of the objects ``parts()`` names (``{prefix: object}``)
+    unless overridden."""
 
     TIME, STEPS = "t", "step_count"
     engine: object
@@ -127,8 +107,7 @@ def runaway(energy: float, limit: float, what: str,
     """Energy above its limit (or not finite); the worst particle is the most energetic one."""
     if np.isfinite(energy) and energy <= limit:
         return None
-    worst = int(np.argmax(per_particle)) if per_particle is not None and per_particle.size \
-        else None
+    worst = int(np.argmax(per_particle)) if per_particle is not None and per_particle.size else None
     return Divergence("runaway", f"{what} = {energy:.6g} exceeds {limit:.6g}", worst)
 
 
@@ -225,9 +204,7 @@ RUNNER_KEYS = ("runner_fingerprint", "runner_wall_time", "runner_advances")
 
 def usable_checkpoint(path: Path, fp: str) -> dict[str, np.ndarray] | None:
     """The checkpoint's state if it can be resumed from, else None after saying why on stderr
-    (damaged or truncated, not a checkpoint, or of another scene, seed, initial state or
-    code): a refused checkpoint is never resumed from; the run starts from the beginning and
-    overwrites it."""
+    (damaged, not a checkpoint, or of another scene, seed, initial state or code)."""
     try:
         state = read_checkpoint(path)
     except Exception as exc:  # noqa: BLE001 - zip/npy errors of a damaged file vary
@@ -241,8 +218,7 @@ def usable_checkpoint(path: Path, fp: str) -> dict[str, np.ndarray] | None:
                       "initial state or code)")
         else:
             return state
-    print(f"refusing checkpoint {path}: {reason}; starting from the beginning",
-          file=sys.stderr)
+    print(f"refusing checkpoint {path}: {reason}; starting from the beginning", file=sys.stderr)
     return None
 
 
@@ -339,11 +315,9 @@ def run(engine: EngineRun, scene, seed: int, *, t_end: float, desc: str, out: Pa
         time_unit: str = "", time_scale: float = 1.0, extra_fingerprint: bytes = b"",
         progress: bool = True, stop_after_checkpoints: int | None = None,
         clock: WallClock | None = None) -> Summary:
-    """Advance ``engine`` until it is done; see the module docstring.
-
-    ``every`` (advances) and ``minutes`` (wall time) set the checkpoint schedule (0: off);
-    checkpoints need ``out``. ``time_scale`` converts engine time to the progress unit. The
-    wall time of earlier parts of a resumed run is added to the summary."""
+    """Advance ``engine`` until it is done. ``every`` (advances) and ``minutes`` (wall time) set
+    the checkpoint schedule (0: off; checkpoints need ``out``); ``time_scale`` converts engine
+    time to the progress unit."""
     clock = clock or WallClock()
     ck_path = checkpoint_path(out) if out is not None else None
     fp = fingerprint(scene, seed, extra_fingerprint)
@@ -382,15 +356,20 @@ def run(engine: EngineRun, scene, seed: int, *, t_end: float, desc: str, out: Pa
             else:
                 bad = engine.divergence()
                 if bad is not None:
-                    raise diverged(desc, bad, engine.steps, engine.time * time_scale,
-                                   time_unit)
+                    raise diverged(desc, bad, engine.steps, engine.time * time_scale, time_unit)
                 engine.sample()
                 advances += 1
                 monitor.progress()
             now = time.perf_counter()
             if monitor.signal is not None and not engine.done():
-                raise _interrupted(monitor.signal, engine, ck_path, save, time_scale,
-                                   time_unit)
+                where = f"{signal.Signals(monitor.signal).name} at t = " \
+                    f"{engine.time * time_scale:.6g}{' ' + time_unit if time_unit else ''} " \
+                    f"(step {engine.steps})"
+                if ck_path is None:
+                    raise RunInterrupted(f"{where}; no output file, so no checkpoint")
+                save()
+                raise RunInterrupted(f"{where}: checkpoint written to {ck_path}; run again "
+                                     f"with --resume to continue")
             due = (every and advances % every == 0) or (minutes and now - last_ck >= 60 * minutes)
             if ck_path is not None and due and not engine.done():
                 save()
@@ -410,21 +389,7 @@ def run(engine: EngineRun, scene, seed: int, *, t_end: float, desc: str, out: Pa
     return summary
 
 
-def _interrupted(signum: int, engine, ck_path: Path | None, save, time_scale: float,
-                 time_unit: str) -> RunInterrupted:
-    """Write the checkpoint (if the run has an output) and the one-line message."""
-    where = f"t = {engine.time * time_scale:.6g}{' ' + time_unit if time_unit else ''} " \
-        f"(step {engine.steps})"
-    name = signal.Signals(signum).name
-    if ck_path is None:
-        return RunInterrupted(f"{name} at {where}; no output file, so no checkpoint")
-    save()
-    return RunInterrupted(f"{name} at {where}: checkpoint written to {ck_path}; run again "
-                          f"with --resume to continue")
-
-
-def write_run(ds, out: Path, scene, seed: int | None, summary: Summary,
-              clock: WallClock) -> Path:
+def write_run(ds, out: Path, scene, seed: int | None, summary: Summary, clock: WallClock) -> Path:
     """Write the finished run dataset with its provenance (wall time of all parts of a resumed
     run) and the run summary (``run_*`` attributes), atomically; then drop the checkpoint."""
     from craquelure.io import write_dataset

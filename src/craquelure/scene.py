@@ -30,8 +30,7 @@ from craquelure.registry import known_effects
 
 class _SceneLoader(yaml.SafeLoader):
     """SafeLoader that also reads ``1e-3`` and ``1.0e6`` as floats (YAML 1.2; PyYAML's YAML 1.1
-    resolver needs a dot and a signed exponent),
-    and refuses a key given twice in one mapping (PyYAML silently keeps the last)."""
+    resolver needs a dot and a signed exponent) and refuses a key given twice in one mapping."""
 
     def construct_mapping(self, node, deep=False):
         seen: dict[Any, int] = {}
@@ -49,11 +48,8 @@ class _SceneLoader(yaml.SafeLoader):
         return super().construct_mapping(node, deep=deep)
 
 
-_SceneLoader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
-    list("-+0123456789."),
-)
+_SceneLoader.add_implicit_resolver("tag:yaml.org,2002:float", re.compile(
+    r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"), list("-+0123456789."))
 
 
 def _load_yaml(text: str):
@@ -66,10 +62,8 @@ def _is_integer(checker, instance) -> bool:
     return isinstance(instance, int) and not isinstance(instance, bool)
 
 
-_Validator = jsonschema.validators.extend(
-    jsonschema.Draft202012Validator,
-    type_checker=jsonschema.Draft202012Validator.TYPE_CHECKER.redefine("integer", _is_integer),
-)
+_Validator = jsonschema.validators.extend(jsonschema.Draft202012Validator, type_checker=(
+    jsonschema.Draft202012Validator.TYPE_CHECKER.redefine("integer", _is_integer)))
 
 
 def project_root() -> Path:
@@ -95,10 +89,8 @@ class Scene(scene_rules.SceneAccess):
 
     def with_overrides(self, overrides: list[str] | tuple[str, ...]) -> Scene:
         """A new validated scene with more ``key.path=value`` overrides applied."""
-        return load_scene_text(
-            self.source_text, name=self.name, overrides=(*self.overrides, *overrides),
-            path=self.path,
-        )
+        return load_scene_text(self.source_text, name=self.name,
+                               overrides=(*self.overrides, *overrides), path=self.path)
 
 
 @cache
@@ -128,10 +120,8 @@ def resolve_scene_path(ref: str | Path) -> Path:
     builtin = scenes_dir() / f"{ref}.yaml"
     if builtin.is_file():
         return builtin
-    raise SceneError(
-        f"scene {str(ref)!r} not found: give a YAML file or a built-in scene "
-        f"(`craquelure scenes` lists them)"
-    )
+    raise SceneError(f"scene {str(ref)!r} not found: give a YAML file or a built-in scene "
+                     f"(`craquelure scenes` lists them)")
 
 
 def load_scene(ref: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> Scene:
@@ -139,10 +129,8 @@ def load_scene(ref: str | Path, overrides: list[str] | tuple[str, ...] = ()) -> 
     return load_scene_text(path.read_text(), name=path.stem, overrides=overrides, path=path)
 
 
-def load_scene_text(
-    text: str, name: str = "scene", overrides: list[str] | tuple[str, ...] = (),
-    path: Path | None = None,
-) -> Scene:
+def load_scene_text(text: str, name: str = "scene", overrides: list[str] | tuple[str, ...] = (),
+                    path: Path | None = None) -> Scene:
     try:
         data = _load_yaml(text)
     except SceneError as exc:
@@ -296,10 +284,8 @@ def _check_effects(data: dict[str, Any]) -> None:
     known = known_effects(model)
     unknown = [e for e in listed if e not in known]
     if unknown:
-        raise SceneError(
-            f"effects: unknown effect {', '.join(map(repr, unknown))} for model {model!r}; "
-            f"known effects: {', '.join(known) or '(none)'}"
-        )
+        raise SceneError(f"effects: unknown effect {', '.join(map(repr, unknown))} for model "
+                         f"{model!r}; known effects: {', '.join(known) or '(none)'}")
     if len(set(listed)) != len(listed):
         twice = sorted({e for e in listed if listed.count(e) > 1})
         raise SceneError(f"effects: listed twice: {twice}")

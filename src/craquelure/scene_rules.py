@@ -2,20 +2,11 @@
 consistency and the memory a run needs.
 
 :func:`craquelure.scene.validate_scene_data` applies them after the schema, so ``check`` and
-``run`` refuse the same scenes, before anything is built. Every error names the key.
-
-- :func:`non_finite_values`: NaN and +-inf anywhere (lists and nested mappings included);
-  JSON-schema bounds let NaN through (every comparison with NaN is false) and YAML reads
-  ``1e400`` as inf.
-- :func:`cross_field_problems`: the model's own rules, ``scene_problems(data)`` of
-  ``craquelure.<model>.rules`` (e.g. drying output times within ``t_end``, a step count a run
-  can finish, impact's ``h_min < h_max``).
-- :func:`memory_estimate` / :func:`memory_problem`: bytes of the largest arrays a run
-  allocates, ``memory_estimate(data)`` of ``craquelure.<model>.rules``, from the scene alone;
-  a scene whose estimate exceeds the memory available is refused, saying how much it needs.
+``run`` refuse the same scenes, before anything is built. Every error names the key. JSON-schema
+bounds let NaN through (every comparison with NaN is false) and YAML reads ``1e400`` as inf,
+hence :func:`non_finite_values`; the model's own rules and memory estimate are
+``scene_problems(data)`` and ``memory_estimate(data)`` of ``craquelure.<model>.rules``.
 """
-
-from __future__ import annotations
 
 import math
 from typing import Any

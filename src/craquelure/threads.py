@@ -1,26 +1,19 @@
 """Threads of a run: numba's workers and nothing else.
 
-A time step's work runs in numba ``prange`` loops on ``numba.get_num_threads()`` workers. A library
-call that starts its own thread pool inside a step (an OpenBLAS ``dot`` or ``solve``, an OpenMP
-section) would put a second set of busy threads on the same cores. So every engine, when it imports
-its generated kernels (:func:`craquelure.codegen.import_generated`, the one place all of them pass
-through), calls :func:`single_threaded_libraries`, which holds the BLAS pools of numpy and scipy
-(the one numba's ``np.linalg`` uses) to one thread with threadpoolctl for the rest of the process,
-and numba's OpenMP workers sleep while they wait (``OMP_WAIT_POLICY=PASSIVE``) rather than spin
-against the thread they wait for.
+A library call that starts its own thread pool inside a step (an OpenBLAS ``dot`` or ``solve``,
+an OpenMP section) would put a second set of busy threads on the cores of numba's ``prange``
+workers. So every engine, on importing its generated kernels
+(:func:`craquelure.codegen.import_generated`), calls :func:`single_threaded_libraries`, and
+numba's OpenMP workers sleep while they wait (``OMP_WAIT_POLICY=PASSIVE``) rather than spin.
 """
-
-from __future__ import annotations
 
 import glob
 import os
 import threading
 import time
 
-# Waiting OpenMP threads sleep instead of spinning: on shared cores a spinning thread steals
-# the core its partner needs (see docs/performance.md). numba's OpenMP pool reads this at its
-# first parallel call, after every engine's code generator imported this module; an explicit
-# OMP_WAIT_POLICY in the environment wins.
+# numba's OpenMP pool reads this at its first parallel call, after every engine's code
+# generator imported this module; an explicit OMP_WAIT_POLICY in the environment wins.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 _LIMITER = None
@@ -53,11 +46,8 @@ def set_threads(n: int | None) -> int:
 
 def thread_cpu() -> dict[str, int]:
     """CPU nanoseconds used so far by each thread of this process, by thread id (Linux
-    schedstat; empty elsewhere). For benchmarks: per-thread CPU time does not depend on what
-    else runs on the machine, so the busiest thread's share of a parallel section measures its
-    serial part and imbalance under any load. schedstat is brought up to date when a thread
-    stops running, so it is exact for waiting workers; the calling thread's own figure (up to a
-    scheduler tick stale) is its thread CPU clock instead."""
+    schedstat, exact for waiting workers; the calling thread's own is its thread CPU clock;
+    empty elsewhere). For benchmarks: per-thread CPU time does not depend on the machine's load."""
     out = {}
     for path in glob.glob(f"/proc/{os.getpid()}/task/*/schedstat"):
         try:

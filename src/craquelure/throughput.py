@@ -1,24 +1,16 @@
-"""Measured throughput model of each engine: the wall time `craquelure check` predicts.
+"""Measured throughput model of each engine: the wall time `craquelure check` predicts
+(docs/performance.md, "What a run will cost").
 
-A run of an engine is ``units`` repetitions of its unit of work (drying: rate evaluations,
-impact and lattice: steps, softdyn: T1 integrations weighted by their relative cost) over
-``particles`` particles with ``neighbours`` listed neighbours (or bonds, or pairs) each:
+A run is ``units`` repetitions of the engine's unit of work over ``particles`` particles with
+``neighbours`` neighbours (or bonds, or pairs) each:
 
     T(threads) = T_0 + units (c_unit + particles (c_particle + sum_e c_e + neighbours c_pair))
                  / S(threads)
 
-T_0 is the run's fixed cost (process start, imports, cached kernels, initial state, writing the
-dataset), c_unit the per-step cost (Python and array work independent of N), c_particle and
-c_pair the per-particle and per-neighbour costs, c_e the extra per-particle cost of effect e
-where the calibration probe lacks it (lattice: the probe is a beams-only block), and S(threads)
-the measured speed-up of the compute part (S(1) = 1; S(2) from 1- and 2-thread timings,
-Amdahl's law beyond). The numbers
-are in ``throughput.yaml`` beside this file, written by ``benchmarks/predictions.py
---calibrate`` (engine timings at two sizes and one end-to-end run per model); the same script
-prints predicted against measured wall times of every built-in scene.
+c_e is the extra per-particle cost of effect e where the calibration probe lacks it, S(2) is
+measured and Amdahl's law gives S beyond. The numbers are in ``throughput.yaml`` beside this
+file, written by ``benchmarks/predictions.py --calibrate``.
 """
-
-from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cache
@@ -109,8 +101,7 @@ LONG_RUN_S = 3600.0
 def long_run_warning(engine: str, workload: dict, threads: int = 1) -> str | None:
     """A one-line warning when the predicted wall time of a run exceeds :data:`LONG_RUN_S`:
     the figure, the workload it was predicted from and the throughput model; else None."""
-    fixed, compute = predicted_parts(engine, workload, threads)
-    seconds = fixed + compute
+    seconds = predicted_wall_time(engine, workload, threads)
     if not seconds > LONG_RUN_S:
         return None
     model, meta = cost_model(engine), table()

@@ -1,26 +1,12 @@
-"""Validation report: the papers' claims, one row each, with what was measured and a verdict.
+"""Validation report: the papers' claims, one row each, with what was measured and a verdict
+(docs/outputs.md, "Validation report").
 
-Last stage of the pipeline: it reads analysis outputs only (``summary.json`` files and analysis
-datasets), never runs a simulation. Each model states its claims in ``craquelure.<model>.claims``
-(``claims(sources) -> list[Claim]``, ``sources`` being the files its rules registered); this
-module collects them and writes ``results/validation.json`` and ``results/validation.html``
-(the latter embedded in the Snakemake report).
-
-Verdicts are computed from the criterion's conditions, never typed in:
-
-- ``reproduced``: every condition holds;
-- ``partly``: some hold; the row names the ones that do not;
-- ``not reproduced``: none holds (or, for a claim whose source states it as a single test, any
-  fails);
-- ``inconclusive``: no condition fails, but the sample cannot decide the claim (a test without
-  the power to reject the named alternative, too few samples for an extreme-value statement);
-  the row says what cannot be decided and the sample it would need. A small profile therefore
-  never prints ``reproduced`` on a claim its sample cannot decide.
-
-Verdicts follow from the data alone, so the same analysis outputs give the same report byte
-for byte whatever the machine's load: no claim is judged on a timing. A claim whose only
-measurement is a timing (a speed target) is judged by a script in ``benchmarks/`` instead; its
-model lists it in ``BENCHMARKED`` and the report names it with that script
+Last stage of the pipeline: it reads analysis outputs only, never runs a simulation. Each model
+states its claims in ``craquelure.<model>.claims`` (``claims(sources) -> list[Claim]``); this
+module collects them and writes ``results/validation.json`` and ``results/validation.html``.
+Verdicts are computed from the criterion's conditions (:func:`verdict_of`), never typed in, and
+from the data alone, so the same analysis outputs give the same report byte for byte: a claim
+whose only measurement is a timing is judged by a script in ``benchmarks/`` instead
 (:func:`benchmarked`).
 """
 
@@ -105,11 +91,7 @@ def fraction_decided(successes: int, n: int, threshold: float,
     if n <= 0:
         return None
     lo, hi = fraction_interval(successes, n, level)
-    if lo >= threshold:
-        return True
-    if hi < threshold:
-        return False
-    return None
+    return True if lo >= threshold else (False if hi < threshold else None)
 
 
 def fraction_interval(k: float, n: int, level: float = DECISION_LEVEL) -> tuple[float, float]:
@@ -188,25 +170,17 @@ def collect(sources: Mapping[str, Sequence[str | Path]]) -> list[Claim]:
     if unknown:
         raise ValueError(f"validation sources: unknown model(s) {', '.join(unknown)}; allowed "
                          f"values: {', '.join(MODELS)}")
-    claims: list[Claim] = []
-    for model in MODELS:
-        paths = [Path(p) for p in sources.get(model, ())]
-        if paths:
-            claims.extend(import_module(f"craquelure.{model}.claims").claims(paths))
-    return claims
+    return [claim for model in MODELS if sources.get(model)
+            for claim in import_module(f"craquelure.{model}.claims").claims(
+                [Path(p) for p in sources[model]])]
 
 
 def benchmarked(models: Sequence[str] = MODELS) -> list[dict[str, str]]:
     """Claims a model leaves out of the report because their only measurement is a timing
-    (``BENCHMARKED = {claim: benchmark script}`` in its claims module): a verdict must follow
-    from the data, and a timing follows from the machine's load as well. The report lists them
-    with the benchmark that judges them."""
-    out = []
-    for model in models:
-        table = getattr(import_module(f"craquelure.{model}.claims"), "BENCHMARKED", {})
-        out += [{"model": model, "claim": claim, "judged_by": script}
-                for claim, script in table.items()]
-    return out
+    (``BENCHMARKED = {claim: benchmark script}`` in its claims module), with that script."""
+    return [{"model": model, "claim": claim, "judged_by": script} for model in models
+            for claim, script in getattr(import_module(f"craquelure.{model}.claims"),
+                                         "BENCHMARKED", {}).items()]
 
 
 def _models_of(claims: Sequence[Claim]) -> list[str]:
@@ -332,20 +306,13 @@ def _badge(verdict: str) -> str:
     return f'<span class="cq-badge {verdict.replace(" ", "-")}">{html.escape(verdict)}</span>'
 
 
-def _tally_text(n: Mapping[str, int]) -> str:
-    return (f'{n["reproduced"]} reproduced, {n["partly"]} partly, '
-            f'{n["not reproduced"]} not reproduced, {n["inconclusive"]} inconclusive')
-
-
 def render_summary(claims: Sequence[Claim], profile: str,
                    figures: Sequence[str | Path] = (), heading: str = "",
                    not_judged: str = "") -> str:
-    """The one-screen summary: per claim a thumbnail of the figure that decides it, the claim,
-    a verdict badge and the one deciding number, in two balanced columns; the source,
-    criterion, measured numbers, note and the figure itself are folded under each row
-    (``<details>``). A self-contained HTML fragment (its own style, figures embedded), the
-    body of results/validation.html and the lead of the Snakemake report's first page.
-    ``heading`` replaces the title; ``not_judged`` (why) shows the rows without verdicts."""
+    """The one-screen summary (docs/outputs.md, "The page") as a self-contained HTML fragment
+    (its own style, figures embedded): the body of results/validation.html and the lead of the
+    Snakemake report's first page. ``heading`` replaces the title; ``not_judged`` (why) shows
+    the rows without verdicts."""
     counts = tally(claims)
     total = counts.get("all", dict.fromkeys(VERDICTS, 0))
     shown = dict.fromkeys(p for c in claims if (p := figure_for(c, figures)) is not None)
@@ -355,11 +322,12 @@ def render_summary(claims: Sequence[Claim], profile: str,
         uri, ratios[i] = _figure_data(path)
         styles.append(f".cq-f{i} {{ background-image: url({uri}); }}")
     rows: list[tuple[str, str]] = []  # (model, row); a model heading row has model ""
+    key: dict[str, Path] = {}  # one key figure per model: its first claim's that has one
     for model in MODELS:
         mine = [c for c in claims if c.model == model]
         if not mine:
             continue
-        told = "" if not_judged else f": {_tally_text(counts[model])}"
+        told = "" if not_judged else ": " + ", ".join(f"{counts[model][v]} {v}" for v in VERDICTS)
         rows.append(("", f'<tr class="cq-model"><th colspan="4">{html.escape(model)}{told}'
                          f'</th></tr>'))
         for c in mine:
@@ -370,15 +338,14 @@ def render_summary(claims: Sequence[Claim], profile: str,
                 large = ""
             else:
                 i = used[path]
+                key.setdefault(model, path)
                 thumb = (f'<span class="cq-thumb cq-f{i}" role="img" '
                          f'aria-label="figure {name}" title="{name}"></span>')
                 large = _figure_div(i, path.name, ratios[i])
-            items = [("source", c.source), ("criterion", c.criterion), ("measured", c.measured)]
-            if c.note:
-                items.append(("note", c.note))
-            if path is not None:
-                items.append(("figure", path.name))
-            dl = "".join(f"<dt>{k}</dt><dd>{html.escape(v)}</dd>" for k, v in items)
+            items = [("source", c.source), ("criterion", c.criterion), ("measured", c.measured),
+                     ("note", c.note or None), ("figure", path.name if path else None)]
+            dl = "".join(f"<dt>{k}</dt><dd>{html.escape(v)}</dd>" for k, v in items
+                         if v is not None)
             number = html.escape(c.deciding or "-")
             rows.append((model, (
                 f'<tr class="cq-row" data-verdict="{"" if not_judged else html.escape(c.verdict)}">'
@@ -404,15 +371,12 @@ def render_summary(claims: Sequence[Claim], profile: str,
         f'<table class="cq-table">{cols}{head}<tbody>{"".join(r for _, r in part)}'
         f'</tbody></table>' for part in (rows[:split], rows[split:]) if part)
     keyfigs = []
-    for model in MODELS:  # one key figure per model: its first claim's that has one
-        path = next((figure_for(c, figures) for c in claims if c.model == model
-                     and figure_for(c, figures) is not None), None)
-        if path is not None:
-            i = used[path]
-            width = min(KEY_FIGURE_SIZE[0], KEY_FIGURE_SIZE[1] / ratios[i])
-            keyfigs.append(f'<figure style="width: {width:.0f}px">'
-                           f'{_figure_div(i, path.name, ratios[i])}<figcaption>'
-                           f'{html.escape(model)}: {html.escape(path.name)}</figcaption></figure>')
+    for model, path in key.items():
+        i = used[path]
+        width = min(KEY_FIGURE_SIZE[0], KEY_FIGURE_SIZE[1] / ratios[i])
+        keyfigs.append(f'<figure style="width: {width:.0f}px">'
+                       f'{_figure_div(i, path.name, ratios[i])}<figcaption>'
+                       f'{html.escape(model)}: {html.escape(path.name)}</figcaption></figure>')
     keys = (f'<h3>Key figures</h3><div class="cq-keyfigs">{"".join(keyfigs)}</div>'
             if keyfigs else "")
     timed = "; ".join(f"{html.escape(b['model'])}: {html.escape(b['claim'])}, judged by "
@@ -430,10 +394,9 @@ def render_summary(claims: Sequence[Claim], profile: str,
                 f'</section>\n')
     return (f'<section class="{SUMMARY_CLASS}"><style>{_STYLE}\n' + "\n".join(styles) +
             f'</style>\n<h2>{heading}</h2>\n'
-            f'<p class="cq-tally">{len(claims)} claims: {total["reproduced"]} '
-            f'{_badge("reproduced")}, {total["partly"]} {_badge("partly")}, '
-            f'{total["not reproduced"]} {_badge("not reproduced")}, {total["inconclusive"]} '
-            f'{_badge("inconclusive")}. Verdicts are computed from each criterion\'s conditions: '
+            f'<p class="cq-tally">{len(claims)} claims: '
+            + ", ".join(f"{total[v]} {_badge(v)}" for v in VERDICTS) +
+            '. Verdicts are computed from each criterion\'s conditions: '
             f'"partly" names the conditions that fail, "inconclusive" means none fails but the '
             f'sample cannot decide (the row names the sample it would need).</p>\n'
             f'<div class="cq-grid">{tables}</div>\n{timed}{keys}</section>\n')

@@ -1,7 +1,5 @@
-"""``craquelure campaign FRAG1.nc FRAG2.nc ... --out CAMPAIGN.nc [--bins 30] [--window MODE]
-[--labelling periodic|open]``:
-aggregate the per-seed fragment datasets of one drying scene over seeds (drying spec section
-10); MODE is the statistics window (:func:`craquelure.drying.time_scales.campaign_window`)."""
+"""``craquelure campaign FRAG.nc ... --out CAMPAIGN.nc``: aggregate the per-seed fragment
+datasets of one drying scene over seeds (drying spec section 10)."""
 
 from craquelure.errors import CraquelureError
 

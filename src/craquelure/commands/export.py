@@ -1,6 +1,4 @@
-"""``craquelure export RUN.nc --to vtu [--out BASE]``: a run dataset as a ParaView time series
-(BASE.pvd + BASE/frame_*.vtu point clouds) and an OVITO-readable extended-XYZ trajectory
-(BASE.xyz); ``--to xyz`` writes only the latter. BASE defaults to RUN without .nc."""
+"""``craquelure export RUN.nc [--to vtu|xyz] [--out BASE]`` (:func:`craquelure.api.export`)."""
 
 NAME = "export"
 HELP = "export a run dataset for ParaView (.pvd of VTU point clouds) and OVITO (extended XYZ)"
@@ -12,8 +10,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("run", help="run dataset (.nc) of any model")
     parser.add_argument("--to", default="vtu", choices=FORMATS,
                         help="vtu: .pvd series + extended XYZ (default); xyz: extended XYZ only")
-    parser.add_argument("--out", default=None,
-                        help="output base path (default: RUN without .nc)")
+    parser.add_argument("--out", default=None, help="output base path (default: RUN without .nc)")
 
 
 def main(args) -> int:

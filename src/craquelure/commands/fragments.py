@@ -1,6 +1,4 @@
-"""``craquelure fragments RUN.nc --out FRAG.nc [--phi0 0.8] [--spacing 0.01]``: binarise every
-snapshot of a drying run and write the fragment areas (drying spec section 9); of a lattice
-run, the fragment label of every body particle (:func:`craquelure.api.fragments`)."""
+"""``craquelure fragments RUN.nc --out FRAG.nc`` (:func:`craquelure.api.fragments`)."""
 
 NAME = "fragments"
 HELP = "label the fragments of a run dataset (drying: every snapshot; lattice: the last frame)"

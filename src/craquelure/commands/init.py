@@ -1,6 +1,4 @@
-"""``craquelure init SCENE --seed N --out FILE.nc``: build the initial state (positions,
-mass-consistency masses, initial stress) and write it with provenance
-(:func:`craquelure.api.initial_state`)."""
+"""``craquelure init SCENE --seed N --out FILE.nc`` (:func:`craquelure.api.initial_state`)."""
 
 from craquelure import api
 from craquelure.commands import add_scene_arguments

@@ -1,10 +1,6 @@
-"""``craquelure run SCENE --out RUN.nc [--init STATE.nc] [--seed N] [--resume]``: simulate a
-scene and write the run dataset (checkpointing as it goes).
-
-Exit status: 0 done; 2 a clear error (bad scene or input, a file that cannot be written, a
-diverged run); 3 stopped by SIGTERM or SIGINT after writing its checkpoint (run again with
-``--resume``, which also starts from the beginning when there is no checkpoint)
-(:func:`craquelure.api.run_to_file`)."""
+"""``craquelure run SCENE --out RUN.nc`` (:func:`craquelure.api.run_to_file`). Exit status: 0
+done; 2 a clear error; 3 stopped by SIGTERM or SIGINT after writing its checkpoint (run again
+with ``--resume``, which also starts from the beginning when there is no checkpoint)."""
 
 from craquelure import api
 from craquelure.commands import add_scene_arguments

@@ -1,5 +1,4 @@
-"""``craquelure verify PATH``: check an archive written by rule ``archive`` (.tar.gz) or its
-unpacked folder against its SHA-256 manifest; print every mismatch, exit 1 if there is one."""
+"""``craquelure verify PATH``: print every mismatch against the manifest, exit 1 if any."""
 
 NAME = "verify"
 HELP = "check an archive (.tar.gz) or its unpacked folder against its SHA-256 manifest"

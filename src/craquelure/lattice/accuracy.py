@@ -18,8 +18,6 @@ particles ~ N, steps ~ N, so the wall time grows as N^2 while the error falls as
 ~ 1/wall time. Wall and process-CPU times of the runs (compilation excluded) are measured.
 """
 
-from __future__ import annotations
-
 import math
 import time
 

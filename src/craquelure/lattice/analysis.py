@@ -2,8 +2,6 @@
 numbers and check verdicts) and table; the figures (:mod:`craquelure.lattice.figures`) draw
 these numbers, the claims read only the summaries."""
 
-from __future__ import annotations
-
 import json
 import math
 
@@ -49,18 +47,15 @@ def glen_summary(runs: dict[str, list[str]], out_json, out_tsv) -> tuple[dict, l
             r = glen.strain_rate(ds.time.values, ds.load_ux.values, height)
             rows.append({"kind": kind, "tau": tau, **r, "mu": glen.viscosity(tau, r["gamma_dot"]),
                          "steadiness": abs(r["gamma_dot_second"] / r["gamma_dot_first"] - 1)})
-    fits = {}
-    for kind in runs:
-        sel = [r for r in rows if r["kind"] == kind]
-        fits[kind] = glen.fit_power_law([r["tau"] for r in sel], [r["mu"] for r in sel])
+    fits = {kind: glen.fit_power_law([r["tau"] for r in rows if r["kind"] == kind],
+                                     [r["mu"] for r in rows if r["kind"] == kind]) for kind in runs}
     summary = {
         "viscosity_slope": fits["glen"][0], "strain_rate_exponent": 1 - fits["glen"][0],
         "check8_glen_slope_pass": abs(fits["glen"][0] + 2) <= 0.2,
         "frozen_viscosity_slope": fits.get("frozen", (math.nan,))[0],
         "check8_newtonian_pass": abs(fits.get("frozen", (math.nan,))[0]) <= 0.2,
         "max_steadiness_deviation": max(r["steadiness"] for r in rows),
-        "check9_steady_pass": max(r["steadiness"] for r in rows) <= 0.1,
-    }
+        "check9_steady_pass": max(r["steadiness"] for r in rows) <= 0.1}
     header = "kind\ttau\tgamma_dot\tmu\tgamma_dot_first\tgamma_dot_second\n"
     lines = [f"{r['kind']}\t{r['tau']:.6g}\t{r['gamma_dot']:.6g}\t{r['mu']:.6g}\t"
              f"{r['gamma_dot_first']:.6g}\t{r['gamma_dot_second']:.6g}" for r in rows]
@@ -106,8 +101,7 @@ def calving_summary(ds, out_json) -> dict:
         "check11_slope_pass": bool(1.2 <= tau <= 1.9 and sz.size - 1 >= 20),
         "binned_slope_in_band": bool(-1.9 <= slope <= -1.2 and decades >= 1.0),
         "energy_budget_error": float(np.abs(ds.total - ds.total[0]).max()
-                                     / max(float(ds.damping[-1]), 1e-300)),
-    })
+                                     / max(float(ds.damping[-1]), 1e-300))})
 
 
 def platelets_per_cycle(ds) -> list[dict]:
@@ -153,12 +147,11 @@ def accuracy_summary(rows, dt_factors, out_tsv, out_json) -> dict:
     orders = {f"{f:g}": accuracy.convergence_order([r for r in rows if r["dt_factor"] == f])
               for f in dt_factors}
     worst = max(abs(r["relative_error"] / r["chain_prediction"] - 1) for r in rows)
-    summary = {"reference": "continuum period 4 H / c_P of the fixed-free column",
-               "convergence_order": orders,
-               "max_deviation_from_chain_prediction": worst,
-               "order_two_pass": all(abs(o + 2.0) <= 0.2 for o in orders.values()),
-               "total_wall_s": sum(r["wall_s"] for r in rows)}
-    return _write_json(out_json, summary)
+    return _write_json(out_json, {
+        "reference": "continuum period 4 H / c_P of the fixed-free column",
+        "convergence_order": orders, "max_deviation_from_chain_prediction": worst,
+        "order_two_pass": all(abs(o + 2.0) <= 0.2 for o in orders.values()),
+        "total_wall_s": sum(r["wall_s"] for r in rows)})
 
 
 def describe(ds_path) -> str:

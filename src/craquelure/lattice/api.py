@@ -1,18 +1,12 @@
-"""Model API of the beam lattice for the CLI: initial state, derived numbers and the run,
-which writes the run dataset (energy series, frames, final bonds).
+"""Model API of the beam lattice for the CLI: initial state, derived numbers and the run.
 
-Dataset layout: dimension ``sample`` (energy series every ``numerics.series_every`` steps:
-the columns of :data:`SERIES`), ``frame`` (snapshots x, y, theta at ``outputs.frames``
-equally spaced times, the first at t = 0), ``particle`` (mass, body, row, col) and ``bond``
-(end indices, final state 1 intact / 0 broken / 2 removed, break time, unbreakable).
-Attributes: derived constants (dt, k_n, k_s, E, nu, P-wave modulus, rho_2) and provenance.
-A diverged run raises :class:`~craquelure.errors.SimulationDiverged` and writes nothing.
-
-The loop, checkpoints and ``--resume`` are the runner's (:mod:`craquelure.runner`); a
-checkpoint holds :meth:`Engine.state` and the frames so far.
+Run dataset: dimension ``sample`` (energy series every ``numerics.series_every`` steps: the
+columns of ``SERIES``), ``frame`` (snapshots x, y, theta at ``outputs.frames`` equally spaced
+times, the first at t = 0), ``particle`` (mass, body, row, col) and ``bond`` (end indices,
+final state 1 intact / 0 broken / 2 removed, break time, unbreakable); attributes: derived
+constants (dt, k_n, k_s, E, nu, P-wave modulus, rho_2) and provenance. A checkpoint of the
+runner (:mod:`craquelure.runner`) holds :meth:`Engine.state` and the frames so far.
 """
-
-from __future__ import annotations
 
 import math
 from pathlib import Path
@@ -30,20 +24,17 @@ from craquelure.lattice.initial_state import (
     engine_params,
     make_engine,
 )
-from craquelure.provenance import WallClock, provenance_attrs
+from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 from craquelure.throughput import prediction_lines
 
 
 def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
-    clock = WallClock()
     s, labels = build_system(scene, seed)
-    ds = xr.Dataset({"x": ("particle", s.x), "y": ("particle", s.y),
-                     "body": ("particle", labels["body"]), "row": ("particle", labels["row"]),
-                     "bond_i": ("bond", s.bi), "bond_j": ("bond", s.bj),
-                     "bond_state": ("bond", s.state)})
-    ds.attrs.update(provenance_attrs(scene, seed, clock))
-    return ds
+    return xr.Dataset({"x": ("particle", s.x), "y": ("particle", s.y),
+                       "body": ("particle", labels["body"]), "row": ("particle", labels["row"]),
+                       "bond_i": ("bond", s.bi), "bond_j": ("bond", s.bj),
+                       "bond_state": ("bond", s.state)})
 
 
 def derived_numbers(scene: Scene) -> dict[str, object]:
@@ -161,9 +152,8 @@ def to_dataset(scene: Scene, engine: Engine, labels: dict, frames: dict) -> xr.D
 
 
 def run(scene: Scene, out: Path, seed: int = 0, init: Path | None = None, **checkpoints) -> Path:
-    """``craquelure run lattice/<scene>`` through :func:`craquelure.runner.run_to_file`
-    (checkpoints every ``numerics.checkpoint_every`` frames). The initial state is built from
-    the scene and seed (``--init`` is refused)."""
+    """``craquelure run lattice/<scene>`` (checkpoints every ``numerics.checkpoint_every``
+    frames); the initial state is built from the scene and seed (``--init`` is refused)."""
     if init is not None:
         raise CraquelureError("lattice runs build their initial state from the scene and seed: "
                               "run without --init")

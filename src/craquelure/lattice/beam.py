@@ -32,8 +32,6 @@ equivalent tangential stiffness :math:`k_s = 2(a+b)/L^2` (E-B: :math:`12E_bI/L^3
 :math:`2k_r/L^2`).
 """
 
-from __future__ import annotations
-
 import math
 from dataclasses import dataclass
 

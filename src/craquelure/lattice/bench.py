@@ -1,14 +1,9 @@
-"""Throughput measurements of the lattice kernel (benchmarks and the scaling figure).
-
-A square-ish free block of about N particles with shear-beam bonds (beams only, or with
-fracture/contact), a small random velocity field, and the wall time of ``steps`` steps after
-a warm-up call (compilation excluded); the best of ``repeats`` is kept. The spec's scaling
-figure (section 9) is a weak-scaling plot of an MPI code; this shared-memory port reports the
-serial form of it: time per step per particle versus N (constant = ideal), plus bond updates
-per second.
+"""Throughput measurements of the lattice kernel (benchmarks and the scaling figure): a free
+block of about N particles, the best wall and CPU times of ``steps`` steps after a warm-up. The
+spec's scaling figure (section 9) is a weak-scaling plot of an MPI code; this shared-memory port
+reports its serial form: time per step per particle versus N (constant = ideal) and bond
+updates per second.
 """
-
-from __future__ import annotations
 
 import math
 import time

@@ -1,15 +1,8 @@
-"""The lattice engine: a struct-of-arrays system and the time loop around the generated kernel.
-
-:class:`LatticeState` holds particles (positions x, y, rotation theta at t and t - dt, mass, moment
-of inertia, diameter, fixed / driven dof masks, loads) and bonds (end indices, rest state
-L0, rest chord direction (cos, sin alpha0), theta refs, stiffnesses k_n, a, b, state,
-unbreakable flag). :class:`Engine` compiles the kernel for the effect set, advances in
-chunks, rebuilds the contact list and re-freezes bonds (melting) between chunks, and raises
-:class:`SimulationDiverged` on NaN or runaway energy. Stable step (spec section 5): the quick
-estimate omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, k_s).
+"""The lattice engine: a struct-of-arrays system (:class:`LatticeState`) and the time loop
+around the generated kernel (:class:`Engine`: chunks of steps, contact-list rebuilds and
+re-freezing of bonds between them, the NaN/runaway guard). Stable step (spec section 5): the
+quick estimate omega_est^2 = max_i max(2 sum_j k_ij/m_i, 2 sum_j k_theta,ij/J_i), k = max(k_n, k_s).
 """
-
-from __future__ import annotations
 
 import math
 import time
@@ -19,12 +12,12 @@ import numba
 import numpy as np
 
 from craquelure.codegen import effect_flags, specialise
-from craquelure.lattice.geometry import INTACT, find_bonds
+from craquelure.lattice.geometry import INTACT, find_bonds, search_box
 from craquelure.lattice.kernel_template import PARAMS
 from craquelure.periodic import minimum_image
 from craquelure.registry import kernel_parameters, parameter_vector
 from craquelure.runner import Divergence, diverged, heartbeat, non_finite
-from craquelure.sph.neighbours import Box, neighbour_list
+from craquelure.sph.neighbours import neighbour_list
 
 # below this many bonds a serial kernel is faster (thread start-up per parallel region;
 # benchmarks/lattice_engine.py)
@@ -261,30 +254,24 @@ class Engine:
     def time(self) -> float:
         return self.step * self.dt
 
-    def _box(self, radius):
-        s = self.system
-        x, y = self.q[0], self.q[1]
-        if s.period_x > 0:
-            pad = 3 * radius
-            xw = np.mod(x - x.min(), s.period_x) + x.min()
-            return Box(s.period_x, float(y.max() - y.min()) + 2 * pad, True, float(x.min()),
-                       float(y.min()) - pad), xw, y
-        return Box.around(x, y, radius), x, y
+    def _neighbours(self, radius):
+        """Neighbour list of the current positions (x wrapped into one period)."""
+        x, y, period = self.q[0], self.q[1], self.system.period_x
+        if period > 0:
+            x = np.mod(x - x.min(), period) + x.min()
+        return neighbour_list(x, y, radius, search_box(x, y, radius, period))
 
     def rebuild_contacts(self):
         """Verlet list of unbonded (or broken-bond) pairs within d_max + skin."""
         s = self.system
-        radius = float(s.diameter.max()) + float(self.p[PARAMS.index("skin")])
-        box, x, y = self._box(radius)
-        off, idx = neighbour_list(x, y, radius, box)
+        off, idx = self._neighbours(float(s.diameter.max()) + float(self.p[PARAMS.index("skin")]))
         self.cpi, self.cpj = unbonded_pairs(off, idx, self.poff, self.pidx, s.bi, s.bj, s.state)
         self.qbuild = self.q[:2].copy()
 
     def refreeze(self):
         """New stress-free beams between unbonded pairs closer than r_f L (melting)."""
         s = self.system
-        box, x, y = self._box(self.refreeze_radius * s.L)
-        off, idx = neighbour_list(x, y, self.refreeze_radius * s.L, box)
+        off, idx = self._neighbours(self.refreeze_radius * s.L)
         i = np.repeat(np.arange(s.n), np.diff(off))
         keep = i < idx
         i, j = i[keep], idx[keep]
@@ -415,8 +402,7 @@ class Engine:
         self._alloc_bond_arrays()
         for name in ("qm", "q", "qref", "qbuild", "acc", *self.BOND_STATE):
             setattr(self, name, np.ascontiguousarray(ck[name], np.float64))
-        self.cpi = np.ascontiguousarray(ck["cpi"], np.int64)
-        self.cpj = np.ascontiguousarray(ck["cpj"], np.int64)
+        self.cpi, self.cpj = (np.ascontiguousarray(ck[k], np.int64) for k in ("cpi", "cpj"))
         self.step = int(ck["step"])
         self.series = list(np.asarray(ck["series"]).reshape(-1, self.kernel.N_SERIES))
 

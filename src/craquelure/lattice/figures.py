@@ -2,8 +2,6 @@
 :mod:`craquelure.lattice.analysis` (fragment labels, fits, summaries), with a title that
 states the profile, scene and sizes; nothing here fits or judges."""
 
-from __future__ import annotations
-
 import numpy as np
 
 from craquelure.lattice import fragments
@@ -14,13 +12,6 @@ def _save(fig, out, title=None, **title_kw) -> None:
     if title is not None:
         fig.suptitle(title, **title_kw)
     save(fig, out)
-
-
-def _broken_midpoints(ds, frame=0):
-    broken = ds.bond_state.values == 0
-    i, j = ds.bond_i.values[broken], ds.bond_j.values[broken]
-    x, y = ds.x.values[frame], ds.y.values[frame]
-    return 0.5 * (x[i] + x[j]), 0.5 * (y[i] + y[j]), ds.bond_break_time.values[broken]
 
 
 def calving(ds, labels, summary, out, title):
@@ -62,10 +53,9 @@ def calving(ds, labels, summary, out, title):
         expected, _ = np.histogram(grid, edges, weights=(sz.size - 1) * w / w.sum())
         ax[3].loglog(c[sel], (expected / np.diff(edges))[sel], "-", color="tab:blue",
                      label=f"ML s^-{tau:.2f} exp(-s/{cut:.0f}), same bins")
-    label_axes(ax[3], "fragment size s (particles)", "n(s)")
+    label_axes(ax[3], "fragment size s (particles)", "n(s)", legend={"fontsize": 8})
     ax[3].set_title(f"{sz.size - 1} fragments: ML exponent {tau:.2f} (cut-off {cut:.0f}); "
                     f"binned slope {slope:.2f} over {decades:.1f} dec.", fontsize=9)
-    ax[3].legend(fontsize=8)
     _save(fig, out, title)
 
 
@@ -73,9 +63,11 @@ def fretting(ds, labels, per_cycle, out, title):
     fig, ax = plt.subplots(3, 1, figsize=(10, 9), gridspec_kw={"height_ratios": [1, 1, 0.8]})
     body = ds.body.values == 0
     x0, y0 = ds.x.values[0], ds.y.values[0]
-    mx, my, tb = _broken_midpoints(ds, 0)
+    broken = ds.bond_state.values == 0
+    i, j = ds.bond_i.values[broken], ds.bond_j.values[broken]
     ax[0].scatter(x0[body], y0[body], s=1, color="0.8")
-    sc = ax[0].scatter(mx, my, c=tb, s=6, cmap="viridis")
+    sc = ax[0].scatter(0.5 * (x0[i] + x0[j]), 0.5 * (y0[i] + y0[j]),
+                       c=ds.bond_break_time.values[broken], s=6, cmap="viridis")
     fig.colorbar(sc, ax=ax[0], label="break time")
     ax[0].set(aspect="equal", title="broken beams in the reference configuration")
     counts = np.bincount(labels[labels >= 0])
@@ -135,10 +127,9 @@ def scaling(rows, out, title):
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
     ax[0].loglog(n, t * 1e9, "o-", label="wall time")
     ax[0].loglog(n, cpu * 1e9, "s--", label="CPU time per thread")
-    label_axes(ax[0], "particles N", "time per step per particle [ns]")
+    label_axes(ax[0], "particles N", "time per step per particle [ns]", legend={})
     both = np.concatenate([t, cpu])
     ax[0].set_ylim(both.min() * 1e9 / 3, both.max() * 1e9 * 3)
-    ax[0].legend()
     ax[1].semilogx(n, rate / 1e6, "o-")
     ax[1].axhline(20, color="tab:red", ls="--", label="target 2e7/s")
     label_axes(ax[1], "particles N", "bond updates per second [1e6]", legend={})
@@ -161,8 +152,7 @@ def accuracy(rows, out, title):
                            textcoords="offset points", color=line.get_color())
         ax[1].loglog(n, err, "o-", color=line.get_color(), label=f"dt factor {f:g}")
     n_all = np.array(sorted({r["rows"] for r in rows}))
-    chain = np.array([next(r["chain_prediction"] for r in rows if r["rows"] == k)
-                      for k in n_all])
+    chain = np.array([next(r["chain_prediction"] for r in rows if r["rows"] == k) for k in n_all])
     ax[1].loglog(n_all, chain, "k--", lw=0.8, label="fixed-free chain (sin x/x - 1)")
     label_axes(ax[0], "wall time of the run [s] (compilation excluded)",
                "|T / T_continuum - 1|", legend={"fontsize": 8})

@@ -14,8 +14,6 @@ likelihood of the discrete distribution on s >= s_min (Clauset, Shalizi & Newman
 cut-off); the binned slope is still reported next to it.
 """
 
-from __future__ import annotations
-
 import math
 
 import numpy as np

@@ -9,8 +9,6 @@ n_x L) is supported for the Glen and wave tests (bonds then use the minimum imag
 Decision [D]: polydisperse packings are not implemented.
 """
 
-from __future__ import annotations
-
 import math
 
 import numpy as np
@@ -52,18 +50,22 @@ def find_bonds(x: np.ndarray, y: np.ndarray, body: np.ndarray, L: float = 1.0,  
     """Pairs i < j of the same body closer than cutoff L (minimum image along x if
     period_x > 0), sorted."""
     radius = cutoff * L
-    if period_x > 0:
-        pad = 3 * radius
-        box = Box(period_x, float(y.max() - y.min()) + 2 * pad, True, float(x.min()),
-                  float(y.min()) - pad)
-    else:
-        box = Box.around(x, y, radius)
-    offsets, index = neighbour_list(x, y, radius, box)
+    offsets, index = neighbour_list(x, y, radius, search_box(x, y, radius, period_x))
     i = np.repeat(np.arange(x.size), np.diff(offsets))
     j = index
     keep = (i < j) & (body[i] == body[j])
     order = np.lexsort((j[keep], i[keep]))
     return i[keep][order].astype(np.int64), j[keep][order].astype(np.int64)
+
+
+def search_box(x: np.ndarray, y: np.ndarray, radius: float, period_x: float) -> Box:
+    """The neighbour-search box of a block: periodic along x (x within one period of x.min())
+    if ``period_x`` > 0, else open around the particles."""
+    if period_x > 0:
+        pad = 3 * radius
+        return Box(period_x, float(y.max() - y.min()) + 2 * pad, True, float(x.min()),
+                   float(y.min()) - pad)
+    return Box.around(x, y, radius)
 
 
 def remove_fraction(n_bonds: int, fraction: float, rng: np.random.Generator) -> np.ndarray:

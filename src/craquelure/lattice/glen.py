@@ -13,8 +13,6 @@ modulus), :math:`\lambda \approx 2AE_b^2U/L^2` (or the frozen rate); the run las
 relaxation times are transient: the Maxwell time is ~0.7/:math:`\lambda` for this lattice).
 """
 
-from __future__ import annotations
-
 import math
 
 import numpy as np

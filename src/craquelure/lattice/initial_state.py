@@ -13,8 +13,6 @@ Time step: dt = dt_factor 2/omega with omega^2 = omega_est^2 (quick beam estimat
 k_bed/m + k_c/m (bed spring and contact, linearised at an overlap of 0.1 L) [D].
 """
 
-from __future__ import annotations
-
 import math
 
 import numpy as np

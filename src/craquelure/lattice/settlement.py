@@ -8,8 +8,6 @@ weights, so the settlement is :math:`\rho_2 g h^2 n(n+1)/(2M)`, i.e. the continu
 with :math:`H = (n + 1/2)h` to O(1/n^2): every particle stands for a cell of height h.
 """
 
-from __future__ import annotations
-
 import numpy as np
 
 from craquelure.lattice import beam

@@ -1,8 +1,6 @@
 """DAG helpers of ``workflow/rules/lattice.smk``: file names, ``--set`` arguments and titles
 from the config. Nothing here loads a scene or computes physics (that happens in the jobs)."""
 
-from __future__ import annotations
-
 SCENE_DIR = "config/scenes/lattice"
 
 

@@ -15,8 +15,6 @@ explicit step must resolve 1/tau_B, so the accuracy scene sets tau_B = 0.1 tau a
 tolerance (heun has no error control on the constraint; its residual is O(dt^2)).
 """
 
-from __future__ import annotations
-
 import numpy as np
 import xarray as xr
 
@@ -31,8 +29,7 @@ def _run(scene, overrides: list[str], probe_tau: float):
     k = int(np.argmin(np.abs(res.t / setup.tau - probe_tau)))
     if not res.stopped:
         raise SceneError("accuracy study: the T1 did not end by outputs.t_end")
-    return (res.t_stop / setup.tau, res.y[k] / setup.system.radius, res.wall_time_s,
-            res.n_rhs)
+    return (res.t_stop / setup.tau, res.y[k] / setup.system.radius, res.wall_time_s, res.n_rhs)
 
 
 def run_accuracy(scene) -> xr.Dataset:

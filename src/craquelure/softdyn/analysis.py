@@ -1,13 +1,7 @@
-"""Analysis of Soft Dynamics runs: from the workflow's datasets to ``summary.json`` (the numbers
-the claims judge; the same quantities as the spec checks in ``tests/softdyn``).
-
-Sources, told apart by their content: a T1 sweep (``sweep.nc``: ``duration`` on (h0, force)),
-a phase scan (``occurred`` on (fh_over_fv, force)), an accuracy study (``heun_duration_order``
-attribute), single runs (``run.nc``) of a T1 (has ``theta``) or of a sphere pair (approach or
-separation, by the scene's ``loads.direction``). The scene is the one stored in the dataset.
+"""Analysis of Soft Dynamics runs: from the workflow's datasets (sweep, phase scan, accuracy
+study, T1 or sphere-pair run, told apart by their content: :func:`numbers`) to ``summary.json``,
+the numbers the claims judge (the same quantities as the spec checks in ``tests/softdyn``).
 """
-
-from __future__ import annotations
 
 import json
 import math

@@ -1,13 +1,9 @@
 """Model API of Soft Dynamics for the CLI: initial state, derived numbers, runs.
 
-``run`` dispatches on ``study.kind``: ``single`` writes the time series of one run (T1 or
-two-sphere), ``sweep`` the duration map over (h0, F~) (serially; the workflow runs batches of
-points as parallel jobs), ``phase`` the T1 occurrence over (F_h/F_v, F~), ``accuracy`` the
-integrators' error versus wall time on one T1 (:mod:`craquelure.softdyn.accuracy`). The runs
-are deterministic: the seed is recorded but nothing is random.
+``run`` dispatches on ``study.kind``: ``single`` (the time series of one T1 or two-sphere run),
+``sweep`` (the duration map over (h0, F~)), ``phase`` (T1 occurrence over (F_h/F_v, F~)) and
+``accuracy`` (:mod:`craquelure.softdyn.accuracy`). Nothing is random: the seed is only recorded.
 """
-
-from __future__ import annotations
 
 import math
 from functools import partial
@@ -22,12 +18,7 @@ from craquelure.provenance import WallClock
 from craquelure.scene import Scene
 from craquelure.softdyn import engine, studies, theory
 from craquelure.softdyn.accuracy import run_accuracy
-from craquelure.softdyn.initial_state import (
-    build,
-    material_constants,
-    predictions,
-    series_dataset,
-)
+from craquelure.softdyn.initial_state import build, material_constants, predictions, series_dataset
 from craquelure.throughput import prediction_lines
 
 
@@ -53,21 +44,15 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
     far_gap = math.sqrt(3.0) * (2.0 + scene.get("particles.h0")) - 2.0 \
         if scene.get("particles.arrangement") == "t1" else scene.get("particles.h0")
     rate = (k_n / c_n) * (far_gap / math.sqrt(far_gap)) ** 3 / ft
+    young_r2 = setup.system.young * setup.system.radius**2
     out: dict[str, object] = {
-        "Stokes time tau = eta R^2/F": setup.tau,
-        "F_v [E R^2]": setup.f_v / (setup.system.young * setup.system.radius**2),
-        "F_h [E R^2]": setup.f_h / (setup.system.young * setup.system.radius**2),
-        "crossover gap h* [R]": pred["h_star"],
-        "h0/h*": pred["h0_over_h_star"],
-        "regime": pred["regime"],
-        "T_P [tau] (Eq. 33)": pred["T_P"],
-        "T_H [tau] (Eq. 34)": pred["T_H"],
-        "T_sep [tau] (quadrature)": pred["T_sep"],
-        "fastest pair relaxation rate [1/tau]": rate,
+        "Stokes time tau = eta R^2/F": setup.tau, "F_v [E R^2]": setup.f_v / young_r2,
+        "F_h [E R^2]": setup.f_h / young_r2, "crossover gap h* [R]": pred["h_star"],
+        "h0/h*": pred["h0_over_h_star"], "regime": pred["regime"],
+        "T_P [tau] (Eq. 33)": pred["T_P"], "T_H [tau] (Eq. 34)": pred["T_H"],
+        "T_sep [tau] (quadrature)": pred["T_sep"], "fastest pair relaxation rate [1/tau]": rate,
         "explicit (heun) step limit ~2/rate [tau]": 2.0 / rate,
-        "state size": setup.system.state_size,
-        "linear solver": setup.system.solver,
-    }
+        "state size": setup.system.state_size, "linear solver": setup.system.solver}
     if scene.get("study.kind") == "sweep":
         out["sweep points in window"] = len(studies.sweep_points(scene))
     out.update(prediction_lines("softdyn", workload(scene)))
@@ -109,10 +94,9 @@ def workload(scene: Scene) -> dict[str, float]:
 
 
 class StudyRun(runner.EngineRun):
-    """A Soft Dynamics study as the runner sees it (:mod:`craquelure.runner`): one advance runs
-    one point (a sweep or phase grid point; a single run or the accuracy study is one point),
-    so a checkpoint holds the finished points and ``--resume`` skips them. Within a point the
-    integrator's guards (:class:`~craquelure.softdyn.integrate.Guard`) run after every step."""
+    """A Soft Dynamics study as the runner sees it: one advance runs one point (a sweep or
+    phase grid point; a single run or the accuracy study is one point), so a checkpoint holds
+    the finished points. Within a point the integrator's guards run after every step."""
 
     def __init__(self, points: list, combine) -> None:
         self.points, self.combine = points, combine
@@ -133,15 +117,12 @@ class StudyRun(runner.EngineRun):
     def advance(self) -> None:
         self.results.append(self.points[len(self.results)]())
 
-    # check(): none here, the integrator checks every step of a point
-
     def state(self) -> dict[str, np.ndarray]:
         # each finished point as its netCDF bytes: exact, and any layout
         return {f"point_{k}": runner.dataset_bytes(ds) for k, ds in enumerate(self.results)}
 
     def restore(self, state: dict[str, np.ndarray]) -> None:
-        self.results = [runner.dataset_from_bytes(state[f"point_{k}"])
-                        for k in range(len(state))]
+        self.results = [runner.dataset_from_bytes(state[f"point_{k}"]) for k in range(len(state))]
 
     def result(self) -> xr.Dataset:
         return self.combine(self.results)

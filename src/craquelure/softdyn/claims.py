@@ -2,8 +2,6 @@
 numbers of ``results/softdyn/summary.json`` (:mod:`craquelure.softdyn.analysis`), never on runs.
 """
 
-from __future__ import annotations
-
 import json
 import math
 from pathlib import Path
@@ -70,71 +68,62 @@ def phase_claim(n: dict) -> Claim:
 
 def t1_claim(n: dict) -> Claim:
     final, rising = n["theta_final"], n["largest_rise"]
-    return Claim.judged(MODEL, "four spheres complete a T1: the rhombus angle goes from 60 to "
-                        "about 30 degrees", "paper 2 Fig. 4; softdyn spec check 9",
-                        "theta non-increasing, final theta in [29, 33] deg",
-                        f"theta {n['theta_start']:.2f} -> {final:.2f} deg in "
-                        f"{n['duration']:.4g} tau (largest rise {rising:.1e} deg)",
-                        {"final angle in [29, 33] deg": 29.0 <= final <= 33.0,
-                         "angle non-increasing": rising <= 1e-9},
-                        deciding=f"theta {final:.2f} deg (29-33)", figure="fig4.png")
+    return Claim.judged(
+        MODEL, "four spheres complete a T1: the rhombus angle goes from 60 to about 30 degrees",
+        "paper 2 Fig. 4; softdyn spec check 9", "theta non-increasing, final theta in [29, 33] deg",
+        f"theta {n['theta_start']:.2f} -> {final:.2f} deg in {n['duration']:.4g} tau (largest "
+        f"rise {rising:.1e} deg)", {"final angle in [29, 33] deg": 29.0 <= final <= 33.0,
+                                    "angle non-increasing": rising <= 1e-9},
+        deciding=f"theta {final:.2f} deg (29-33)", figure="fig4.png")
 
 
 def approach_claims(n: dict) -> list[Claim]:
     """Check 4 on the approach run: exponential while h >= 100 h*, h^-2 linear once h <= h*/100."""
     out = []
-    if n["rate"] is not None:
-        rate = n["rate"]
-        out.append(Claim.judged(MODEL, "far apart (h >> h*), two spheres pressed together "
-                                "approach exponentially, h = h0 exp(-t / (c_n tau))",
-                                "paper 1 (Poiseuille limit); softdyn spec check 4",
-                                "fitted rate of ln h while h >= 100 h* within 1 % of 1/(c_n tau)",
-                                f"rate x c_n tau = {rate:.4f} over {n['rate_samples']} samples",
-                                {"rate within 1 %": abs(rate - 1) <= 0.01},
-                                deciding=f"rate {rate - 1:+.2%} (within 1 %)",
-                                figure="gaps.png"))
-    if n["hertz_ratio"] is not None:
-        ratio = n["hertz_ratio"]
-        out.append(Claim.judged(MODEL, "in elastic contact (h << h*) the gap closes as h^-2 - "
-                                "h0^-2 = 2t / (c_n tau h*^2)",
-                                "paper 1 (Hertz limit); softdyn spec check 4",
-                                "d(h^-2)/dt while h <= h*/100 within 2 % of 2/(c_n tau h*^2)",
-                                f"measured / predicted = {ratio:.4f}",
-                                {"within 2 %": abs(ratio - 1) <= 0.02},
-                                deciding=f"ratio {ratio - 1:+.2%} (within 2 %)",
-                                figure="gaps.png"))
+    if (rate := n["rate"]) is not None:
+        out.append(Claim.judged(
+            MODEL, "far apart (h >> h*), two spheres pressed together approach exponentially, "
+            "h = h0 exp(-t / (c_n tau))", "paper 1 (Poiseuille limit); softdyn spec check 4",
+            "fitted rate of ln h while h >= 100 h* within 1 % of 1/(c_n tau)",
+            f"rate x c_n tau = {rate:.4f} over {n['rate_samples']} samples",
+            {"rate within 1 %": abs(rate - 1) <= 0.01},
+            deciding=f"rate {rate - 1:+.2%} (within 1 %)", figure="gaps.png"))
+    if (ratio := n["hertz_ratio"]) is not None:
+        out.append(Claim.judged(
+            MODEL, "in elastic contact (h << h*) the gap closes as h^-2 - h0^-2 = 2t / (c_n tau "
+            "h*^2)", "paper 1 (Hertz limit); softdyn spec check 4",
+            "d(h^-2)/dt while h <= h*/100 within 2 % of 2/(c_n tau h*^2)",
+            f"measured / predicted = {ratio:.4f}", {"within 2 %": abs(ratio - 1) <= 0.02},
+            deciding=f"ratio {ratio - 1:+.2%} (within 2 %)", figure="gaps.png"))
     return out
 
 
 def separation_claim(n: dict) -> Claim:
     h0, force = n["h0"], n["reduced_force"]
     predicted, duration = n["predicted"], n["duration"]
-    return Claim.judged(MODEL, "two spheres pulled apart open from h0 to R in the time given by "
-                        "the lubrication + Hertz quadrature", "paper 1; softdyn spec check 5",
-                        "opening time within 2 % of the quadrature of spec section 7",
-                        f"{duration:.5g} tau against {predicted:.5g} tau "
-                        f"({duration / predicted - 1:+.2%}), h0 = {h0:g} R, F~ = {force:g}",
-                        {"within 2 %": abs(duration / predicted - 1) <= 0.02},
-                        deciding=f"{duration / predicted - 1:+.2%} (within 2 %)",
-                        figure="gaps.png")
+    return Claim.judged(
+        MODEL, "two spheres pulled apart open from h0 to R in the time given by the lubrication "
+        "+ Hertz quadrature", "paper 1; softdyn spec check 5",
+        "opening time within 2 % of the quadrature of spec section 7",
+        f"{duration:.5g} tau against {predicted:.5g} tau ({duration / predicted - 1:+.2%}), "
+        f"h0 = {h0:g} R, F~ = {force:g}", {"within 2 %": abs(duration / predicted - 1) <= 0.02},
+        deciding=f"{duration / predicted - 1:+.2%} (within 2 %)", figure="gaps.png")
 
 
 def accuracy_claim(n: dict) -> Claim:
     order, state = n["duration_order"], n["state_order"]
-    return Claim.judged(MODEL, "the fixed-step integrator converges to the adaptive reference at "
-                        "second order", "softdyn spec check 13; accuracy-versus-cost study",
-                        "observed order of Heun's method 2 +- 0.2 (T1 duration and state)",
-                        f"order {order:.2f} (duration), {state:.2f} (state)",
-                        {"order 2 +- 0.2 on the duration": abs(order - 2) <= 0.2,
-                         "order 2 +- 0.2 on the state": abs(state - 2) <= 0.2},
-                        deciding=f"order {order:.2f} / {state:.2f} (2 +- 0.2)",
-                        figure="accuracy.png")
+    return Claim.judged(
+        MODEL, "the fixed-step integrator converges to the adaptive reference at second order",
+        "softdyn spec check 13; accuracy-versus-cost study",
+        "observed order of Heun's method 2 +- 0.2 (T1 duration and state)",
+        f"order {order:.2f} (duration), {state:.2f} (state)",
+        {"order 2 +- 0.2 on the duration": abs(order - 2) <= 0.2,
+         "order 2 +- 0.2 on the state": abs(state - 2) <= 0.2},
+        deciding=f"order {order:.2f} / {state:.2f} (2 +- 0.2)", figure="accuracy.png")
 
 
-BY_KIND = {"sweep": sweep_claims, "phase": lambda n: [phase_claim(n)],
-           "t1": lambda n: [t1_claim(n)], "approach": approach_claims,
-           "separation": lambda n: [separation_claim(n)],
-           "accuracy": lambda n: [accuracy_claim(n)]}
+BY_KIND = {"sweep": sweep_claims, "phase": phase_claim, "t1": t1_claim,
+           "approach": approach_claims, "separation": separation_claim, "accuracy": accuracy_claim}
 
 
 def claims(sources: list[Path]) -> list[Claim]:
@@ -142,5 +131,6 @@ def claims(sources: list[Path]) -> list[Claim]:
     out: list[Claim] = []
     for path in sources:
         for numbers in json.loads(Path(path).read_text())["sources"]:
-            out += BY_KIND[numbers["kind"]](numbers)
+            found = BY_KIND[numbers["kind"]](numbers)  # one claim or a list
+            out += found if isinstance(found, list) else [found]
     return out

@@ -11,8 +11,6 @@ velocity removed afterwards; LSQR with the sum rows when ``lubrication_tangentia
 the system may be singular). The sparsity pattern is fixed by the pair list and built once.
 """
 
-from __future__ import annotations
-
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -112,6 +110,8 @@ class Engine:
         self.x0 = np.ascontiguousarray(self.x0, dtype=np.float64)
         self.F0 = np.ascontiguousarray(self.F0, dtype=np.float64)
         self.pairs = np.ascontiguousarray(self.pairs, dtype=np.int64)
+        self.n, self.d = self.x0.shape  # particles, dimension
+        self.n_pairs, self.n_unknowns = self.pairs.shape[0], self.n * self.d
         self.pi = np.ascontiguousarray(self.pairs[:, 0])
         self.pj = np.ascontiguousarray(self.pairs[:, 1])
         net = np.abs(self.F0.sum(axis=0)).max()
@@ -132,22 +132,6 @@ class Engine:
         self._projector = self._symmetry_projector() if self.symmetry else None
 
     # ---- sizes and state -------------------------------------------------------------
-    @property
-    def n(self) -> int:
-        return self.x0.shape[0]
-
-    @property
-    def d(self) -> int:
-        return self.x0.shape[1]
-
-    @property
-    def n_pairs(self) -> int:
-        return self.pairs.shape[0]
-
-    @property
-    def n_unknowns(self) -> int:
-        return self.n * self.d
-
     @property
     def state_size(self) -> int:
         size = self.n * self.d
@@ -234,8 +218,7 @@ class Engine:
         nv, r, h, a, zn, zt, f, A, b = self.k.pair_terms(x, s, q, self.pi, self.pj, self.p)
         c, resid = self.k.particle_terms(float(t), self.pi, self.pj, self.F0, self.p, f, b)
         v = self._solve(A, c)
-        ydot = self.k.rates(v, self.pi, self.pj, nv, r, a, zn, zt, s, q, self.p, self.n,
-                            self.d)
+        ydot = self.k.rates(v, self.pi, self.pj, nv, r, a, zn, zt, s, q, self.p, self.n, self.d)
         if not self.flags.hertz:
             f = self.k.rigid_forces(v, self.pi, self.pj, A, self.d)
             resid = resid.copy()
@@ -314,5 +297,4 @@ class Engine:
         nv, r, h, a, zn, zt, f, A, b = self.k.pair_terms(x, s, q, self.pi, self.pj, self.p)
         c, _ = self.k.particle_terms(t, self.pi, self.pj, self.F0, self.p, f, b)
         v = self._solve_sparse(A, c)
-        return self.k.rates(v, self.pi, self.pj, nv, r, a, zn, zt, s, q, self.p, self.n,
-                            self.d)
+        return self.k.rates(v, self.pi, self.pj, nv, r, a, zn, zt, s, q, self.p, self.n, self.d)

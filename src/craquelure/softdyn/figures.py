@@ -2,8 +2,6 @@
 (T1 occurrence in the (F_h, F_v) plane), the two-sphere gap history and the integrators' error
 versus wall time."""
 
-from __future__ import annotations
-
 import math
 
 import numpy as np
@@ -47,9 +45,8 @@ def fig5(ds, path, profile: str, scene: str):
         ax[1].loglog(col.h0_over_h_star.values[ok], col.duration.values[ok], "o-", color=c,
                      label=f"F~ = {force:g}")
     ax[0].set_ylim(5, None)
-    label_axes(ax[0], "h0 / R", "T / tau")
+    label_axes(ax[0], "h0 / R", "T / tau", legend={"fontsize": 8})
     ax[0].set_title("dotted: T_P (Eq. 33), dashed: T_H (Eq. 34)", fontsize=8)
-    ax[0].legend(fontsize=8)
     ax[1].axvline(1.0, color="grey", lw=0.8)
     label_axes(ax[1], "h0 / h*", "T / tau", legend={"fontsize": 8})
     fig.suptitle(f"T1 duration ({profile} profile, scene {scene}): "
@@ -61,8 +58,7 @@ def fig5(ds, path, profile: str, scene: str):
 def fig3(ds, path, profile: str, scene: str):
     fig, ax = plt.subplots(figsize=(5.5, 5))
     fh, fv, occ = ds.f_h.values.ravel(), ds.f_v.values.ravel(), ds.occurred.values.ravel()
-    ax.scatter(fh[occ == 1], fv[occ == 1], marker="o", facecolor="white", edgecolor="k",
-               label="T1")
+    ax.scatter(fh[occ == 1], fv[occ == 1], marker="o", facecolor="white", edgecolor="k", label="T1")
     ax.scatter(fh[occ == 0], fv[occ == 0], marker="s", color="grey", label="no T1")
     top = max(fh.max(), fv.max() / math.sqrt(3)) * 1.1
     # many points: a two-point segment is drawn straight in display space (symlog x, log y)

@@ -18,8 +18,6 @@ Pair: spheres 0 and 1 on the x axis at distance 2R + h0, loaded by F = F~ E R^2 
 (compression) or apart (tension), optionally with a tangential couple T (y) for sliding.
 """
 
-from __future__ import annotations
-
 import math
 from dataclasses import dataclass
 
@@ -174,27 +172,22 @@ def series_dataset(setup: Setup, result: Result) -> xr.Dataset:
         return np.array([row[key] for row in rows])
 
     # variables without attributes: long names and units from craquelure.cf's table on writing
-    ds = xr.Dataset(
-        {
-            "position": (("time", "particle", "dim"), stack("x") / sysm.radius),
-            "velocity": (("time", "particle", "dim"), stack("v") * tau / sysm.radius),
-            "gap": (("time", "pair"), stack("h") / sysm.radius),
-            "deflection_normal": (("time", "pair"), stack("s") / sysm.radius,
-                                  {"units": "R", "long_name": "s (> 0: compression)"}),
-            "interaction_radius": (("time", "pair"), stack("a") / sysm.radius),
-            "force_normal": (("time", "pair"), stack("f_n") / setup.f_v,
-                             {"units": "F_v", "long_name": "f_ij . n (> 0: compressive)"}),
-            "force_tangential": (("time", "pair"),
-                                 np.linalg.norm(stack("f_t"), axis=-1) / setup.f_v),
-            "zeta_n": (("time", "pair"), stack("zeta_n") / (sysm.viscosity * sysm.radius)),
-            "zeta_t": (("time", "pair"), stack("zeta_t") / (sysm.viscosity * sysm.radius)),
-            "balance_residual": ("time",
-                                 np.abs(stack("residual")).max(axis=(1, 2)) / setup.f_v,
-                                 {"units": "F_v", "long_name": "max_i |F_i + sum_j f_ij|"}),
-        },
+    ds = xr.Dataset({
+        "position": (("time", "particle", "dim"), stack("x") / sysm.radius),
+        "velocity": (("time", "particle", "dim"), stack("v") * tau / sysm.radius),
+        "gap": (("time", "pair"), stack("h") / sysm.radius),
+        "deflection_normal": (("time", "pair"), stack("s") / sysm.radius,
+                              {"units": "R", "long_name": "s (> 0: compression)"}),
+        "interaction_radius": (("time", "pair"), stack("a") / sysm.radius),
+        "force_normal": (("time", "pair"), stack("f_n") / setup.f_v,
+                         {"units": "F_v", "long_name": "f_ij . n (> 0: compressive)"}),
+        "force_tangential": (("time", "pair"), np.linalg.norm(stack("f_t"), axis=-1) / setup.f_v),
+        "zeta_n": (("time", "pair"), stack("zeta_n") / (sysm.viscosity * sysm.radius)),
+        "zeta_t": (("time", "pair"), stack("zeta_t") / (sysm.viscosity * sysm.radius)),
+        "balance_residual": ("time", np.abs(stack("residual")).max(axis=(1, 2)) / setup.f_v,
+                             {"units": "F_v", "long_name": "max_i |F_i + sum_j f_ij|"})},
         coords={"time": result.t / tau, "particle": list(sysm.particle_names),
-                "pair": list(sysm.pair_names), "dim": list(dims)},
-    )
+                "pair": list(sysm.pair_names), "dim": list(dims)})
     if setup.arrangement == "t1":
         ds["theta"] = ("time", np.degrees([t1_angle(row["x"]) for row in rows]))
     ds.attrs.update(run_attrs(setup, result))
@@ -211,5 +204,4 @@ def run_attrs(setup: Setup, result: Result) -> dict[str, object]:
         "integrator": sc.get("numerics.integrator"), "n_steps": result.n_steps,
         "n_rhs": result.n_rhs, "n_rejected": result.n_rejected,
         "integration_wall_time_s": result.wall_time_s, "linear_solver": setup.system.solver,
-        "deflection_rule": sc.get("numerics.deflection_rule"),
-    }
+        "deflection_rule": sc.get("numerics.deflection_rule")}

@@ -14,8 +14,6 @@ A stop condition ``g(t, y)`` ends the run at its first upward zero crossing, loc
 solver's dense output (Brent's method; linear interpolation for ``heun``).
 """
 
-from __future__ import annotations
-
 import math
 import time
 from collections.abc import Callable
@@ -150,7 +148,8 @@ class _Event:
             if linear:
                 ts = t_old + (-self.g_prev / (g_new - self.g_prev)) * (t_new - t_old)
             else:
-                ts = _root(self.stop, interp, t_old, t_new)
+                ts = brentq(lambda tt: self.stop(tt, interp(tt)), t_old, t_new,
+                            xtol=1e-14 * max(1.0, t_new), rtol=1e-13)
             self.t, self.y = float(ts), np.asarray(interp(ts), dtype=float).copy()
             return self.terminal
         self.g_prev = g_new
@@ -174,11 +173,6 @@ class _Recorder:
         if t > self.t[-1]:
             self.t.append(float(t))
             self.y.append(y.copy())
-
-
-def _root(stop, interp, t0: float, t1: float) -> float:
-    return brentq(lambda tt: stop(tt, interp(tt)), t0, t1, xtol=1e-14 * max(1.0, t1),
-                  rtol=1e-13)
 
 
 def _adaptive(system, cls, t_end, rtol, atol, event, rec, guard, max_steps, progress, unit):

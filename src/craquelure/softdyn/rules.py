@@ -1,6 +1,8 @@
 """Soft Dynamics scene rules a schema cannot state and the memory a run needs; called by
 :mod:`craquelure.scene_rules` (``scene_problems``, ``memory_estimate``)."""
 
+import math
+
 from craquelure.errors import SceneError
 from craquelure.scene_rules import SceneView, lookup, steps_problem
 from craquelure.softdyn import studies
@@ -19,19 +21,17 @@ def scene_problems(data: dict) -> list[str]:
         out.append("numerics.deflection_rule: 'literal' only differs from 'corotating' with "
                    "both 'hertz' and 'lubrication_tangential'")
     t_end = float(lookup(data, "outputs.t_end"))
-    dt = SceneView(data).optional("numerics.dt")  # heun's step
+    dt = view.optional("numerics.dt")  # heun's step
     if dt is not None and dt > t_end:
         out.append(f"numerics.dt: {dt!r} is not allowed; the step must not be longer than "
                    f"outputs.t_end = {t_end!r} (the run would take no step)")
     elif dt is not None and lookup(data, "numerics.integrator") == "heun":
-        problem = steps_problem("numerics.dt", t_end, dt)
-        if problem:
-            out.append(problem)
+        out += filter(None, [steps_problem("numerics.dt", t_end, dt)])
     window = lookup(data, "study.window")
     if window and window[0] >= window[1]:
         out.append(f"study.window: {window!r} must be increasing")
     try:
-        validate_run_setup(SceneView(data))
+        validate_run_setup(view)
     except SceneError as exc:
         out.append(str(exc))
     return out
@@ -52,8 +52,7 @@ def validate_run_setup(view: SceneView) -> None:
 
 def memory_estimate(data: dict) -> tuple[float, str]:
     samples = int(lookup(data, "outputs.n_samples"))
-    grid = 1
-    for key in ("h0", "reduced_force", "fh_over_fv", "rtol", "dt"):
-        grid *= max(1, len(lookup(data, f"study.{key}")))
+    grid = math.prod(max(1, len(lookup(data, f"study.{key}")))
+                     for key in ("h0", "reduced_force", "fh_over_fv", "rtol", "dt"))
     need = samples * 64 * 8 * grid + 1e6
     return need, f"{samples} samples x {grid} study points"

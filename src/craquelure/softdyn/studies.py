@@ -3,15 +3,12 @@ occurrence of the T1 in the (F_h, F_v) plane (Fig. 3).
 
 Sweep: grid ``study.h0`` x ``study.reduced_force``; only points with h0/h* inside
 ``study.window`` are run (the informative window of spec 9.2; outside it a run is either pure
-Poiseuille or hopelessly long), the others are NaN with ``computed = 0``. Each point runs to the
-end of the T1 (``stop: cd_force``); points that do not finish by ``outputs.t_end`` have
-``finished = 0`` and a NaN duration. The workflow runs the points in ``n`` batches of similar
-estimated cost (:func:`sweep_batches`), one process each, since a process start costs more than
-most points. Phase: grid ``study.fh_over_fv`` x ``study.reduced_force``, each run until theta
-<= ``outputs.theta_end_deg`` or ``outputs.t_end`` (units of tau of the AB load |F_v/sqrt3 - F_h|).
+Poiseuille or hopelessly long), the others are NaN with ``computed = 0``; a point that does not
+finish by ``outputs.t_end`` has ``finished = 0`` and a NaN duration. The workflow runs the
+points in batches of similar estimated cost (:func:`sweep_batches`): a process start costs more
+than most points. Phase: grid ``study.fh_over_fv`` x ``study.reduced_force``, each run until
+theta <= ``outputs.theta_end_deg`` or ``outputs.t_end``.
 """
-
-from __future__ import annotations
 
 import math
 
@@ -59,14 +56,11 @@ def run_sweep_point(scene, i: int, j: int) -> xr.Dataset:
     x = setup.system.unpack(res.y_stop)[0]
     values = {
         "duration": res.t_stop / setup.tau if res.stopped else math.nan,
-        "finished": int(res.stopped),
-        "theta_end": math.degrees(t1_angle(x)),
-        "T_P": theory.t_poiseuille(h0[i], c_n),
-        "T_H": theory.t_hertz(h0[i], force[j], k_n, c_n),
+        "finished": int(res.stopped), "theta_end": math.degrees(t1_angle(x)),
+        "T_P": theory.t_poiseuille(h0[i], c_n), "T_H": theory.t_hertz(h0[i], force[j], k_n, c_n),
         "T_sep": theory.t_separation(h0[i], force[j], k_n, c_n),
         "h0_over_h_star": h0[i] / theory.h_star(force[j], k_n),
-        "n_rhs": res.n_rhs, "n_steps": res.n_steps, "run_wall_time_s": res.wall_time_s,
-    }
+        "n_rhs": res.n_rhs, "n_steps": res.n_steps, "run_wall_time_s": res.wall_time_s}
     ds = xr.Dataset({k: (("h0", "force"), [[v]]) for k, v in values.items()},
                     coords={"h0": [h0[i]], "force": [force[j]]})
     ds["regime"] = (("h0", "force"), [[theory.regime(h0[i], force[j], k_n)]])
@@ -116,8 +110,7 @@ def aggregate_sweep(scene, points: list[xr.Dataset]) -> xr.Dataset:
     shape = (h0.size, force.size)
     ds = xr.Dataset(coords={"h0": h0, "force": force})
     ds["h_star"] = ("force", hs)
-    numeric = ["duration", "finished", "theta_end", "T_sep", "n_rhs", "n_steps",
-               "run_wall_time_s"]
+    numeric = ["duration", "finished", "theta_end", "T_sep", "n_rhs", "n_steps", "run_wall_time_s"]
     for name in numeric:
         ds[name] = (("h0", "force"), np.full(shape, np.nan))
     ds["computed"] = (("h0", "force"), mask.astype(np.int8))

@@ -8,8 +8,6 @@ r"""Predicted T1 durations and crossover gap (spec sections 6-7), in units of R 
   units :math:`k_n \sqrt{h + \sigma}\,\sigma = \tilde F`.
 """
 
-from __future__ import annotations
-
 import math
 
 from scipy.integrate import quad
@@ -36,8 +34,7 @@ def steady_deflection(h: float, reduced_force: float, k_n: float) -> float:
     return brentq(fun, 0.0, hi, xtol=1e-16, rtol=1e-14)
 
 
-def t_separation(h0: float, reduced_force: float, k_n: float, c_n: float,
-                 h1: float = 1.0) -> float:
+def t_separation(h0: float, reduced_force: float, k_n: float, c_n: float, h1: float = 1.0) -> float:
     """Quadrature of the quasi-static opening time from h0 to h1 (units of tau). Raises
     ArithmeticError when the steady deflection under ``reduced_force`` cannot be solved (a
     force so large that k_n sqrt(h + s) s overflows), so callers report it as a number that
@@ -47,8 +44,7 @@ def t_separation(h0: float, reduced_force: float, k_n: float, c_n: float,
         s = steady_deflection(h, reduced_force, k_n)
         return c_n * (h + s) ** 2 / h ** 2  # c_n a^4/h^3 dh with dh = h du
     try:
-        value, _ = quad(integrand, math.log(h0), math.log(h1), epsabs=0.0, epsrel=1e-11,
-                        limit=400)
+        value, _ = quad(integrand, math.log(h0), math.log(h1), epsabs=0.0, epsrel=1e-11, limit=400)
     except RuntimeError as exc:  # brentq: the deflection does not converge (|F~| overflows)
         raise ArithmeticError(f"T_sep quadrature at h0 = {h0:g} R, F~ = {reduced_force:g}: the "
                               f"steady deflection cannot be solved ({exc})") from exc
@@ -60,6 +56,4 @@ def regime(h0: float, reduced_force: float, k_n: float) -> str:
     ratio = h0 / h_star(reduced_force, k_n)
     if ratio <= 1.0 / 3.0:
         return "hertz"
-    if ratio >= 3.0:
-        return "poiseuille"
-    return "crossover"
+    return "poiseuille" if ratio >= 3.0 else "crossover"

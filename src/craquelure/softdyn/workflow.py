@@ -1,8 +1,6 @@
 """DAG helpers of ``workflow/rules/softdyn.smk`` (kept here: the linter forbids functions next
 to rules in a Snakefile), bound to the config's ``softdyn`` section (no module state)."""
 
-from __future__ import annotations
-
 
 class Jobs:
     """Config-bound helpers for the Snakemake rules (input functions take ``wildcards``)."""

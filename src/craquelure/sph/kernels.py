@@ -17,8 +17,6 @@ Kernel kinds are small integers so that compiled code can take the kind as a com
 constant (the branch folds away) or as a run-time argument (utilities, tests).
 """
 
-from __future__ import annotations
-
 import math
 
 import numpy as np

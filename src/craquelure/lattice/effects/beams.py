@@ -65,8 +65,7 @@ def deformation(dx, dy, thi, thj, l0, c0, s0, t0i, t0j, dref):
     rel = chord_rotation(c0 * dy - s0 * dx, c0 * dx + s0 * dy)
     dalpha = dref + wrap_angle(rel - dref)
     inv = 1.0 / ell
-    return (ell, dx * inv, dy * inv, ell - l0, (thi - t0i) - dalpha, (thj - t0j) - dalpha,
-            dalpha)
+    return (ell, dx * inv, dy * inv, ell - l0, (thi - t0i) - dalpha, (thj - t0j) - dalpha, dalpha)
 
 
 @njit(inline="always", cache=True)
