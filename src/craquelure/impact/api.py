@@ -106,12 +106,10 @@ def probe_settings(**fields) -> Settings:
 
 
 def initial_state(scene: Scene, specimen: Specimen) -> State:
-    if specimen.vx is not None:  # rings: each moves along x towards the other
-        return State.grid(specimen.x, specimen.y, specimen.vx, 0.0, specimen.mass,
-                          scene.get("material.rho0"), initial_smoothing_length(scene))
-    return State.grid(specimen.x, specimen.y, 0.0, -scene.get("particles.impact_velocity"),
-                      specimen.mass, scene.get("material.rho0"), initial_smoothing_length(scene),
-                      z=specimen.z)
+    rings = specimen.vx is not None  # rings: each moves along x towards the other
+    return State.grid(specimen.x, specimen.y, specimen.vx if rings else 0.0,
+                      0.0 if rings else -scene.get("particles.impact_velocity"), specimen.mass,
+                      scene.get("material.rho0"), initial_smoothing_length(scene), z=specimen.z)
 
 
 def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
@@ -127,22 +125,23 @@ def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
 def derived_numbers(scene: Scene) -> dict[str, object]:
     st = settings(scene)
     mat = st.material
-    sp = build_specimen(scene, 0)
     h0, dt = initial_step(scene, st)
-    steps = math.ceil(scene.get("outputs.t_end") / dt)
+    load = workload(scene)
+    bulk = scene.has("contact_bulk")
     return {
-        "particles": sp.n,
+        "particles": load["particles"],
         "E [Pa], nu": (mat.young, mat.poisson),
         "dimension": (f"2D plane {scene.get('domain.plane')}" if st.dim == 2 else
                       f"3D, {scene.get('particles.thickness_cells')} layers"),
         "c_p, c_s [m/s]": (st.wave_speed, math.sqrt(mat.shear / st.rho0)),
         "h(0) [m]": h0,
         "artificial stress eps_AS": st.as_epsilon if scene.has("artificial_stress") else None,
-        "penalty scale a, k [N/m]": _penalty(scene, st),
+        "penalty scale a, k [N/m]": (
+            (st.contact_a, bulk_stiffness(st.contact_a, mat.bulk, st.spacing, st.dim)) if bulk
+            else (st.contact_a, "a m_i / dt^2") if scene.has("contact_mass") else None),
         "kinematic below m / m_bar": (4.0 * bulk_stiffness(st.contact_a, mat.bulk, st.spacing,
                                                            st.dim)
-                                      * dt**2 / (st.rho0 * st.spacing**st.dim)
-                                      if scene.has("contact_bulk") else None),
+                                      * dt**2 / (st.rho0 * st.spacing**st.dim) if bulk else None),
         "Drucker-Prager alpha, k [Pa]": mat.dp if scene.has("plasticity") else None,
         "cap model alpha, lambda [Pa], beta [1/Pa], theta, e, X0, kappa0 [Pa]": (
             (mat.cap.alpha, mat.cap.lam, mat.cap.beta, mat.cap.theta, mat.cap.e, mat.cap.X0,
@@ -153,8 +152,8 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "eps_0, eps_f": (mat.eps_0, mat.eps_f),
         "Hillerborg length [m]": mat.hillerborg_length,
         "initial time step [s]": dt,
-        "steps (approx.)": steps,
-        **prediction_lines("impact", workload(scene)),
+        "steps (approx.)": load["units"],
+        **prediction_lines("impact", load),
     }
 
 
@@ -174,9 +173,7 @@ def workload(scene: Scene) -> dict[str, float]:
 def listed_neighbours(radius_cells: float, dim: int) -> float:
     """Neighbours of a particle on a grid of unit spacing within ``radius_cells``: the ball's
     area (2D) or volume (3D) minus the particle itself."""
-    if dim == 3:
-        return 4.0 / 3.0 * math.pi * radius_cells**3 - 1.0
-    return math.pi * radius_cells**2 - 1.0
+    return (4.0 / 3.0 * math.pi * radius_cells**3 if dim == 3 else math.pi * radius_cells**2) - 1.0
 
 
 def initial_step(scene: Scene, st: Settings) -> tuple[float, float]:
@@ -186,14 +183,6 @@ def initial_step(scene: Scene, st: Settings) -> tuple[float, float]:
     speed = scene.get("particles.rings.speed" if scene.get("particles.shape") == "rings"
                       else "particles.impact_velocity")
     return h0, min(st.dt_max, st.cfl * h0 / (st.wave_speed + speed + av))
-
-
-def _penalty(scene: Scene, st: Settings):
-    if scene.has("contact_bulk"):
-        return st.contact_a, bulk_stiffness(st.contact_a, st.material.bulk, st.spacing, st.dim)
-    if scene.has("contact_mass"):
-        return st.contact_a, "a m_i / dt^2"
-    return None
 
 
 def softening(eps_max: np.ndarray, mat: Concrete) -> np.ndarray:
@@ -209,11 +198,6 @@ def crack_indicator(scene: Scene, dmg: np.ndarray, eps_max: np.ndarray) -> np.nd
     if scene.get("material.cracked_measure") == "damage":
         return dmg
     return softening(eps_max, concrete(scene))
-
-
-def _field_vars(st: State, mat: Concrete) -> dict:
-    return {"x": st.x.copy(), "y": st.y.copy(), "damage": st.dmg.copy(),
-            "softening": softening(st.eps_max, mat), "plastic_strain": st.epsp.copy()}
 
 
 SERIES = ("time", "contact_force", "contact_force_penalty", "kinetic", "internal", "elastic",
@@ -291,9 +275,11 @@ class ImpactRun(runner.EngineRun):
         self.last_t, self.last_impulse = eng.t, eng.impulse
 
     def _snapshot(self) -> None:
-        eng = self.engine
-        self.snapshots["time"].append(eng.t)
-        for key, value in _field_vars(eng.state, eng.s.material).items():
+        st = self.engine.state
+        self.snapshots["time"].append(self.engine.t)
+        for key, value in (("x", st.x.copy()), ("y", st.y.copy()), ("damage", st.dmg.copy()),
+                           ("softening", softening(st.eps_max, self.engine.s.material)),
+                           ("plastic_strain", st.epsp.copy())):
             self.snapshots[key].append(value)
 
     def finish(self) -> None:
@@ -328,19 +314,13 @@ def run(scene: Scene, out: Path, seed: int, init: Path | None = None, **checkpoi
 
 def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
     st = eng.state
-    data = {
-        "x0": ("particle", sp.x), "y0": ("particle", sp.y), "mass": ("particle", sp.mass),
-        "precrack": ("particle", sp.precrack.astype(np.int8)),
-        "x": ("particle", st.x), "y": ("particle", st.y), "vx": ("particle", st.vx),
-        "vy": ("particle", st.vy), "damage": ("particle", st.dmg),
-        "softening": ("particle", softening(st.eps_max, eng.s.material)),
-        "plastic_strain": ("particle", st.epsp), "plastic_compaction": ("particle", st.epsv),
-        "h": ("particle", st.h),
-        "rho": ("particle", st.rho),
-    }
+    fields = {"x0": sp.x, "y0": sp.y, "mass": sp.mass, "precrack": sp.precrack.astype(np.int8),
+              "x": st.x, "y": st.y, "vx": st.vx, "vy": st.vy, "damage": st.dmg,
+              "softening": softening(st.eps_max, eng.s.material), "plastic_strain": st.epsp,
+              "plastic_compaction": st.epsv, "h": st.h, "rho": st.rho}
     if sp.dim == 3:
-        data.update({"z0": ("particle", sp.z), "z": ("particle", st.z),
-                     "vz": ("particle", st.vz)})
+        fields.update(z0=sp.z, z=st.z, vz=st.vz)
+    data = {k: ("particle", v) for k, v in fields.items()}
     for key, arr in series.items():
         if key != "time":
             data[f"series_{key}"] = ("time", arr)
