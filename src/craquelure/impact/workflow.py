@@ -23,8 +23,7 @@ def case_key(masses: str, precrack: str, kappa) -> str:
 
 def case_folder(masses: str, precrack: str, kappa) -> str:
     """Folder of one case's runs, ``<masses>_<pre-crack>/kappa<k>`` (k as the config writes
-    it); called with ``"{masses}"``, ``"{precrack}"``, ``"{kappa}"``: the rules'
-    wildcard pattern."""
+    it; with ``"{masses}"`` etc.: the rules' wildcard pattern)."""
     return f"{masses}_{precrack}/kappa{kappa}"
 
 
@@ -65,8 +64,7 @@ def three_d(section: dict) -> dict | None:
 
 def campaign_runs_3d(section: dict) -> list[str]:
     """The 3D campaign's runs (:func:`campaign_runs` of :func:`three_d`); none without 3D."""
-    cfg = three_d(section)
-    return campaign_runs(cfg) if cfg is not None else []
+    return campaign_runs(cfg) if (cfg := three_d(section)) is not None else []
 
 
 def with_rate_effects(section: dict) -> dict | None:
@@ -98,14 +96,18 @@ def three_d_overrides(section: dict):
     return overrides
 
 
-def run_resource(section: dict, key: str):
-    """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_run: the 3D campaign's
-    value for runs of its scenes, the 2D section's otherwise (a function of the wildcards)."""
-    cfg, scenes = three_d(section), three_d_scenes(section)
-
+def _scene_value(section: dict, key: str, cfg: dict | None, scenes: set[str]):
+    """A function of the wildcards: ``cfg``'s ``key`` for runs of ``scenes``, the 2D
+    section's otherwise."""
     def value(wildcards) -> int:
         return cfg[key] if wildcards.scene in scenes else section[key]
     return value
+
+
+def run_resource(section: dict, key: str):
+    """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_run: the 3D campaign's
+    value for runs of its scenes (:func:`three_d_scenes`)."""
+    return _scene_value(section, key, three_d(section), three_d_scenes(section))
 
 
 def figure_runs(section: dict) -> dict:
@@ -199,14 +201,7 @@ def regime_three_d(section: dict) -> dict | None:
 
 def regime_runs_3d(section: dict) -> list[str]:
     """Runs of the 3D regime map (:func:`regime_three_d`), under its own scene; none without."""
-    cfg = regime_three_d(section)
-    return _grid_runs(cfg["scene"], cfg) if cfg is not None else []
-
-
-def _regime_grid(section: dict, scene: str) -> dict:
-    """The grid a regime run belongs to, by its scene: the 3D one for the 3D scene."""
-    cfg = regime_three_d(section)
-    return cfg if cfg is not None and scene == cfg["scene"] else section["regime"]
+    return _grid_runs(cfg["scene"], cfg) if (cfg := regime_three_d(section)) is not None else []
 
 
 REGIME_SNAPSHOTS = 5  # field snapshots at t_end/5, 2 t_end/5, ...: the class's history
@@ -216,8 +211,11 @@ def regime_overrides(section: dict):
     """`--set` arguments of one regime run from its wildcards (scene, f_t in MPa, a, speed);
     the end time is its grid's (2D or 3D, by scene), with field snapshots at fifths of it so
     that the map can say from when on each run's class stayed the same."""
+    cfg = regime_three_d(section)
+
     def overrides(wildcards) -> str:
-        t_end = _regime_grid(section, wildcards.scene)["t_end"]
+        grid = cfg if cfg is not None and wildcards.scene == cfg["scene"] else section["regime"]
+        t_end = grid["t_end"]
         snaps = ",".join(f"{k * t_end / REGIME_SNAPSHOTS:.6e}" for k in range(1, REGIME_SNAPSHOTS))
         return (f"--set material.f_t={wildcards.ft}e+6 "
                 f"--set numerics.contact_a={wildcards.a} "
@@ -230,13 +228,9 @@ def regime_overrides(section: dict):
 
 def regime_resource(section: dict, key: str):
     """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_regime_run: the 3D
-    grid's value for runs of the 3D scene, the 2D section's otherwise (a function of the
-    wildcards)."""
+    grid's value for runs of the 3D scene."""
     cfg = regime_three_d(section)
-
-    def value(wildcards) -> int:
-        return cfg[key] if cfg is not None and wildcards.scene == cfg["scene"] else section[key]
-    return value
+    return _scene_value(section, key, cfg, {cfg["scene"]} if cfg is not None else set())
 
 
 def strength_runs(section: dict) -> list[str]:
