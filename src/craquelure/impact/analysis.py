@@ -73,11 +73,8 @@ def _num(v):
 def run_fact(ds, name: str, default=None):
     """A resolved number or engine fact of a run (:data:`RUN_FACTS`), from today's attribute
     or an older run's ``metric_<name>``."""
-    attrs = ds.attrs
     key = RUN_FACTS.get(name, name)
-    if key in attrs:
-        return attrs[key]
-    return attrs.get(f"metric_{name}", default)
+    return ds.attrs[key] if key in ds.attrs else ds.attrs.get(f"metric_{name}", default)
 
 
 def run_scene(ds):
@@ -111,9 +108,9 @@ def run_metrics(ds) -> dict:
     precrack = ds["precrack"].values.astype(bool)
     spacing = float(run_fact(ds, "spacing"))
     centre_y = float(ds.attrs.get("centre_y", 0.5 * (y0.min() + y0.max())))
+    z0 = ds["z0"].values if "z0" in ds else None
     out = measure.run_metrics(x0, y0, crack, plastic, precrack, spacing,
-                              float(run_fact(ds, "radius")), cracked, crushed, centre_y,
-                              z0=ds["z0"].values if "z0" in ds else None)
+                              float(run_fact(ds, "radius")), cracked, crushed, centre_y, z0=z0)
     G_F, f_t = scene.optional("material.G_F"), scene.optional("material.f_t")
     # no fracture energy or tensile strength in the scene: nothing can open to a crack
     w_c = measure.full_softening_opening(G_F, f_t) if G_F and f_t else float("inf")
@@ -125,8 +122,7 @@ def run_metrics(ds) -> dict:
             half = (ds["snap_x"].values[k], ds["snap_y"].values[k])
     out.update(measure.opening_metrics(
         x0, y0, ds["x"].values, ds["y"].values, ds["mass"].values, plastic, precrack, spacing,
-        w_c, centre_y,
-        z0=ds["z0"].values if "z0" in ds else None, half=half))
+        w_c, centre_y, z0=z0, half=half))
     out["cracked_fraction_damage"] = float(np.mean(ds["damage"].values >= cracked))
     out["cracked_measure"] = measure_name
     out.update(measure.contact_metrics(ds["time"].values, ds["series_contact_force"].values,

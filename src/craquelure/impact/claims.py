@@ -105,8 +105,7 @@ def figure_of(finding: dict, rate: bool = False) -> str:
 
 def deciding_number(finding: dict) -> str:
     """The number the verdict turns on: the first failing condition's (else the first
-    undecided one's, else the first's): k of n specimens for a fraction, the main-crack count
-    of the homogeneous disc."""
+    undecided one's, else the first's): k of n specimens for a fraction, else yes or no."""
     conditions = finding.get("conditions", {})
     tests = finding.get("fraction_tests", {})
     order = ([k for k, v in conditions.items() if v is False]
@@ -116,8 +115,6 @@ def deciding_number(finding: dict) -> str:
         if test and "k" in test:
             what = name.split(" in at least half")[0]
             return f"{what}: {test['k']} of {test['n']}"
-        if name == "one main crack":
-            return f"N_main = {finding['values'].get('n_main_cracks_revised')} (1)"
         if name in conditions:
             return f"{name}: {'yes' if conditions[name] else 'no'}"
     return ""

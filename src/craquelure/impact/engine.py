@@ -47,10 +47,8 @@ def kernels_for(effects, periodic: bool, plane_stress: bool, dim: int):
     (:func:`craquelure.codegen.specialise`)."""
     if dim not in (2, 3):
         raise ValueError(f"dim: {dim!r} is not allowed; allowed values: 2, 3")
-    flags = effect_flags("impact", effects)
-    flags["PERIODIC"] = bool(periodic)
-    flags["PLANE_STRESS"] = bool(plane_stress)
-    flags["DIM"] = int(dim)
+    flags = effect_flags("impact", effects) | {
+        "PERIODIC": bool(periodic), "PLANE_STRESS": bool(plane_stress), "DIM": int(dim)}
     return specialise(kernel_template.__name__, flags, "impact")
 
 
@@ -225,11 +223,8 @@ class Engine:
             self.offsets, self.index = neighbour_list_points(
                 np.column_stack([st.x, st.y, st.z]), radius, self.s.periodic_box)
         else:
-            if periodic:
-                lx, ly = self.s.periodic_box
-                box = Box(lx, ly, True, 0.0, 0.0)
-            else:
-                box = Box.around(st.x, st.y, radius)
+            box = (Box(*self.s.periodic_box, True, 0.0, 0.0) if periodic
+                   else Box.around(st.x, st.y, radius))
             self.offsets, self.index = neighbour_list(st.x, st.y, radius, box)
         self._x_built, self._y_built, self._z_built = st.x.copy(), st.y.copy(), st.z.copy()
         self._skin, self._radius = skin, radius

@@ -6,9 +6,8 @@ rows of spacing Δ) pulled at ±``speed`` by its two end columns on each side (v
 prescribed, v_y = 0 there), started with the matching linear velocity profile so that the bar is
 loaded quasi-statically from the first step. The "one weakened row" of the spec is a notch: the
 top and bottom particles of the middle column get zero mass (they carry nothing), so the net
-section is (n_y − 2)Δ and the crack localises there, not at the gripped ends (without it, two
-cracks formed next to the grips and the bar dissipated 1.9 G_F). It runs until the crack can be
-fully open: 1.3 × (w_c + 1.5 κ0 L)/(2 v), w_c = 2G_F/f_t. The dissipation is
+section is (n_y − 2)Δ and the crack localises there, not at the gripped ends. It runs until
+the crack can be fully open: 1.3 × (w_c + 1.5 κ0 L)/(2 v), w_c = 2G_F/f_t. The dissipation is
 Σ m (e_int − e_el − w_p): the stress work minus the (secant) elastic energy still stored and the
 plastic work; kinetic energy and artificial viscosity are outside e_int by construction.
 """

@@ -166,14 +166,11 @@ def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
 
 
 # --- check 12 (spec section 10) -------------------------------------------------------------
-# "Main crack": a connected cracked cluster reaching from the contact zone at least 0.5 D
-# towards the far rim. Decisions [D]: cracked = cracked and not crushed (as above); the contact
-# zone is the crushed zone plus the two lowest grid rows; a cluster starts at the contact zone
-# if one of its particles lies within 1.5 Delta of it; its reach is its own vertical extent (from
-# where it leaves the contact zone towards the far rim: a crack sitting on top of a tall crushed
-# zone does not reach far because the zone is tall). A cluster that splits into branches above the
-# contact counts one main crack per separate cracked run along the centre row (a fan joined at
-# the contact zone is several cracks, as in centre_line_crossings).
+# "Main crack" [D]: a cracked, not crushed cluster that starts at the contact zone (the crushed
+# zone plus the two lowest grid rows; a particle within 1.5 Delta of it) and reaches 0.5 D
+# towards the far rim by its own vertical extent (a crack on a tall crushed zone does not reach
+# far). A cluster that branches above the contact counts one main crack per cracked run along
+# the centre row (as in centre_line_crossings).
 
 def _near(points_a, points_b, radius) -> np.ndarray:
     """Mask over points_a: within ``radius`` of any of points_b."""
@@ -299,27 +296,17 @@ def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, crac
 
 # --- cracks measured by their opening (spec section 6) -------------------------------------
 # A crack is what opened. Neighbour pairs of the plane (2D) or the mid-thickness layer (3D):
-# massive particles whose reference distance is <= 1.5 Delta, plus "bridges" across a
-# zero-mass particle (massive i, j at reference distance <= 2.5 Delta whose midpoint lies
-# within 0.6 Delta of a zero-mass particle): a zero-mass particle is a passive tracer, the
-# material is the massive particles on either side of it. The opening of a pair is the growth
-# of its separation, w = |x_j - x_i| - |X_j - X_i| (current minus reference; rigid motions
-# give 0; across a crack of opening vector delta, w = delta . e, e the pair direction, so the
-# pair normal to the crack measures the normal opening). A pair is opened if w > w_c, with
-# w_c = 2 G_F / f_t (0.052 mm for the spec's concrete): the crack band's full-softening
-# opening, l_c eps_f = 2 G_F/f_t, where linear softening leaves no tensile strength (a
-# stress-free crack); a band still softening has w < w_c. Pairs whose two particles are crushed
-# count like any other pair: a crack through the crushed column is a crack (dropping them
-# missed every central crack that runs up through it). A crack is a connected set of opened
-# pairs (two opened
-# pairs are adjacent if their midpoints are within 1.5 Delta). Along the centre row, the
-# opened gaps between consecutive row particles form runs separated by closed gaps; the crack
-# band softens two particle columns (:mod:`.effects.damage`), so a crack's opening may split
-# over two adjacent gaps, and a run of k opened gaps is ceil(k/2) cracks (a rigid split opens
-# one gap: one crack; a fully cracked row is many cracks, not one). A main crack is a crack
-# that starts at the contact zone (the crushed zone and the two lowest rows, within 1.5 Delta
-# of its pairs) and reaches at least 0.5 D towards the far rim (vertical extent of its pair
-# midpoints + Delta); N_main is the number of centre-row cracks (as above) of main cracks.
+# massive particles at reference distance <= 1.5 Delta, plus "bridges" across a zero-mass
+# particle (massive i, j at <= 2.5 Delta whose midpoint lies within 0.6 Delta of a zero-mass
+# particle, a passive tracer). A pair's opening is w = |x_j - x_i| - |X_j - X_i| (0 for rigid
+# motions; the normal opening for the pair normal to a crack); it is opened if w > w_c =
+# 2 G_F / f_t, the crack band's full-softening opening l_c eps_f (a stress-free crack). Crushed
+# pairs count like any other. A crack is a connected set of opened pairs (midpoints within
+# 1.5 Delta). Along the centre row a run of k opened gaps is ceil(k/2) cracks: the band softens
+# two columns (:mod:`.effects.damage`), so one crack may open two adjacent gaps. A main crack
+# starts at the contact zone (the crushed zone and the two lowest rows, within 1.5 Delta of its
+# pairs) and reaches at least 0.5 D towards the far rim (vertical extent of its pair midpoints
+# + Delta); N_main counts the centre-row cracks of main cracks.
 
 def neighbour_pairs(x0, y0, mass, spacing) -> np.ndarray:
     """(n, 2) index pairs of the opening measure (module comment above)."""
@@ -505,6 +492,5 @@ def opening_metrics(x0, y0, x, y, mass, plastic, precrack, spacing, w_c, centre_
         out["main_run_opening_half"] = then
         out["main_run_opening_growth"] = now / then if then > 0 else float("inf")
     else:
-        out["main_run_opening_half"] = float("nan")
-        out["main_run_opening_growth"] = float("nan")
+        out.update(main_run_opening_half=float("nan"), main_run_opening_growth=float("nan"))
     return out
