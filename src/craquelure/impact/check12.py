@@ -1,5 +1,4 @@
-"""Check 12 (impact spec section 10): the source's findings, per seed and per
-dimension.
+"""Check 12 (impact spec section 10): the source's findings, per seed and per dimension.
 
 The source shows single images, so a criterion on a heterogeneous case applies to the median
 specimen over its seeds, and needs at least :data:`MIN_SEEDS` of them in the profile that claims
@@ -15,18 +14,12 @@ exact interval, and the power at the run's own seed count against P in 9 of 10 s
 1 of 10 (:func:`craquelure.validation.fraction_power`), with the seeds that power 0.8 needs
 (8 seeds decide only 8 of 8 or 0 of 8; power 0.8 against 9 in 10 needs 12). κ comparisons
 (κ = 0.7 against κ = 1) pair the specimens by seed (the seed alone draws the masses) and count
-the seeds where κ = 0.7's value is the larger.
+the seeds where κ = 0.7's value is the larger. They report ε_AS and ℓ_c of every run and
+fail that condition by name where they differ (``impact.fixed_across_kappa`` holds them fixed).
 
 Each finding's defining condition decides it (:func:`verdict`); the heterogeneous rows' is the
-spec's own median rule (:func:`median_rule`).
-
-Findings are evaluated per dimension (``dim``: "3D" or "2D"; :mod:`.analysis` groups the runs).
-Comparisons across κ report the artificial-stress coefficient ε_AS and the crack-band width ℓ_c
-of every run and say whether they were held fixed (``impact.fixed_across_kappa`` in the config)
-or differ; where they differ, the comparison fails that condition by name.
-
-Reported without a verdict (not findings of the source): the peak contact force per κ and
-φ_c(1.5) against φ_c(1).
+spec's own median rule (:func:`median_rule`). Reported without a verdict (not findings of the
+source): the peak contact force per κ and φ_c(1.5) against φ_c(1).
 """
 
 from __future__ import annotations
@@ -71,8 +64,7 @@ def _first(case: dict | None, q: str):
 
 
 def median_with_interval(values, decide, seed: int = 12) -> dict:
-    """Median, 95 % percentile-bootstrap interval over seeds and the bootstrap agreement of
-    ``decide(median)`` with the observed decision."""
+    """Median, 95 % bootstrap interval and bootstrap agreement of ``decide(median)``."""
     v = np.asarray(values, float)
     if v.size == 0:
         return {"median": None, "ci95": None, "agreement": None, "n": 0}
@@ -84,9 +76,8 @@ def median_with_interval(values, decide, seed: int = 12) -> dict:
 
 
 def fraction_test(flags, deterministic: bool = False, seed: int = 12) -> dict:
-    """A fractional condition "P holds in at least half of the specimens" over one flag per
-    seed (None: not measurable for that seed, left out). ``deterministic``: the case is one
-    run that is its whole population (the flag itself decides, no statistics)."""
+    """"P holds in at least half of the specimens" over one flag per seed (None: not measurable,
+    left out); ``deterministic``: one run is the whole population (its flag decides)."""
     flags = [bool(f) for f in flags if f is not None]
     n, k = len(flags), int(sum(flags))
     out = {"k": k, "n": n, "fraction": k / n if n else None, "threshold": MEDIAN_SPECIMEN}
@@ -112,12 +103,9 @@ MEDIAN_AGREEMENT = 0.95  # the median rule decides when 95 % of bootstrap median
 
 
 def median_rule(case: dict | None, q: str, decide) -> dict:
-    """The spec's median rule as a defining condition: "the median specimen has P", P =
-    ``decide`` on the median of ``case``'s values of ``q`` over the seeds, decided when at least
-    95 % of the bootstrap medians (:func:`median_with_interval`) give the same answer,
-    undecided otherwise. The exact binomial test of :func:`fraction_test` on the per-seed
-    flags (P in at least half of the specimens) is reported beside it with its interval and
-    power."""
+    """The spec's median rule as a defining condition: "the median specimen has P" (``decide``
+    on the median of ``q`` over the seeds), decided when at least 95 % of the bootstrap medians
+    agree; the exact binomial test of :func:`fraction_test` on the per-seed flags beside it."""
     med = median_with_interval(_vals(case, q), decide)
     test = fraction_test(_flags(case, q, decide))
     decided = None
@@ -151,12 +139,9 @@ def undecided_note(test: dict) -> str:
 def verdict(conditions: dict[str, bool | None], enough: bool,
             defining: tuple[str, ...] = ()) -> str:
     """reproduced / partly / not reproduced / inconclusive, by the finding's defining
-    condition (``defining``: the names of its parts; spec check 12):
-    a defining part that fails makes the row "not reproduced" whatever else holds; a defining
-    part that cannot be decided (or too few seeds, ``enough`` False, for a heterogeneous
-    case) makes it "inconclusive"; with the defining condition met, any other condition that
-    fails or cannot be decided makes it "partly" (the others can only make it partly), and
-    "reproduced" needs every condition. Without ``defining`` every condition is defining."""
+    condition (``defining``: the names of its parts, default all; spec check 12): a defining
+    part that fails: "not reproduced"; one undecided, or too few seeds (``enough`` False):
+    "inconclusive"; else any other condition not met makes it "partly"."""
     defining = tuple(defining) or tuple(conditions)
     core = [conditions[k] for k in defining]
     if any(v is False for v in core):
@@ -176,11 +161,10 @@ def _per_seed(case: dict | None, quantities) -> dict:
 
 
 def _finding(name, criterion, conditions, values, per_seed, n_seeds, enough, dim,
-             tests: dict | None = None, defining: tuple[str, ...] = ()):
-    """``conditions``: name -> bool/None, or name -> a :func:`fraction_test` result;
-    ``defining``: the names of the defining condition's parts (:func:`verdict`), written
-    next to the row (``defining`` and the criterion's leading "◆ ...")."""
-    tests = {k: v for k, v in conditions.items() if isinstance(v, dict)} | (tests or {})
+             defining: tuple[str, ...] = ()):
+    """``conditions``: name -> bool/None, or name -> a :func:`fraction_test` result; ``defining``:
+    the defining condition's parts (:func:`verdict`, the criterion's leading "◆ ...")."""
+    tests = {k: v for k, v in conditions.items() if isinstance(v, dict)}
     conditions = {k: (v["decided"] if isinstance(v, dict) else v) for k, v in conditions.items()}
     status = verdict(conditions, enough, defining)
     failed = [k for k, v in conditions.items() if v is False]
@@ -211,8 +195,7 @@ def _flags(case: dict | None, q: str, test) -> list:
 
 
 def _by_seed(a: dict | None, b: dict | None, q: str, compare) -> list:
-    """Per seed common to both cases: ``compare(a's q, b's q)`` (None where either is
-    missing)."""
+    """Per seed common to both cases: ``compare(a's q, b's q)``, None if either is missing."""
     if not a or not b:
         return []
     va = dict(zip(a["seeds"], a["per_seed"].get(q, []), strict=False))
@@ -287,9 +270,9 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
             "main_run_share", "cracked_fraction", "n_secondary_cracks_opening",
             "cracked_fraction_near_main", "crushed_area", "contact_force_peak",
             "n_main_cracks_revised", "as_epsilon", "crack_band_width")
+
     def hetero(kappa, name, criterion, key, decide, others, values, per_seed=None, n=None):
-        """A heterogeneous finding whose defining condition is ``key``: ``decide`` on N_main
-        in the median specimen (:func:`median_rule`)."""
+        """A heterogeneous finding defined by ``key``: ``decide`` on the median N_main."""
         case = het[kappa]
         n = len(case["seeds"]) if n is None else n
         nm = median_with_interval(_vals(case, "n_main_cracks_opening"), decide)
@@ -372,9 +355,8 @@ def evaluate(cases: dict, dist: str, dim: str = "2D",
                                    "homogeneous discs): reported without a verdict"})
             continue
         v = {q: _first(c, q) for q in pkeys}
-        tips = (None if v["precrack_tip_extension_low"] is None
-                or v["precrack_tip_extension_high"] is None
-                else min(v["precrack_tip_extension_low"], v["precrack_tip_extension_high"]))
+        ends = (v["precrack_tip_extension_low"], v["precrack_tip_extension_high"])
+        tips = None if None in ends else min(ends)
         largest = f"the largest opening lies on the {layout} line"
         covers = f"the line opens over >= {COVERAGE:.0%} of its length (by opening)"
         out.append(_finding(
