@@ -1,4 +1,3 @@
-"""Concrete disc striking a rigid base: 2D plane-strain SPH with random particle masses
-(spec ``impact.md``). Material point model in :mod:`.material`, specimen geometry and masses in
-:mod:`.specimen`, the effect-specialised SPH engine in :mod:`.engine`, measurements in
-:mod:`.measure`, the CLI stages in :mod:`.api`."""
+"""Concrete disc striking a rigid base: SPH (2D slice or 3D) with random particle masses (spec
+``impact.md``): the material in :mod:`.material`, the specimen in :mod:`.initial_state`, the
+engine in :mod:`.engine`, measurements in :mod:`.measure`, the CLI stages in :mod:`.api`."""

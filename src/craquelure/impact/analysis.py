@@ -1,13 +1,11 @@
 """Analysis of the impact model (spec sections 6-7, check 12): run datasets to per-run metrics
 to ``results/impact/summary.json``.
 
-A run dataset holds state, time series and provenance only (:mod:`.api`); every measurement is
-made here (:func:`run_metrics`), from its final fields and series, with the thresholds of the
-scene stored in the dataset, read back as it was written (:func:`craquelure.scene.stored_scene`,
-no re-validation); an older dataset's ``metric_*`` attributes are recomputed the same way, not
-read (:func:`run_fact` aside). :func:`summarise` groups the runs by dimension and case, with
-per-seed values, medians and spread, and judges check 12's findings (:mod:`.check12`); the
-figures are :mod:`.figures`.
+Every measurement is made here (:func:`run_metrics`), from a run dataset's final fields and
+series (:mod:`.api` writes no analysis) with the thresholds of the scene stored in it; an older
+dataset's ``metric_*`` attributes are recomputed, not read (:func:`run_fact` aside).
+:func:`summarise` groups the runs by dimension and case, with per-seed values, medians and
+spread, and judges check 12's findings (:mod:`.check12`).
 """
 
 from __future__ import annotations
@@ -52,10 +50,9 @@ PER_RUN = ("n_main_cracks", "main_crack_angle_deg", "cracked_fraction",
 # dataset (names of today's runs; older runs wrote them as metric_<legacy name>).
 RUN_FACTS = {**{name: name for name in ("spacing", "radius", "n_particles", "as_epsilon",
                                          "crack_band_width", "contact_a", "material_model")},
-             "dt_min": "run_dt_min", "energy_initial": "run_energy_initial",
-             "max_penetration": "run_max_penetration",
-             "kinematic_impulse": "run_kinematic_impulse",
-             "contact_force_peak_step": "run_contact_force_peak_step", "steps": "run_steps"}
+             **{name: f"run_{name}" for name in ("dt_min", "energy_initial", "max_penetration",
+                                                 "kinematic_impulse", "contact_force_peak_step",
+                                                 "steps")}}
 
 
 # "does not open further": the main crack's opening at the end against this earlier snapshot
@@ -73,11 +70,8 @@ def _num(v):
 def run_fact(ds, name: str, default=None):
     """A resolved number or engine fact of a run (:data:`RUN_FACTS`), from today's attribute
     or an older run's ``metric_<name>``."""
-    attrs = ds.attrs
     key = RUN_FACTS.get(name, name)
-    if key in attrs:
-        return attrs[key]
-    return attrs.get(f"metric_{name}", default)
+    return ds.attrs[key] if key in ds.attrs else ds.attrs.get(f"metric_{name}", default)
 
 
 def run_scene(ds):
@@ -94,12 +88,8 @@ def run_dim(ds, scene=None) -> int:
 
 
 def run_metrics(ds) -> dict:
-    """Every per-run measurement (spec section 6 and check 12) of one run dataset: from its
-    final fields (reference positions, crack indicator, plastic strain, masses), its series
-    (contact force, centre-of-mass velocity, energy balance) and the stored scene's thresholds
-    and variant (κ, masses, pre-crack). The measurements use the reference (x0, y0) positions;
-    a 3D dataset (with ``z0``) is measured on its mid-thickness layer, its cracked fraction over
-    the whole body (:func:`craquelure.impact.measure.run_metrics`)."""
+    """Every per-run measurement (spec section 6, check 12) of a run dataset, from its final fields,
+    series and stored scene; 3D on its mid-thickness layer (:func:`.measure.run_metrics`)."""
     scene = run_scene(ds)
     g = scene.get
     cracked = g("material.cracked_threshold")
@@ -111,9 +101,9 @@ def run_metrics(ds) -> dict:
     precrack = ds["precrack"].values.astype(bool)
     spacing = float(run_fact(ds, "spacing"))
     centre_y = float(ds.attrs.get("centre_y", 0.5 * (y0.min() + y0.max())))
+    z0 = ds["z0"].values if "z0" in ds else None
     out = measure.run_metrics(x0, y0, crack, plastic, precrack, spacing,
-                              float(run_fact(ds, "radius")), cracked, crushed, centre_y,
-                              z0=ds["z0"].values if "z0" in ds else None)
+                              float(run_fact(ds, "radius")), cracked, crushed, centre_y, z0=z0)
     G_F, f_t = scene.optional("material.G_F"), scene.optional("material.f_t")
     # no fracture energy or tensile strength in the scene: nothing can open to a crack
     w_c = measure.full_softening_opening(G_F, f_t) if G_F and f_t else float("inf")
@@ -125,8 +115,7 @@ def run_metrics(ds) -> dict:
             half = (ds["snap_x"].values[k], ds["snap_y"].values[k])
     out.update(measure.opening_metrics(
         x0, y0, ds["x"].values, ds["y"].values, ds["mass"].values, plastic, precrack, spacing,
-        w_c, centre_y,
-        z0=ds["z0"].values if "z0" in ds else None, half=half))
+        w_c, centre_y, z0=z0, half=half))
     out["cracked_fraction_damage"] = float(np.mean(ds["damage"].values >= cracked))
     out["cracked_measure"] = measure_name
     out.update(measure.contact_metrics(ds["time"].values, ds["series_contact_force"].values,
@@ -187,10 +176,8 @@ def _cases(runs: list[dict]) -> dict:
 
 def summarise(paths, profile: str, scene: str, distribution: str,
               fixed_across_kappa: dict | None = None) -> dict:
-    """summary.json of a campaign: cases and check-12 findings per dimension ("3D" then
-    "2D", from each run's ``dim`` attribute, 2 when absent). 2D cases keep their keys
-    ``<masses>/<pre-crack>/kappa<k>``, 3D ones are prefixed ``3D/``. ``fixed_across_kappa``:
-    the config's ε_AS and ℓ_c held fixed across κ."""
+    """summary.json of a campaign: cases (3D keys prefixed ``3D/``) and check-12 findings per
+    dimension; ``fixed_across_kappa``: the config's ε_AS and ℓ_c held fixed across κ."""
     runs = [read_metrics(Path(p)) for p in paths]
     by_dim: dict[str, list] = defaultdict(list)
     for m in runs:

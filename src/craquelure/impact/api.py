@@ -1,13 +1,9 @@
 """Model API of the concrete impact for the CLI: initial state, derived numbers, run.
 
-``run`` writes one dataset per run: particle fields (reference grid, masses, final state),
-field snapshots, time series (contact force, energies, balance error, momentum), the resolved
-numbers the run used (``as_epsilon``, ``contact_a``, ``crack_band_width``, geometry) and what only
-the running engine saw (``run_dt_min``, ``run_max_penetration``, ...) as attributes. It computes
-no analysis: the measurements are :mod:`craquelure.impact.analysis`'s. A diverging run raises
-:class:`~craquelure.errors.SimulationDiverged` before anything is written. The loop, checkpoints
-(every few minutes of wall time) and ``--resume`` are the runner's (:class:`ImpactRun`); ``init``
-is not used: a run starts from the scene and seed.
+``run`` writes one dataset per run: particle fields, field snapshots, time series, the resolved
+numbers the run used and what only the running engine saw (attributes); no analysis
+(:mod:`craquelure.impact.analysis`). The loop, checkpoints and ``--resume`` are the runner's
+(:class:`ImpactRun`); ``init`` is not used: a run starts from the scene and seed.
 """
 
 from __future__ import annotations
@@ -63,9 +59,8 @@ def material_model(scene: Scene) -> str:
 
 def contact_scale(scene: Scene) -> float:
     """Penalty scale factor a of the run: the scene's number, or for ``auto`` the spec's 0.1
-    with the mass-based formula and the half-cell stiffness a = 2√2 M/K with the bulk one
-    (:func:`~craquelure.impact.effects.contact_bulk.half_cell_scale`). Without contact, a
-    enters nothing; the run records the spec's 0.1."""
+    with the mass-based formula and the half-cell stiffness with the bulk one
+    (:func:`~craquelure.impact.effects.contact_bulk.half_cell_scale`); 0.1 without contact."""
     if not (scene.has("contact_bulk") or scene.has("contact_mass")):
         return DEFAULT_SCALE
     a = scene.get("numerics.contact_a")  # both contact effects require it
@@ -82,16 +77,13 @@ def settings(scene: Scene) -> Settings:
     g = scene.get
     return Settings(
         material=concrete(scene), rho0=g("material.rho0"), spacing=g("particles.spacing"),
-        effects=scene.effects, cfl=g("numerics.cfl"), dt_max=g("numerics.dt_max"),
-        av_alpha=g("numerics.av_alpha"), av_beta=g("numerics.av_beta"),
-        as_epsilon=as_epsilon(scene.get("numerics.as_epsilon"), initial_smoothing_length(scene)
-                              / scene.get("particles.spacing")), as_n=g("numerics.as_n"),
-        h_min=g("numerics.h_min"), h_max=g("numerics.h_max"), base_y=g("domain.base_y"),
-        contact_radius=g("numerics.contact_radius"), contact_a=contact_scale(scene),
-        kinematic_ratio=g("numerics.kinematic_ratio"),
-        energy_runaway_factor=g("numerics.energy_runaway_factor"),
-        neighbour_skin=g("numerics.neighbour_skin"), plane_stress=g("domain.plane") == "stress",
-        dim=g("domain.dim"))
+        effects=scene.effects, base_y=g("domain.base_y"), contact_a=contact_scale(scene),
+        as_epsilon=as_epsilon(g("numerics.as_epsilon"),
+                              initial_smoothing_length(scene) / g("particles.spacing")),
+        plane_stress=g("domain.plane") == "stress", dim=g("domain.dim"),
+        **{key: g(f"numerics.{key}") for key in (
+            "cfl", "dt_max", "av_alpha", "av_beta", "as_n", "h_min", "h_max", "contact_radius",
+            "kinematic_ratio", "energy_runaway_factor", "neighbour_skin")})
 
 
 PROBE_SCENE = """{model: impact, particles: {spacing: 0.004, diameter_cells: 4},
@@ -106,43 +98,41 @@ def probe_settings(**fields) -> Settings:
 
 
 def initial_state(scene: Scene, specimen: Specimen) -> State:
-    if specimen.vx is not None:  # rings: each moves along x towards the other
-        return State.grid(specimen.x, specimen.y, specimen.vx, 0.0, specimen.mass,
-                          scene.get("material.rho0"), initial_smoothing_length(scene))
-    return State.grid(specimen.x, specimen.y, 0.0, -scene.get("particles.impact_velocity"),
-                      specimen.mass, scene.get("material.rho0"), initial_smoothing_length(scene),
-                      z=specimen.z)
+    rings = specimen.vx is not None  # rings: each moves along x towards the other
+    return State.grid(specimen.x, specimen.y, specimen.vx if rings else 0.0,
+                      0.0 if rings else -scene.get("particles.impact_velocity"), specimen.mass,
+                      scene.get("material.rho0"), initial_smoothing_length(scene), z=specimen.z)
 
 
 def build_initial_state(scene: Scene, seed: int) -> xr.Dataset:
     sp = build_specimen(scene, seed)
-    ds = xr.Dataset(
+    return xr.Dataset(
         {"x": ("particle", sp.x), "y": ("particle", sp.y), "mass": ("particle", sp.mass),
          "precrack": ("particle", sp.precrack.astype(np.int8))},
-        attrs={"spacing": sp.spacing, "radius": sp.radius, "centre_y": sp.centre_y})
-    ds.attrs.update(provenance_attrs(scene, seed, WallClock()))
-    return ds
+        attrs={"spacing": sp.spacing, "radius": sp.radius, "centre_y": sp.centre_y,
+               **provenance_attrs(scene, seed, WallClock())})
 
 
 def derived_numbers(scene: Scene) -> dict[str, object]:
     st = settings(scene)
     mat = st.material
-    sp = build_specimen(scene, 0)
     h0, dt = initial_step(scene, st)
-    steps = math.ceil(scene.get("outputs.t_end") / dt)
+    load = workload(scene)
+    bulk = scene.has("contact_bulk")
     return {
-        "particles": sp.n,
+        "particles": load["particles"],
         "E [Pa], nu": (mat.young, mat.poisson),
         "dimension": (f"2D plane {scene.get('domain.plane')}" if st.dim == 2 else
                       f"3D, {scene.get('particles.thickness_cells')} layers"),
         "c_p, c_s [m/s]": (st.wave_speed, math.sqrt(mat.shear / st.rho0)),
         "h(0) [m]": h0,
         "artificial stress eps_AS": st.as_epsilon if scene.has("artificial_stress") else None,
-        "penalty scale a, k [N/m]": _penalty(scene, st),
+        "penalty scale a, k [N/m]": (
+            (st.contact_a, bulk_stiffness(st.contact_a, mat.bulk, st.spacing, st.dim)) if bulk
+            else (st.contact_a, "a m_i / dt^2") if scene.has("contact_mass") else None),
         "kinematic below m / m_bar": (4.0 * bulk_stiffness(st.contact_a, mat.bulk, st.spacing,
                                                            st.dim)
-                                      * dt**2 / (st.rho0 * st.spacing**st.dim)
-                                      if scene.has("contact_bulk") else None),
+                                      * dt**2 / (st.rho0 * st.spacing**st.dim) if bulk else None),
         "Drucker-Prager alpha, k [Pa]": mat.dp if scene.has("plasticity") else None,
         "cap model alpha, lambda [Pa], beta [1/Pa], theta, e, X0, kappa0 [Pa]": (
             (mat.cap.alpha, mat.cap.lam, mat.cap.beta, mat.cap.theta, mat.cap.e, mat.cap.X0,
@@ -153,16 +143,14 @@ def derived_numbers(scene: Scene) -> dict[str, object]:
         "eps_0, eps_f": (mat.eps_0, mat.eps_f),
         "Hillerborg length [m]": mat.hillerborg_length,
         "initial time step [s]": dt,
-        "steps (approx.)": steps,
-        **prediction_lines("impact", workload(scene)),
+        "steps (approx.)": load["units"],
+        **prediction_lines("impact", load),
     }
 
 
 def workload(scene: Scene) -> dict[str, float]:
-    """Steps (at the initial stable step), particles and listed neighbours of a run, for the
-    throughput model: the lattice sites of spacing Δ within the list radius (2 h(0) plus the
-    skin) but the particle itself, π r²/Δ² - 1 in 2D and (4/3) π r³/Δ³ - 1 for
-    ``domain.dim: 3``."""
+    """Steps (at the initial stable step), particles and listed neighbours of a run (within
+    the list radius 2 h(0) plus the skin, :func:`listed_neighbours`), for the throughput model."""
     st = settings(scene)
     h0, dt = initial_step(scene, st)
     return {"units": math.ceil(scene.get("outputs.t_end") / dt),
@@ -172,11 +160,8 @@ def workload(scene: Scene) -> dict[str, float]:
 
 
 def listed_neighbours(radius_cells: float, dim: int) -> float:
-    """Neighbours of a particle on a grid of unit spacing within ``radius_cells``: the ball's
-    area (2D) or volume (3D) minus the particle itself."""
-    if dim == 3:
-        return 4.0 / 3.0 * math.pi * radius_cells**3 - 1.0
-    return math.pi * radius_cells**2 - 1.0
+    """Neighbours within ``radius_cells`` on a unit grid: the ball's area or volume - 1."""
+    return (4.0 / 3.0 * math.pi * radius_cells**3 if dim == 3 else math.pi * radius_cells**2) - 1.0
 
 
 def initial_step(scene: Scene, st: Settings) -> tuple[float, float]:
@@ -188,32 +173,17 @@ def initial_step(scene: Scene, st: Settings) -> tuple[float, float]:
     return h0, min(st.dt_max, st.cfl * h0 / (st.wave_speed + speed + av))
 
 
-def _penalty(scene: Scene, st: Settings):
-    if scene.has("contact_bulk"):
-        return st.contact_a, bulk_stiffness(st.contact_a, st.material.bulk, st.spacing, st.dim)
-    if scene.has("contact_mass"):
-        return st.contact_a, "a m_i / dt^2"
-    return None
-
-
 def softening(eps_max: np.ndarray, mat: Concrete) -> np.ndarray:
     """s = (eps_max - eps_0)/(eps_f - eps_0) in [0, 1]: 1 - residual strength / f_t; 0 without a
-    softening law (damage off: the neutral strengths give eps_f <= eps_0, which a scene with
-    damage on is refused for, :meth:`Concrete.validate`)."""
+    softening law (eps_f <= eps_0: damage off, :meth:`Concrete.validate`)."""
     if not mat.eps_f > mat.eps_0:
         return np.zeros_like(eps_max)
     return np.clip((eps_max - mat.eps_0) / (mat.eps_f - mat.eps_0), 0.0, 1.0)
 
 
 def crack_indicator(scene: Scene, dmg: np.ndarray, eps_max: np.ndarray) -> np.ndarray:
-    if scene.get("material.cracked_measure") == "damage":
-        return dmg
-    return softening(eps_max, concrete(scene))
-
-
-def _field_vars(st: State, mat: Concrete) -> dict:
-    return {"x": st.x.copy(), "y": st.y.copy(), "damage": st.dmg.copy(),
-            "softening": softening(st.eps_max, mat), "plastic_strain": st.epsp.copy()}
+    damage = scene.get("material.cracked_measure") == "damage"
+    return dmg if damage else softening(eps_max, concrete(scene))
 
 
 SERIES = ("time", "contact_force", "contact_force_penalty", "kinetic", "internal", "elastic",
@@ -224,10 +194,8 @@ SNAPSHOT_FIELDS = ("x", "y", "damage", "softening", "plastic_strain")
 
 
 class ImpactRun(runner.EngineRun):
-    """The impact engine as the runner sees it (:mod:`craquelure.runner`): one advance is one
-    leapfrog step (the last one shortened to end at ``outputs.t_end``); the health checks run
-    every 50 steps and at every series sample (``outputs.series_dt``); field snapshots at
-    ``outputs.snapshot_times`` and at the end."""
+    """The impact engine as the runner sees it: one advance is one leapfrog step; health checks
+    every 50 steps and at every sample; snapshots at ``outputs.snapshot_times`` and the end."""
 
     CHECK_EVERY = 50
 
@@ -259,9 +227,8 @@ class ImpactRun(runner.EngineRun):
         return self.engine.t >= self.next_sample * (1 - 1e-9) or self.done()
 
     def divergence(self):
-        if self.engine.step_count % self.CHECK_EVERY == 0 or self._sample_due():
-            return self.engine.health()
-        return None
+        due = self.engine.step_count % self.CHECK_EVERY == 0 or self._sample_due()
+        return self.engine.health() if due else None
 
     def sample(self) -> None:
         eng = self.engine
@@ -291,9 +258,11 @@ class ImpactRun(runner.EngineRun):
         self.last_t, self.last_impulse = eng.t, eng.impulse
 
     def _snapshot(self) -> None:
-        eng = self.engine
-        self.snapshots["time"].append(eng.t)
-        for key, value in _field_vars(eng.state, eng.s.material).items():
+        st = self.engine.state
+        self.snapshots["time"].append(self.engine.t)
+        for key, value in (("x", st.x.copy()), ("y", st.y.copy()), ("damage", st.dmg.copy()),
+                           ("softening", softening(st.eps_max, self.engine.s.material)),
+                           ("plastic_strain", st.epsp.copy())):
             self.snapshots[key].append(value)
 
     def finish(self) -> None:
@@ -302,8 +271,7 @@ class ImpactRun(runner.EngineRun):
         self._snapshot()
 
     def parts(self) -> dict[str, object]:
-        """What evolves, by checkpoint prefix: the engine, its particles and this run's
-        series, snapshots and sampling clock."""
+        """What evolves, by checkpoint prefix: the engine, its particles and this run."""
         return {"engine_": self.engine, "particles_": self.engine.state, "model_": self}
 
     def result(self):
@@ -328,24 +296,16 @@ def run(scene: Scene, out: Path, seed: int, init: Path | None = None, **checkpoi
 
 def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
     st = eng.state
-    data = {
-        "x0": ("particle", sp.x), "y0": ("particle", sp.y), "mass": ("particle", sp.mass),
-        "precrack": ("particle", sp.precrack.astype(np.int8)),
-        "x": ("particle", st.x), "y": ("particle", st.y), "vx": ("particle", st.vx),
-        "vy": ("particle", st.vy), "damage": ("particle", st.dmg),
-        "softening": ("particle", softening(st.eps_max, eng.s.material)),
-        "plastic_strain": ("particle", st.epsp), "plastic_compaction": ("particle", st.epsv),
-        "h": ("particle", st.h),
-        "rho": ("particle", st.rho),
-    }
+    fields = {"x0": sp.x, "y0": sp.y, "mass": sp.mass, "precrack": sp.precrack.astype(np.int8),
+              "x": st.x, "y": st.y, "vx": st.vx, "vy": st.vy, "damage": st.dmg,
+              "softening": softening(st.eps_max, eng.s.material), "plastic_strain": st.epsp,
+              "plastic_compaction": st.epsv, "h": st.h, "rho": st.rho}
     if sp.dim == 3:
-        data.update({"z0": ("particle", sp.z), "z": ("particle", st.z),
-                     "vz": ("particle", st.vz)})
-    for key, arr in series.items():
-        if key != "time":
-            data[f"series_{key}"] = ("time", arr)
-    for key in SNAPSHOT_FIELDS:
-        data[f"snap_{key}"] = (("snapshot_time", "particle"), np.stack(snapshots[key]))
+        fields.update(z0=sp.z, z=st.z, vz=st.vz)
+    data = {k: ("particle", v) for k, v in fields.items()}
+    data |= {f"series_{key}": ("time", arr) for key, arr in series.items() if key != "time"}
+    data |= {f"snap_{key}": (("snapshot_time", "particle"), np.stack(snapshots[key]))
+             for key in SNAPSHOT_FIELDS}
     ds = xr.Dataset(data, coords={"time": series["time"], "snapshot_time": snapshots["time"]})
     ds.attrs["dim"] = sp.dim
     ds["series_contact_force"].attrs.update(
@@ -372,9 +332,8 @@ def run_dataset(scene, seed, sp, eng, series, snapshots) -> xr.Dataset:
 
 
 def splitting_load(scene: Scene, sp) -> tuple[float, str]:
-    """The disc's static splitting (Brazilian) load pi D t f_t / 2 with the scene's f_t: 3D t =
-    thickness_cells x spacing [N]; 2D per metre of thickness, t = 1 m [N/m], the unit of the 2D
-    contact force."""
+    """The disc's static splitting (Brazilian) load pi D t f_t / 2: 3D t = thickness_cells x spacing
+    [N]; 2D per metre of thickness [N/m], the unit of the 2D contact force."""
     thick = scene.get("particles.thickness_cells") * sp.spacing if sp.dim == 3 else 1.0
     load = math.pi * 2.0 * sp.radius * thick * scene.get("material.f_t") / 2.0
     return load, "N" if sp.dim == 3 else "N/m"

@@ -1,10 +1,9 @@
 """The impact paper's findings for the validation report (:mod:`craquelure.validation`).
 
-Source: ``results/impact/summary.json`` (:mod:`craquelure.impact.analysis`), whose ``findings``
-already carry the spec's check-12 criteria and ``reproduced`` flags computed from the runs, per
-dimension; this module only words them as claims, puts each finding's 3D and 2D rows side by
-side (a dimension the profile did not run says so), and adds the robustness demand (every
-variant to the end, closed energy balance).
+Source: ``results/impact/summary.json``, whose ``findings`` already carry check 12's criteria
+and statuses per dimension (:mod:`.check12`); this module words them as claims, each finding's
+3D and 2D rows side by side, and adds the robustness demand (every variant to the end, closed
+energy balance).
 """
 
 from __future__ import annotations
@@ -23,8 +22,6 @@ SOURCE = "impact spec section 7; check 12 (revised 2026-12)"
 
 
 def _number(value) -> str:
-    if isinstance(value, bool | int) or value is None:
-        return str(value)
     if isinstance(value, float):
         return f"{value:.3g}" if math.isfinite(value) else str(value)
     if isinstance(value, dict):
@@ -104,28 +101,20 @@ def figure_of(finding: dict, rate: bool = False) -> str:
 
 def deciding_number(finding: dict) -> str:
     """The number the verdict turns on: the first failing condition's (else the first
-    undecided one's, else the first's): k of n specimens for a fraction, the main-crack count
-    of the homogeneous disc."""
+    undecided one's, else the first's): k of n specimens for a fraction, else yes or no."""
     conditions = finding.get("conditions", {})
     tests = finding.get("fraction_tests", {})
-    order = ([k for k, v in conditions.items() if v is False]
-             + [k for k, v in conditions.items() if v is None] + list(conditions))
-    for name in order:
-        test = tests.get(name)
-        if test and "k" in test:
-            what = name.split(" in at least half")[0]
-            return f"{what}: {test['k']} of {test['n']}"
-        if name == "one main crack":
-            return f"N_main = {finding['values'].get('n_main_cracks_revised')} (1)"
-        if name in conditions:
-            return f"{name}: {'yes' if conditions[name] else 'no'}"
-    return ""
+    name = next((k for k, v in conditions.items() if v is False),
+                next((k for k, v in conditions.items() if v is None), next(iter(conditions), None)))
+    test = tests.get(name)
+    if test and "k" in test:
+        return f"{name.split(' in at least half')[0]}: {test['k']} of {test['n']}"
+    return f"{name}: {'yes' if conditions[name] else 'no'}" if name is not None else ""
 
 
 def finding_claim(finding: dict, caveat: str, rate: bool = False) -> Claim:
-    """A check-12 finding of :mod:`.check12` (status computed there), with every seed's values
-    (all of them are in summary.json too), and each fractional condition's statistic,
-    intervals and power."""
+    """A check-12 finding (status computed by :mod:`.check12`), with every seed's values and
+    each fractional condition's statistic, intervals and power."""
     measured = "; ".join(f"{k} = {_brief(v)}" for k, v in finding["values"].items())
     tests = finding.get("fraction_tests", {})
     if tests:
@@ -192,22 +181,15 @@ def caveat_of(summary: dict, dim: str) -> str:
 
 
 def check12_claims(summary: dict) -> list[Claim]:
-    """Check 12's findings with each finding's 3D and 2D rows side by side (3D first, the
-    source's runs); a dimension the profile did not run gets a 'not run' row. Each row says
-    whether its runs had CSCM's rate effects."""
+    """Check 12's findings, each finding's 3D row (the source's runs) before its 2D row; a dimension
+    the profile did not run gets a 'not run' row."""
     rate = with_rate(summary)
     names: dict[str, dict] = {}
     for f in summary["findings"]:
         names.setdefault(f["finding"], {})[f.get("dim", "2D")] = f
-    out = []
-    for by_dim in names.values():
-        for dim in DIMENSIONS:
-            if dim in by_dim:
-                out.append(finding_claim(by_dim[dim], caveat_of(summary, dim), rate))
-            else:
-                out.append(not_run_claim(next(iter(by_dim.values())), dim, summary["profile"],
-                                         rate))
-    return out
+    return [finding_claim(by_dim[dim], caveat_of(summary, dim), rate) if dim in by_dim
+            else not_run_claim(next(iter(by_dim.values())), dim, summary["profile"], rate)
+            for by_dim in names.values() for dim in DIMENSIONS]
 
 
 def robustness_claim(summary: dict) -> Claim:

@@ -18,9 +18,9 @@ One step of length Δt (the accelerations a_n at x_n are known):
 
 Energy balance: E = KE + Σ m e_int + E_AV + E_AS + E_pen + E_kin,removed, compared with E(0):
 e_int integrates the nominal stress power σ:D/ρ from the material pass; E_AV and E_AS are the
-pairwise powers of the force pass (rectangle rule); E_pen = Σ ½ k g². The elastic part is
-Σ m (1-D_t) w(σ̃)/ρ, the plastic part Σ m w_p, and the rest of the internal energy is reported
-as damage (+ residual) dissipation. NaN/inf or E > factor·E(0) raises
+pairwise powers of the force pass (rectangle rule); E_pen = Σ ½ k g². The internal energy
+splits into the secant elastic energy, the plastic work, the damage dissipation and the rest
+(:meth:`Engine.energies`). NaN/inf or E > factor·E(0) raises
 :class:`~craquelure.errors.SimulationDiverged` (time, step, what).
 """
 
@@ -43,14 +43,11 @@ from craquelure.sph.neighbours import Box, neighbour_list, neighbour_list_points
 
 
 def kernels_for(effects, periodic: bool, plane_stress: bool, dim: int):
-    """The kernel module compiled for this effect set and dimension
-    (:func:`craquelure.codegen.specialise`)."""
+    """The kernel module compiled for this effect set and dimension."""
     if dim not in (2, 3):
         raise ValueError(f"dim: {dim!r} is not allowed; allowed values: 2, 3")
-    flags = effect_flags("impact", effects)
-    flags["PERIODIC"] = bool(periodic)
-    flags["PLANE_STRESS"] = bool(plane_stress)
-    flags["DIM"] = int(dim)
+    flags = effect_flags("impact", effects) | {
+        "PERIODIC": bool(periodic), "PLANE_STRESS": bool(plane_stress), "DIM": int(dim)}
     return specialise(kernel_template.__name__, flags, "impact")
 
 
@@ -64,14 +61,13 @@ def mass_sum(m, q):
 
 
 # An engine constant, not a scene parameter: accelerations, stresses, pair powers below it (SI)
-# are set to 0 where produced, out of subnormal numbers (tests/impact/test_kernel_template.py)
+# are set to 0 where produced, out of subnormal numbers
 FLUSH_BELOW = 1e-100
 
 
 @dataclass
 class Settings:
-    """Numbers the engine needs (SI), the resolved scene's (:func:`.api.settings`): no defaults
-    but the engine constant and the periodic box (of tests) a scene never has."""
+    """Numbers the engine needs (SI), the resolved scene's (:func:`.api.settings`)."""
 
     material: Concrete
     rho0: float
@@ -98,8 +94,7 @@ class Settings:
 
     @property
     def wave_speed(self) -> float:
-        """P-wave speed: plane strain and 3D sqrt((K + 4G/3)/rho), plane stress
-        sqrt(E/((1-nu^2) rho))."""
+        """P-wave speed: sqrt((K + 4G/3)/rho), plane stress sqrt(E/((1-nu^2) rho))."""
         m = self.material
         if self.plane_stress:
             return math.sqrt(m.young / ((1.0 - m.poisson**2) * self.rho0))
@@ -109,11 +104,8 @@ class Settings:
         """The kernel's parameter vector (:func:`craquelure.registry.parameter_vector`)."""
         m = self.material
         alpha, k = m.dp
-        lx, ly, lz = (tuple(self.periodic_box) + (0.0,))[:3] if self.periodic_box is not None \
-            else (0.0, 0.0, 0.0)
-        cap = (m.cap_vector() if any(e in self.effects for e in ("cap_plasticity",
-                                                                   "rate_effects"))
-               else 0.0)
+        lx, ly, lz = (*(self.periodic_box or ()), 0.0, 0.0, 0.0)[:3]
+        cap = m.cap_vector() if {"cap_plasticity", "rate_effects"} & set(self.effects) else 0.0
         return parameter_vector("impact", values=dict(
             bulk=m.bulk, shear=m.shear, young=m.young, alpha_dp=alpha, k_dp=k,
             eps_0=m.eps_0, eps_f=m.eps_f, wave_speed=self.wave_speed,
@@ -225,11 +217,8 @@ class Engine:
             self.offsets, self.index = neighbour_list_points(
                 np.column_stack([st.x, st.y, st.z]), radius, self.s.periodic_box)
         else:
-            if periodic:
-                lx, ly = self.s.periodic_box
-                box = Box(lx, ly, True, 0.0, 0.0)
-            else:
-                box = Box.around(st.x, st.y, radius)
+            box = (Box(*self.s.periodic_box, True, 0.0, 0.0) if periodic
+                   else Box.around(st.x, st.y, radius))
             self.offsets, self.index = neighbour_list(st.x, st.y, radius, box)
         self._x_built, self._y_built, self._z_built = st.x.copy(), st.y.copy(), st.z.copy()
         self._skin, self._radius = skin, radius
@@ -251,16 +240,9 @@ class Engine:
         return min(self.s.dt_max, self.k.time_step(st.h, st.vx, st.vy, st.vz, self.mumax,
                                                    self.prm, self.s.cfl))
 
-    def _wrap(self):
-        if self.s.periodic_box is not None:
-            for axis, length in zip("xyz", self.s.periodic_box, strict=False):
-                coord = getattr(self.state, axis)
-                np.mod(coord, length, out=coord)
-
     def _kick(self, dt):
-        """Half kick with the kinematic constraint on both sides of it; it acts on the
-        mid-step velocity too, so that the material pass and the drift never see a motion into
-        the base that the floor would undo. Returns (momentum to the base, energy removed)."""
+        """Half kick with the kinematic constraint on both sides of it (so the material pass and the
+        drift never see a motion into the base). Returns (momentum to the base, energy removed)."""
         st, k = self.state, self.k
         mom, ke = k.kinematic_velocity(st.y, st.vy, st.m, self.kinematic, self.prm, True)
         st.vx += 0.5 * dt * self.ax
@@ -272,9 +254,8 @@ class Engine:
         return mom + mom_reaction, ke
 
     def step(self, dt: float | None = None) -> None:
-        """One KDK step. A kernel's arithmetic failure (a division by a density or length
-        that collapsed to zero, an overflow: numba raises these as Python errors) is the
-        guard's stop, :class:`SimulationDiverged`, not a traceback."""
+        """One KDK step; a kernel's arithmetic failure (a density or length collapsed to zero,
+        an overflow) stops it as :class:`SimulationDiverged`, not a traceback."""
         try:
             self._step(dt)
         except ArithmeticError as exc:
@@ -296,7 +277,9 @@ class Engine:
         st.y += dt * st.vy
         if self.s.dim == 3:
             st.z += dt * st.vz
-        self._wrap()
+        for axis, length in zip("xyz", self.s.periodic_box or (), strict=False):
+            coord = getattr(st, axis)
+            np.mod(coord, length, out=coord)  # periodic tests: back into the box
         k.kinematic_position(st.y, self.kinematic, self.prm)
         self._neighbours(force=False)
         self._forces(dt)
@@ -322,10 +305,7 @@ class Engine:
 
     def energies(self) -> dict[str, float]:
         st = self.state
-        e_int = float(np.dot(st.m, st.eint))
-        e_el = float(np.dot(st.m, st.eel))
-        e_p = float(np.dot(st.m, st.wp))
-        e_d = float(np.dot(st.m, st.wd))
+        e_int, e_el, e_p, e_d = (float(np.dot(st.m, e)) for e in (st.eint, st.eel, st.wp, st.wd))
         # damage: booked by its own law (the secant energy the damage growth releases);
         # unattributed: what the internal energy holds beyond elastic, plastic and damage;
         # it sits in fully damaged points (the stress split is no potential's gradient when
@@ -351,8 +331,7 @@ class Engine:
         return p + (float(np.dot(st.m, st.vz)),) if self.s.dim == 3 else p
 
     def health(self) -> Divergence | None:
-        """NaN/inf in the particle fields, total energy above ``energy_runaway_factor`` x E(0),
-        or a collapsed time step (the runner's guards)."""
+        """The runner's guards: NaN/inf, energy above the runaway factor x E(0), dt collapsed."""
         st = self.state
         bad = non_finite({name: getattr(st, name)
                           for name in ("x", "y", "z", "vx", "vy", "vz", "rho", "h")}

@@ -6,9 +6,8 @@ rows of spacing Δ) pulled at ±``speed`` by its two end columns on each side (v
 prescribed, v_y = 0 there), started with the matching linear velocity profile so that the bar is
 loaded quasi-statically from the first step. The "one weakened row" of the spec is a notch: the
 top and bottom particles of the middle column get zero mass (they carry nothing), so the net
-section is (n_y − 2)Δ and the crack localises there, not at the gripped ends (without it, two
-cracks formed next to the grips and the bar dissipated 1.9 G_F). It runs until the crack can be
-fully open: 1.3 × (w_c + 1.5 κ0 L)/(2 v), w_c = 2G_F/f_t. The dissipation is
+section is (n_y − 2)Δ and the crack localises there, not at the gripped ends. It runs until
+the crack can be fully open: 1.3 × (w_c + 1.5 κ0 L)/(2 v), w_c = 2G_F/f_t. The dissipation is
 Σ m (e_int − e_el − w_p): the stress work minus the (secant) elastic energy still stored and the
 plastic work; kinetic energy and artificial viscosity are outside e_int by construction.
 """
@@ -79,8 +78,7 @@ def crack_band_bar(spacing: float, height_cells: int, kappa: float = 1.0, speed:
 def lattice_gradient_factor(kappa: float, h_factor: float = 1.2, dim: int = 2) -> float:
     """g = −Σ_j V_j x_ij ∂W/∂x_i on the unit square (``dim`` 2) or cubic (3) lattice (exact
     value 1): the SPH gradient of a linear field at fixed h/Δ = κ h_factor. A long P wave then
-    travels at g c_p, so g − 1 is the resolution-independent floor of :func:`p_wave_mode`'s
-    error (2D: κ = 0.7: 0.917, 1.0: 0.9908, 1.5: 0.9938; 3D: 0.900, 0.982, 0.998)."""
+    travels at g c_p: g − 1 is the resolution-independent floor of :func:`p_wave_mode`'s error."""
     from craquelure.sph.kernels import CUBIC, kernel_dwdr
 
     support = 2.0 * kappa * h_factor
@@ -96,18 +94,13 @@ def lattice_gradient_factor(kappa: float, h_factor: float = 1.2, dim: int = 2) -
 
 def p_wave_mode(spacing: float, kappa: float = 1.0, length: float = 0.2, cfl: float = 0.3,
                 effects: tuple[str, ...] = ("elasticity",)) -> dict[str, float]:
-    """Accuracy-versus-cost probe: the fundamental plane-strain P-wave mode of a strip.
-
-    The strip is ``length`` long and a few Δ high (more than the support 2h), h = 1.2 κ Δ,
-    periodic both ways, so the mode is uniform in y: a pure P wave. It starts in its reference
-    grid with v_x = v0 sin(kx), k = 2π/length. The modal amplitude
-    a(t) = Σ m v_x sin(kx) / Σ m sin²(kx) oscillates as v0 cos(ωt); ω is read from the first two
-    zero crossings of a(t) (linear interpolation, π/ω apart) and compared with the exact
-    ω = k c_p, c_p = √((K + 4G/3)/ρ0) = 3616 m/s. Returns the relative frequency error, the
-    steps and the CPU seconds of the stepping loop (one thread; compile excluded once the
-    kernels are warm). The error is (1 − g) + O((kΔ)²) with g of
-    :func:`lattice_gradient_factor`: at fixed h/Δ SPH does not converge to the exact speed.
-    """
+    """Accuracy-versus-cost probe: the fundamental plane-strain P-wave mode of a strip
+    ``length`` long and a few Δ high, h = 1.2 κ Δ, periodic both ways (a pure P wave), started
+    with v_x = v0 sin(kx), k = 2π/length. ω is read from the first two zero crossings of the
+    modal amplitude a(t) = Σ m v_x sin(kx) / Σ m sin²(kx) and compared with the exact k c_p.
+    Returns the relative frequency error, the steps and the CPU seconds of the stepping loop.
+    The error is (1 − g) + O((kΔ)²) with g of :func:`lattice_gradient_factor`: at fixed h/Δ SPH
+    does not converge to the exact speed."""
     from craquelure.impact.api import probe_settings
     from craquelure.impact.engine import State
     from craquelure.impact.material import standard_concrete

@@ -15,14 +15,11 @@ r"""Specimen: regular grid geometry, random particle masses, pre-crack layouts (
   :math:`\rho_i(0) = \rho_0` and :math:`h_i(0) = \kappa\,h_{factor}\Delta` for every particle, so
   the geometry stays the homogeneous grid and only the "virtual volume" :math:`m_i/\rho_0` varies.
 - Pre-cracks: a layout is data in the scene (``precracks``: name → segments in units of R from
-  the disc centre); the particles of a line one particle column wide get m = 0 (spec check 12:
-  "one particle column of zero mass"; "within Δ/2 of the segment" would take the two columns
-  at x = ±Δ/2 of the cell-centred grid for PF#1): for a segment steeper
-  than 45° one particle per grid row, the one with −Δ/2 ≤ x − x_line(y) < Δ/2, over the rows
-  the segment spans (one per column, in y, for flatter segments); in 3D the same (x, y) in every
-  layer, so the line is a zero-mass plane one column wide through the thickness. The others keep
-  the homogeneous mass; the total mass is not renormalised [C maps]. A pre-crack is applied on top
-  of the chosen mass distribution (the paper's cases use homogeneous masses).
+  the disc centre); a line one particle column wide gets m = 0 (spec check 12: "one particle
+  column of zero mass"): for a segment steeper than 45° one particle per grid row, the one with
+  −Δ/2 ≤ x − x_line(y) < Δ/2, over the rows the segment spans (one per column for flatter
+  segments); in 3D the same (x, y) in every layer. The others keep their mass, not
+  renormalised [C maps]; a pre-crack applies on top of the chosen mass distribution.
 """
 
 from __future__ import annotations
@@ -136,13 +133,12 @@ def build_specimen(scene: Scene, seed: int) -> Specimen:
     radius = cells * dx / 2.0
     r_c = scene.get("numerics.contact_radius") * dx
     centre_y = scene.get("domain.base_y") + r_c + scene.get("particles.gap") * dx - y.min()
-    rho0 = scene.get("material.rho0")
     n = x.size
-    rng = np.random.default_rng(seed)
-    w = draw_weights(scene.get("particles.masses.distribution"), n, rng,
+    w = draw_weights(scene.get("particles.masses.distribution"), n, np.random.default_rng(seed),
                      scene.get("particles.masses.normal_sd"),
                      scene.get("particles.masses.poisson_lambda"))
-    total = n * rho0 * dx * dx * (dx if dim == 3 else 1.0)  # rho0 Delta^d per particle
+    # rho0 Delta^d per particle
+    total = n * scene.get("material.rho0") * dx * dx * (dx if dim == 3 else 1.0)
     if w.sum() <= 0:
         raise SceneError("particles.masses: every drawn weight is zero")
     mass = w * (total / w.sum())
@@ -156,9 +152,8 @@ def build_specimen(scene: Scene, seed: int) -> Specimen:
 
 
 def _rings_specimen(scene: Scene, dx: float) -> Specimen:
-    """Homogeneous masses ρ0 Δ²; the rings' lowest point r_c + gap Δ above the base (a rings
-    scene has no contact effect, the base only sets where they sit); each ring moves towards
-    the other at ``particles.rings.speed``."""
+    """Homogeneous masses ρ0 Δ²; the rings' lowest point r_c + gap Δ above the base (only where they
+    sit: no contact); each moves towards the other at ``particles.rings.speed``."""
     g = scene.get
     inner, outer = g("particles.rings.inner_radius"), g("particles.rings.outer_radius")
     x, y, side = rings(inner, outer, g("particles.rings.half_distance"), dx)

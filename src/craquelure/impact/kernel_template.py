@@ -6,11 +6,10 @@ the branches of absent effects fold away (globals are compile-time constants in 
 generated file's name hashes this template and every fragment it calls, so ``cache=True`` is
 never stale. Importing the template itself (all effects on) is only for linting and reading.
 
-Dimension: ``DIM`` (2 plane strain/stress, 3 for ``domain.dim: 3``) is a generated constant
-like the effect flags. Positions and velocities are separate arrays x, y, z and vx, vy, vz (z and
-vz are zeros in 2D and never read there); the stress arrays hold (xx, yy, xy, zz) in 2D and
-(xx, yy, xy, zz, xz, yz) in 3D (struct of arrays, ``NCOMP`` columns). The z terms sit under
-``if DIM == 3`` (folded away in 2D), so 2D compiles to the plane code it always was.
+Dimension: ``DIM`` (2 or 3) is a generated constant like the effect flags. Positions and
+velocities are separate arrays x, y, z and vx, vy, vz (z and vz are zeros in 2D, never read
+there); the stress arrays hold ``NCOMP`` columns, (xx, yy, xy, zz) in 2D and (xx, yy, xy, zz,
+xz, yz) in 3D. The z terms sit under ``if DIM == 3``, folded away in 2D.
 
 Pair loops are gather-style over the CSR neighbour list (every pair in both rows, ``prange``
 safe). Pair smoothing length h_ij = (h_i + h_j)/2, support 2 h_ij (cubic B-spline, kernel kind
@@ -81,12 +80,9 @@ P_FLUSH = PARAMS.index("flush_below")
 def flushed(v, tiny):
     """v, or 0 where |v| < tiny (NaN passes, so divergence is still detected).
 
-    Why: ahead of a wave front the explicit scheme spreads a precursor two supports per step
-    that shrinks by orders of magnitude per hop; after a few hundred steps its accelerations,
-    stresses and their squares (energy densities, pair powers) fall below 2.2e-308, and
-    subnormal arithmetic made steps up to 40 % slower. The accelerations, the stresses and the
-    pair powers are flushed where they are produced, at ``prm[P_FLUSH]`` (1e-100 SI: a hundred
-    orders below round-off of any resolved value, so results are unchanged beyond round-off)."""
+    Why: ahead of a wave front the explicit scheme spreads a precursor that shrinks by orders of
+    magnitude per hop, down to subnormal numbers, whose arithmetic made steps up to 40 % slower;
+    ``prm[P_FLUSH]`` (1e-100 SI) lies a hundred orders below round-off of any resolved value."""
     return 0.0 if abs(v) < tiny else v
 
 
@@ -179,10 +175,9 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, eps_max, dmg, ep
     (trapezoidal in the nominal stress) accumulated into the specific internal energy; the
     damage dissipation per unit mass ``wd`` is the energy the damage growth releases at the
     step's effective stress, (D_new − D_old) ½ P₊σ̃ : C⁻¹σ̃ (P₊σ̃ the tensile principal part,
-    = (σ̃ − σ)/D_new): the secant energy lost, booked by its own law.
-    The pair sums read ρ and h of the step's start (copies): this loop updates ρ_i and h_i in
-    place, and reading a neighbour's value as it is being overwritten made the result depend
-    on the particle order and, with several threads, on their timing."""
+    = (σ̃ − σ)/D_new): the secant energy lost, booked by its own law. The pair sums read ρ and h
+    of the step's start (copies), so the in-place update does not depend on particle order or
+    thread timing."""
     n = x.size
     rho_start = rho.copy()
     h_start = h.copy()
@@ -282,10 +277,7 @@ def material_pass(x, y, z, vx, vy, vz, m, rho, h, h0, sig, nom, eps_max, dmg, ep
             power += ((old[3] + new[3]) * lzz + 2.0 * (old[4] + new[4]) * d[4]
                       + 2.0 * (old[5] + new[5]) * d[5])
         eint[i] += 0.5 * dt * power * 2.0 / (rho_old + rho[i])
-        if ELASTICITY:
-            # recoverable energy of the secant (damaged) point: ½ σ : C⁻¹σ̃ (was (1 − D_t) x
-            # the effective energy, which booked a cracked point's compressive energy as
-            # damage dissipation)
+        if ELASTICITY:  # recoverable energy of the secant (damaged) point: ½ σ : C⁻¹σ̃
             eel[i] = secant_energy_density(new, s, prm[P_BULK], prm[P_SHEAR]) / rho[i]
 
 
@@ -435,12 +427,8 @@ def kinematic_position(y, kinematic, prm):
 @njit(cache=True)
 def kinematic_velocity(y, vy, m, kinematic, prm, arrival):
     """Kinematic fallback, v_y <- max(v_y, 0) for constrained particles in contact; returns
-    (momentum given to the base, kinetic energy removed). Called before a kick with
-    ``arrival`` (a particle still moving into the base is stopped: inelastic, its kinetic
-    energy is removed) and after it without (the base's reaction cancels the kick's pull into
-    it: the particle does not move, so the reaction does no work and no energy is logged;
-    logging the kick's ½ m (a Δt/2)² would count energy the drift never took from the
-    stress)."""
+    (momentum given to the base, kinetic energy removed): before a kick with ``arrival`` (an
+    inelastic stop), after it without (the base's reaction does no work)."""
     mom = ke = 0.0
     limit = prm[P_BASE] + prm[P_RC]
     for i in range(y.size):

@@ -5,8 +5,7 @@ Update order per particle and step (spec section 3): Jaumann trial effective str
 CSCM-like cap return (:mod:`.effects.cap_plasticity`, shear strength scaled by the compressive
 damage of :mod:`.effects.compressive_damage`) → Rankine damage and nominal stress
 (:mod:`.effects.damage`) → with :mod:`.effects.rate_effects` the viscoplastic blend of the
-trial and that inviscid stress. :class:`Concrete` holds the derived constants (the
-strain-driven single point of check 6 is tests/impact/material_point.py).
+trial and that inviscid stress. :class:`Concrete` holds the derived constants.
 """
 
 from __future__ import annotations
@@ -66,8 +65,7 @@ class Concrete:
         return rate_constants(self.f_c)
 
     def cap_vector(self) -> np.ndarray:
-        """Constants of the cap and rate branches of the material update, in the kernels' order
-        (``CAP_PARAMS``)."""
+        """Constants of the cap and rate branches, in the kernels' order (``CAP_PARAMS``)."""
         c, r = self.cap, self.rates
         return np.array([c.alpha, c.lam, c.beta, c.theta, c.e, c.X0, c.W, c.D1, c.D2,
                          self.eps_fc, *(r[k] for k in RATE_PARAMS), self.f_t, self.f_c,

@@ -3,29 +3,25 @@
 - Cracked fraction φ_c = Σ V0 [c ≥ 0.9] / Σ V0 (equal V0: a particle count ratio), where the
   crack indicator c is, by ``material.cracked_measure``, the softening
   s = (κ − κ0)/(κ_f − κ0) clipped to [0, 1] (default) or D_t (the spec's label).
-  Decision [D]: with ℓ_c = h(0) = 4.8 mm ≪ l_ch, κ_f ≈ 100 κ0 and D_t = 0.9 is reached at
-  κ ≈ 9 κ0, where the point still carries 92 % of f_t: D_t ≥ 0.9 marks nearly the whole disc
-  after the first stress wave and is no crack indicator. s ≥ 0.9 means the residual tensile
-  strength is ≤ 0.1 f_t (an open crack), which is what the source's black "failed" maps show.
-  Both fractions are reported (``cracked_fraction``, ``cracked_fraction_damage``).
+  Decision [D]: with κ_f ≈ 100 κ0, D_t = 0.9 is reached at κ ≈ 9 κ0, where the point still
+  carries 92 % of f_t (nearly the whole disc after the first stress wave); s ≥ 0.9 leaves
+  ≤ 0.1 f_t (an open crack), what the source's black "failed" maps show. Both fractions are
+  reported (``cracked_fraction``, ``cracked_fraction_damage``).
 - Main cracks: clusters of cracked, not crushed particles, adjacent if their reference distance
   is ≤ 1.5Δ; a cluster counts if its reference extent along its principal axis is ≥ R. Angle θ to
   the vertical in (−90°, 90°], length = extent along the axis + Δ.
-- Crack crossings of the centre line [D]: the number of separate runs of
-  cracked, not crushed particles along the grid row nearest the disc centre height (reference
-  positions). The cluster rule above merges radial cracks that a later transverse crack or a
-  branch joins (N_mc = 1 for a fan of five radial cracks); the crossings count them: the
-  source's single central main crack is 1 crossing near x = 0.
+- Crack crossings of the centre line [D]: the number of separate runs of cracked, not crushed
+  particles along the grid row nearest the disc centre height. The cluster rule above merges
+  radial cracks that a transverse crack or a branch joins (a fan of five is one cluster); the
+  crossings count them: the source's single central main crack is 1 crossing near x = 0.
 - Crushed zone [D]: crushed particles (ε̄_p ≥ 0.0035) in clusters that touch the lowest two grid
   rows (the contact region; "connected to the lowest particle" generalised to the rows that
   touch the base); area A_cr = count·Δ² (per metre), height h_cr = reference y-extent + Δ.
 - Contact: peak force, impulse ∫F dt, duration (first to last sample with F > 1 % of the peak),
   rebound = final centre-of-mass v_y.
-- 3D [D]: the crack and crushed-zone geometry (main cracks, centre-row crossings,
-  crushed area and height, pre-crack following) is measured on the mid-thickness slab, the
-  layer of particles nearest the disc's mid-plane z = 0 (the lower one when the mid-plane falls
-  between two layers, as for the centre row): the section the source's crack maps show. The
-  cracked fraction is over the whole body (volume fraction, equal V0).
+- 3D [D]: the crack and crushed-zone geometry is measured on the mid-thickness slab, the layer
+  of particles nearest the disc's mid-plane z = 0 (the lower one on a tie): the section the
+  source's crack maps show. The cracked fraction is over the whole body.
 """
 
 from __future__ import annotations
@@ -39,8 +35,7 @@ from scipy.spatial import cKDTree
 
 
 def components(n: int, pairs: np.ndarray) -> tuple[int, np.ndarray]:
-    """(count, label of each point) of the connected components of n points joined by the
-    index ``pairs`` (m, 2)."""
+    """(count, labels) of the connected components of n points joined by ``pairs`` (m, 2)."""
     graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
     return connected_components(graph, directed=False)
 
@@ -130,8 +125,7 @@ def mid_slab(z0: np.ndarray, spacing: float) -> np.ndarray:
 
 def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
                 crushed=0.0035, centre_y=None, z0=None) -> dict[str, float]:
-    """The run's measurements (module docstring); ``z0`` (3D reference positions along the
-    axis) restricts the geometry to the mid-thickness slab."""
+    """The run's measurements (module docstring); ``z0``: on the 3D mid-thickness slab."""
     fraction = float(np.mean(damage >= cracked))
     if z0 is not None:
         slab = mid_slab(np.asarray(z0), spacing)
@@ -144,15 +138,12 @@ def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
                                              cracked, crushed)
     area, height = crushed_zone(x0, y0, plastic, spacing, crushed)
     out = {
-        "cracked_fraction": fraction,
-        "n_main_cracks": len(mcs),
+        "cracked_fraction": fraction, "n_main_cracks": len(mcs),
         "main_crack_angle_deg": mcs[0]["angle_deg"] if mcs else float("nan"),
         "main_crack_length": mcs[0]["length"] if mcs else 0.0,
         "main_crack_angles_deg": ",".join(f"{m['angle_deg']:.1f}" for m in mcs),
-        "crushed_area": area,
-        "crushed_height": height,
-        "centre_crossings": n_cross,
-        "centre_crossings_x_mm": x_cross,
+        "crushed_area": area, "crushed_height": height,
+        "centre_crossings": n_cross, "centre_crossings_x_mm": x_cross,
     }
     if precrack.any():
         out["precrack_cracked_fraction"] = precrack_agreement(x0, y0, damage, precrack, spacing,
@@ -166,14 +157,11 @@ def run_metrics(x0, y0, damage, plastic, precrack, spacing, radius, cracked=0.9,
 
 
 # --- check 12 (spec section 10) -------------------------------------------------------------
-# "Main crack": a connected cracked cluster reaching from the contact zone at least 0.5 D
-# towards the far rim. Decisions [D]: cracked = cracked and not crushed (as above); the contact
-# zone is the crushed zone plus the two lowest grid rows; a cluster starts at the contact zone
-# if one of its particles lies within 1.5 Delta of it; its reach is its own vertical extent (from
-# where it leaves the contact zone towards the far rim: a crack sitting on top of a tall crushed
-# zone does not reach far because the zone is tall). A cluster that splits into branches above the
-# contact counts one main crack per separate cracked run along the centre row (a fan joined at
-# the contact zone is several cracks, as in centre_line_crossings).
+# "Main crack" [D]: a cracked, not crushed cluster that starts at the contact zone (the crushed
+# zone plus the two lowest grid rows; a particle within 1.5 Delta of it) and reaches 0.5 D
+# towards the far rim by its own vertical extent (a crack on a tall crushed zone does not reach
+# far). A cluster that branches above the contact counts one main crack per cracked run along
+# the centre row (as in centre_line_crossings).
 
 def _near(points_a, points_b, radius) -> np.ndarray:
     """Mask over points_a: within ``radius`` of any of points_b."""
@@ -198,8 +186,7 @@ def _runs(xs: np.ndarray, spacing: float) -> list[float]:
 
 
 def contact_zone(x0, y0, crushed, spacing) -> np.ndarray:
-    """Points (x, y) of the contact zone: the two lowest rows and the crushed clusters that
-    touch them."""
+    """Points of the contact zone: the two lowest rows and the crushed clusters on them."""
     bottom = y0 <= y0.min() + 1.01 * spacing
     zone = bottom.copy()
     for c in clusters(x0, y0, crushed, spacing):
@@ -213,22 +200,19 @@ def revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked=0.9,
     """Per-run quantities of the revised check 12 (main cracks from the contact zone)."""
     diameter = float(np.ptp(y0)) + spacing
     member = (crack >= cracked) & (plastic < crushed)
-    crushed_mask = plastic >= crushed
-    zone_pts = contact_zone(x0, y0, crushed_mask, spacing)
+    zone_pts = contact_zone(x0, y0, plastic >= crushed, spacing)
     row = _centre_row(y0, centre_y, spacing)
     mains, others = [], []
     for c in clusters(x0, y0, member, spacing):
-        pts = np.column_stack([x0[c], y0[c]])
         extent, angle, _ = principal_axis(x0[c], y0[c])
         reach = float(np.ptp(y0[c])) + spacing
-        starts = bool(_near(pts, zone_pts, 1.5 * spacing).any())
+        starts = bool(_near(np.column_stack([x0[c], y0[c]]), zone_pts, 1.5 * spacing).any())
         info = {"idx": c, "length": extent + spacing, "angle": angle, "reach": reach,
                 "crossings": _runs(x0[c][row[c]], spacing)}
         (mains if starts and reach >= 0.5 * diameter else others).append(info)
     mains.sort(key=lambda d: -d["length"])
     crossings = [x for m in mains for x in (m["crossings"] or [float("nan")])]
-    n_main = len(crossings)
-    out = {"n_main_cracks_revised": n_main,
+    out = {"n_main_cracks_revised": len(crossings),
            "main_crossings_x_mm": ",".join(f"{1e3 * x:.0f}" for x in crossings),
            "n_secondary_cracks": sum(o["length"] > 2 * spacing for o in others)}
     if mains:
@@ -238,8 +222,7 @@ def revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked=0.9,
         near = _near(np.column_stack([x0, y0]),
                      np.column_stack([x0[main["idx"]], y0[main["idx"]]]), 3 * spacing)
         out.update({"main_crack_length_revised": main["length"],
-                    "main_crack_theta_deg": main["angle"],
-                    "main_crack_x_mid": central,
+                    "main_crack_theta_deg": main["angle"], "main_crack_x_mid": central,
                     "second_crack_length": max(rest) if rest else 0.0,
                     "cracked_fraction_near_main": float(np.mean(crack[near] >= cracked))})
     else:
@@ -251,9 +234,9 @@ def revised_cracks(x0, y0, crack, plastic, spacing, centre_y, cracked=0.9,
 
 
 def line_frame(x0, y0, precrack):
-    """A zero-mass line's frame: its centre (the pre-crack particles' mean), its direction u
-    (their principal axis), every particle's coordinates along and across it, and the line's
-    extent along it."""
+    """A zero-mass line's frame: its centre and direction u (the pre-crack particles' mean and
+    principal axis), every particle's coordinates along and across it, and the line's extent along
+    it."""
     px, py = x0[precrack], y0[precrack]
     cx, cy = px.mean(), py.mean()
     _, angle, _ = principal_axis(px, py)
@@ -270,18 +253,16 @@ def _line_x(cx, cy, u, centre_y) -> float:
 
 def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, cracked=0.9,
                        crushed=0.0035) -> dict:
-    """Does the crack follow a zero-mass line? The line is the principal axis of the pre-crack
-    particles between their extreme projections. Coverage: fraction of the line's length
-    (sampled every Delta/2) with a cracked (not pre-crack) particle within Delta of the line and
-    Delta/2 along it. Tips: how far the cracked clusters that touch the line extend beyond each
-    end along it. Elsewhere: main cracks (revised definition) crossing the centre row more than
-    3 Delta from the line."""
+    """Does the crack follow a zero-mass line (the pre-crack particles' principal axis between their
+    extreme projections)? Coverage: fraction of the line's length (sampled every Delta/2) with a
+    cracked, not pre-crack particle within Delta of it and Delta/2 along it. Tips: how far the
+    cracked clusters touching the line extend beyond each end. Elsewhere: main cracks crossing the
+    centre row more than 3 Delta from the line."""
     (cx, cy), u, along, across, s_lo, s_hi = line_frame(x0, y0, precrack)
     hit = (crack >= cracked) & (plastic < crushed) & ~precrack
     close = hit & (np.abs(across) <= spacing * (1 + 1e-9))
-    samples = np.arange(s_lo, s_hi + 1e-12, 0.5 * spacing)
     covered = [bool(np.any(close & (np.abs(along - s) <= 0.5 * spacing * (1 + 1e-9))))
-               for s in samples]
+               for s in np.arange(s_lo, s_hi + 1e-12, 0.5 * spacing)]
     beyond_lo = beyond_hi = 0.0
     for c in clusters(x0, y0, hit, spacing):
         if close[c].any():
@@ -299,27 +280,17 @@ def precrack_following(x0, y0, crack, plastic, precrack, spacing, centre_y, crac
 
 # --- cracks measured by their opening (spec section 6) -------------------------------------
 # A crack is what opened. Neighbour pairs of the plane (2D) or the mid-thickness layer (3D):
-# massive particles whose reference distance is <= 1.5 Delta, plus "bridges" across a
-# zero-mass particle (massive i, j at reference distance <= 2.5 Delta whose midpoint lies
-# within 0.6 Delta of a zero-mass particle): a zero-mass particle is a passive tracer, the
-# material is the massive particles on either side of it. The opening of a pair is the growth
-# of its separation, w = |x_j - x_i| - |X_j - X_i| (current minus reference; rigid motions
-# give 0; across a crack of opening vector delta, w = delta . e, e the pair direction, so the
-# pair normal to the crack measures the normal opening). A pair is opened if w > w_c, with
-# w_c = 2 G_F / f_t (0.052 mm for the spec's concrete): the crack band's full-softening
-# opening, l_c eps_f = 2 G_F/f_t, where linear softening leaves no tensile strength (a
-# stress-free crack); a band still softening has w < w_c. Pairs whose two particles are crushed
-# count like any other pair: a crack through the crushed column is a crack (dropping them
-# missed every central crack that runs up through it). A crack is a connected set of opened
-# pairs (two opened
-# pairs are adjacent if their midpoints are within 1.5 Delta). Along the centre row, the
-# opened gaps between consecutive row particles form runs separated by closed gaps; the crack
-# band softens two particle columns (:mod:`.effects.damage`), so a crack's opening may split
-# over two adjacent gaps, and a run of k opened gaps is ceil(k/2) cracks (a rigid split opens
-# one gap: one crack; a fully cracked row is many cracks, not one). A main crack is a crack
-# that starts at the contact zone (the crushed zone and the two lowest rows, within 1.5 Delta
-# of its pairs) and reaches at least 0.5 D towards the far rim (vertical extent of its pair
-# midpoints + Delta); N_main is the number of centre-row cracks (as above) of main cracks.
+# massive particles at reference distance <= 1.5 Delta, plus "bridges" across a zero-mass
+# particle (massive i, j at <= 2.5 Delta whose midpoint lies within 0.6 Delta of a zero-mass
+# particle, a passive tracer). A pair's opening is w = |x_j - x_i| - |X_j - X_i| (0 for rigid
+# motions; the normal opening for the pair normal to a crack); it is opened if w > w_c =
+# 2 G_F / f_t, the crack band's full-softening opening l_c eps_f (a stress-free crack). Crushed
+# pairs count like any other. A crack is a connected set of opened pairs (midpoints within
+# 1.5 Delta). Along the centre row a run of k opened gaps is ceil(k/2) cracks: the band softens
+# two columns (:mod:`.effects.damage`), so one crack may open two adjacent gaps. A main crack
+# starts at the contact zone (the crushed zone and the two lowest rows, within 1.5 Delta of its
+# pairs) and reaches at least 0.5 D towards the far rim (vertical extent of its pair midpoints
+# + Delta); N_main counts the centre-row cracks of main cracks.
 
 def neighbour_pairs(x0, y0, mass, spacing) -> np.ndarray:
     """(n, 2) index pairs of the opening measure (module comment above)."""
@@ -373,10 +344,9 @@ def _runs_of(flags: np.ndarray) -> list[np.ndarray]:
 def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
                    crushed=0.0035, precrack=None) -> dict:
     """Cracks by opening (module comment above) of one plane/layer: per crack its centre-row
-    crossings, angle to the vertical, length, largest opening and whether it is a main crack;
-    N_main, the centre row's opened runs with their openings, the share of the row's opening
-    the largest run carries (localisation), and with ``precrack`` (mask of the zero-mass line)
-    the line's coverage and whether the largest opening lies on it."""
+    crossings, angle, length, largest opening and whether it is a main crack; N_main, the centre
+    row's opened runs, the share of the row's opening the largest run carries, and with ``precrack``
+    (mask of the zero-mass line) the line's coverage and whether the largest opening lies on it."""
     x0, y0, x, y = (np.asarray(a, float) for a in (x0, y0, x, y))
     mass, plastic = np.asarray(mass, float), np.asarray(plastic, float)
     if centre_y is None:
@@ -395,8 +365,7 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
     cracks = []
     oidx = np.flatnonzero(opened)
     if oidx.size:
-        members = clusters(mid[oidx, 0], mid[oidx, 1], np.ones(oidx.size, bool), spacing)
-        for c in members:
+        for c in clusters(mid[oidx, 0], mid[oidx, 1], np.ones(oidx.size, bool), spacing):
             k = oidx[c]
             px, py = mid[k, 0], mid[k, 1]
             extent, angle, _ = principal_axis(px, py)
@@ -410,21 +379,17 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
                            "main": starts and reach >= 0.5 * diameter, "runs": crossing,
                            "pairs": k})
     cracks.sort(key=lambda c: -c["length"])
-
-    def count(run):
-        return math.ceil(run.size / 2)
-
+    # a run of k opened gaps is ceil(k/2) cracks
     run_info = [{"x_mm": 1e3 * float(gx[r].mean()), "opening": float(gw[r].sum()),
-                 "gaps": int(r.size), "cracks": count(r)} for r in runs]
+                 "gaps": int(r.size), "cracks": math.ceil(r.size / 2)} for r in runs]
     main_runs = [r for c in cracks if c["main"] for r in c["runs"]]
     main_ids = {id(r) for r in main_runs}
-    n_main = sum(count(r) for r in runs if id(r) in main_ids)
+    n_main = sum(math.ceil(r.size / 2) for r in runs if id(r) in main_ids)
     largest = max((float(gw[r].sum()) for r in runs), default=0.0)
     main = next((c for c in cracks if c["main"]), None)
     main_run = max(main_runs, key=lambda r: float(gw[r].sum()), default=None)
     out = {
-        "opening_w_c": float(w_c),
-        "n_main_cracks_opening": int(n_main),
+        "opening_w_c": float(w_c), "n_main_cracks_opening": int(n_main),
         "n_cracks_opening": len(cracks),
         "n_secondary_cracks_opening": sum(1 for c in cracks if not c["main"]
                                           and c["length"] > 2 * spacing),
@@ -450,25 +415,24 @@ def opening_cracks(x0, y0, x, y, mass, plastic, spacing, w_c, centre_y=None,
         (cx, cy), u, *_ = line_frame(x0, y0, line)
         line_x = _line_x(cx, cy, u, centre_y)
         out["main_cracks_elsewhere_opening"] = sum(
-            count(r) for r in runs
+            math.ceil(r.size / 2) for r in runs
             if id(r) in main_ids and abs(float(gx[r].mean()) - line_x) > 3 * spacing)
     out["_cracks"] = cracks
     return out
 
 
 def _line_opening(x0, y0, pairs, w, w_c, precrack, spacing) -> dict:
-    """Coverage of a zero-mass line by opened pairs across it (samples every Delta along the
-    line; a sample is covered if a pair crossing the line within Delta/2 of it along the line
-    opened), and whether the largest opening of the layer is one of the line's pairs."""
+    """Coverage of a zero-mass line by opened pairs across it (a sample every Delta, covered by an
+    opened pair crossing the line within Delta/2 along it), and whether the layer's largest opening
+    is one of the line's pairs."""
     (cx, cy), u, along, across, s_lo, s_hi = line_frame(x0, y0, precrack)
     ai, aj = across[pairs[:, 0]], across[pairs[:, 1]]
     s_mid = 0.5 * (along[pairs[:, 0]] + along[pairs[:, 1]])
     crossing = (np.sign(ai) != np.sign(aj)) & (np.minimum(np.abs(ai), np.abs(aj))
                                                <= 1.5 * spacing)
-    samples = np.arange(s_lo, s_hi + 1e-12, spacing)
     opened = crossing & (w > w_c)
     covered = [bool(np.any(opened & (np.abs(s_mid - s) <= 0.5 * spacing * (1 + 1e-9))))
-               for s in samples]
+               for s in np.arange(s_lo, s_hi + 1e-12, spacing)]
     on_line = bool(crossing[np.argmax(w)]) if len(w) else False
     return {"precrack_coverage_opening": float(np.mean(covered)) if covered else float("nan"),
             "precrack_largest_opening_on_line": on_line,
@@ -487,9 +451,8 @@ def row_opening_near(x0, y0, x, y, mass, spacing, centre_y, x_mid, half_width=No
 
 def opening_metrics(x0, y0, x, y, mass, plastic, precrack, spacing, w_c, centre_y, z0=None,
                     half=None) -> dict:
-    """The opening measure of a run (:func:`opening_cracks`) on its plane or mid-thickness
-    layer (``z0``), plus the main crack's opening at an earlier instant: ``half`` = (x, y) of
-    that snapshot (all particles) gives ``main_run_opening_half`` and the ratio
+    """The opening measure (:func:`opening_cracks`) on the plane or mid-thickness layer (``z0``);
+    ``half`` = (x, y) of an earlier snapshot gives ``main_run_opening_half`` and
     ``main_run_opening_growth`` = opening now / opening then, from the same gaps."""
     arrays = [np.asarray(a) for a in (x0, y0, x, y, mass, plastic, precrack, *(half or ()))]
     if z0 is not None:
@@ -505,6 +468,5 @@ def opening_metrics(x0, y0, x, y, mass, plastic, precrack, spacing, w_c, centre_
         out["main_run_opening_half"] = then
         out["main_run_opening_growth"] = now / then if then > 0 else float("inf")
     else:
-        out["main_run_opening_half"] = float("nan")
-        out["main_run_opening_growth"] = float("nan")
+        out.update(main_run_opening_half=float("nan"), main_run_opening_growth=float("nan"))
     return out

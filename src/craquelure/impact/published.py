@@ -1,11 +1,8 @@
 """The archived result of check 12 (``results/published/impact-check12/``): the campaign's two
-summaries (without and with CSCM's rate effects), which hold every run's measured quantities
-per case, the report rows decided from them, the judged-run pictures and the static-strength
-sensitivity, the provenance and cost of the runs, and a SHA-256 manifest.
-
-The summaries' ``cases`` are the per-run measurements :func:`craquelure.impact.check12.evaluate`
-decides from, so :func:`rebuild` decides check 12 again from the committed folder, without a
-simulation (target ``published``), and the rows it writes must equal the committed ones.
+summaries (without and with CSCM's rate effects, every run's measured quantities per case), the
+rows decided from them, pictures, provenance and cost of the runs, and a SHA-256 manifest.
+:func:`rebuild` decides check 12 again from the summaries' ``cases`` without a simulation (target
+``published``); the rows it writes must equal the committed ones.
 """
 
 from __future__ import annotations
@@ -27,8 +24,7 @@ SUMMARIES = ("summary.json", "summary_rate.json")
 
 
 def findings_from_cases(summary: dict, distribution: str) -> list[dict]:
-    """Check 12's findings decided again from a summary's per-run measurements (``cases``,
-    keys prefixed ``3D/`` for the 3D runs), dimension by dimension as the summary lists them."""
+    """Check 12's findings decided again from a summary's ``cases``, per dimension."""
     by_dim: dict[str, dict] = defaultdict(dict)
     for key, case in summary["cases"].items():
         dim = case["dim"]
@@ -69,11 +65,9 @@ def readme(summaries: Sequence[dict], rows: list, provenance: dict) -> str:
 
 def publish(summaries: Sequence[str | Path], figures: Sequence[str | Path],
             provenance: dict, dest: str | Path, extra: Sequence[str | Path] = ()) -> Path:
-    """Install check 12's archive in ``dest`` (replacing what is there): the summaries (named
-    as :data:`SUMMARIES`), their rows (``validation.json``), ``figures/``, the ``extra`` files
-    (e.g. the sensitivity's ``strength_sweep.json``), ``provenance.json``, ``README.md`` and
-    the manifest ``craquelure verify dest`` checks. The folder is written
-    beside ``dest`` and renamed into place, so a failure leaves the old one whole."""
+    """Install check 12's archive in ``dest``: the summaries, their rows (``validation.json``),
+    ``figures/``, ``extra`` files, ``provenance.json``, ``README.md`` and the manifest, written
+    beside ``dest`` and renamed into place (a failure leaves the old folder whole)."""
     from craquelure.archive import MANIFEST, manifest_text, sha256_file
 
     summaries = [Path(p) for p in summaries]
@@ -103,9 +97,7 @@ def publish(summaries: Sequence[str | Path], figures: Sequence[str | Path],
 
 
 def rebuild(folder: str | Path, out: str | Path) -> Path:
-    """Check 12 decided again from an archived folder: each summary's findings from its
-    per-run measurements, then the rows, written to ``out`` (``summary.json``,
-    ``summary_rate.json``, ``validation.json``)."""
+    """Check 12 decided again from an archived folder's summaries, written to ``out``."""
     folder, out = Path(folder), Path(out)
     provenance = json.loads((folder / "provenance.json").read_text())
     out.mkdir(parents=True, exist_ok=True)

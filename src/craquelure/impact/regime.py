@@ -1,19 +1,12 @@
-"""Regime map of the homogeneous disc: where does it split once and where does
-it fan out, over tensile strength f_t, contact stiffness (penalty scale a) and impact speed, in
-2D and in 3D?
+"""Regime map of the homogeneous disc: where does it split once and where does it fan out, over
+tensile strength f_t, contact stiffness (penalty scale a) and impact speed, in 2D and in 3D?
 
-Each run is a short homogeneous run: of the campaign's 2D scene (``impact.regime`` config
-section: f_t values, ``numerics.contact_a`` values, speeds, end time) or of the 3D disc
-(``impact.regime.three_d``: its scene, end time and grid). A run is classified by its main
-cracks counted by opening, as check 12 counts them
-(:func:`craquelure.impact.measure.opening_metrics`: runs of the centre row's neighbour pairs
-opened beyond w_c, separated by closed material), measured as for every run
-(:func:`craquelure.impact.analysis.run_metrics`; a 3D run on its mid-thickness layer):
-``splits once`` (one main crack), ``fans out`` (two or more) or ``no main crack``. The
-softening clusters' count (cracked clusters from the contact zone reaching >= 0.5 D,
-:func:`craquelure.impact.measure.revised_cracks`) is a secondary number. The class is also
-taken at each field snapshot before the end (from the snapshot's positions), so that a row
-says from when on its class no longer changed (is the run long enough to classify?).
+Each run is a short homogeneous run of the campaign's 2D scene (config ``impact.regime``) or of
+the 3D disc (``impact.regime.three_d``), measured as every run
+(:func:`craquelure.impact.analysis.run_metrics`) and classified by its main cracks counted by
+opening, as check 12 counts them: ``splits once`` (one), ``fans out`` (two or more) or ``no
+main crack``; the softening clusters' count is a secondary number. The class is also taken at
+each field snapshot before the end, so that a row says from when on it no longer changed.
 """
 
 from __future__ import annotations
@@ -33,8 +26,7 @@ def classify(n_main: int) -> str:
 
 
 def class_history(ds) -> list[dict]:
-    """Main cracks and class at each field snapshot (the last one is the end of the run), from
-    the snapshot's positions (openings), crack indicator, damage and plastic strain."""
+    """Main cracks and class at each field snapshot (the last one is the end of the run)."""
     from craquelure.impact.analysis import run_metrics
 
     out = []
@@ -54,8 +46,7 @@ def settled_from(history: list[dict]) -> float | None:
 
 
 def changed_at_end(row: dict) -> bool:
-    """Did the run's class change between its last snapshot and its end? (Then a longer run
-    might classify it differently.)"""
+    """Did the class change after the last snapshot (a longer run might classify it otherwise)?"""
     hist = row.get("class_history") or []
     return len(hist) >= 2 and hist[-2]["class"] != hist[-1]["class"]
 
@@ -108,11 +99,8 @@ def _limits(values: list[float], below: float, above: float) -> tuple[float, flo
 
 
 def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
-    """One row of panels per dimension (2D above 3D), one panel per contact scale a: f_t (x)
-    against impact speed (y), marker = class, number = main cracks by opening (the softening
-    clusters' count in brackets; * if the class changed after the last snapshot); a last panel
-    per row puts every run of the row on the strength-to-load axis (peak contact force over
-    the static splitting load, the runs' ``strength_to_load``). Returns the panels' titles."""
+    """One row of panels per dimension, one panel per contact scale a (f_t against speed, marker =
+    class, number = main cracks), a last one per row by :func:`ratio_panel`; returns the titles."""
     from craquelure.plotting import plt, save
 
     maps = regime_maps(rows)
@@ -140,13 +128,12 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
                             + ("*" if changed_at_end(r) else ""),
                             (r["f_t"] / 1e6, r["impact_velocity"]), textcoords="offset points",
                             xytext=(9, -3), fontsize=7)
-            ax.set_xlabel("tensile strength f_t [MPa]")
-            ax.set_ylabel("impact speed [m/s]")
             titles.append(f"{dim}, {'/'.join(info['scene'])}, {info['t_end'] * 1e6:.0f} us: "
                           f"penalty scale a = {a:.3g}")
             ax.set_title(titles[-1], fontsize=9)
-            ax.set_xlim(*xlim)  # the same axes in every panel: 2D and 3D compare point by point
-            ax.set_ylim(*ylim)
+            # the same axes in every panel: 2D and 3D compare point by point
+            ax.set(xlabel="tensile strength f_t [MPa]", ylabel="impact speed [m/s]", xlim=xlim,
+                   ylim=ylim)
             ax.legend(fontsize=7, loc="upper center", ncol=3)
         ratio_panel(row_axes[-1], [r for r in rows if r["dim"] == dim], style)
         titles.append(f"{dim}: class against peak contact force / static splitting load")
@@ -160,8 +147,7 @@ def figure_regime(rows: list[dict], out: Path, label: str) -> list[str]:
 
 
 def ratio_panel(ax, rows: list[dict], style: dict) -> None:
-    """Class of each run against its strength-to-load ratio (x, log) and speed (y); the
-    number is the main-crack count, the marker's edge the penalty scale a."""
+    """Class of each run against its strength-to-load ratio (x, log) and speed (y)."""
     rows = [r for r in rows if r.get("strength_to_load")]
     seen = set()
     for r in rows:
@@ -174,6 +160,6 @@ def ratio_panel(ax, rows: list[dict], style: dict) -> None:
     if rows:
         ax.set_xscale("log")
         ax.legend(fontsize=7, loc="upper left")
-    ax.set_xlabel("peak contact force / static splitting load pi D t f_t / 2")
-    ax.set_ylabel("impact speed [m/s]")
+    ax.set(xlabel="peak contact force / static splitting load pi D t f_t / 2",
+           ylabel="impact speed [m/s]")
 

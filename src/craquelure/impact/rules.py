@@ -26,13 +26,11 @@ def scene_problems(data: dict) -> list[str]:
             out.append("particles.shape: 'rings' is not allowed with domain.dim = 3; allowed "
                        "values: disc, rectangle")
     if lookup(data, "particles.shape") == "rings":
-        inner = lookup(data, "particles.rings.inner_radius")
-        outer = lookup(data, "particles.rings.outer_radius")
+        inner, outer = (lookup(data, f"particles.rings.{k}_radius") for k in ("inner", "outer"))
         if inner >= outer:
             out.append(f"particles.rings.inner_radius: {inner!r} must be below "
                        f"particles.rings.outer_radius = {outer!r}")
-    precrack = lookup(data, "particles.precrack")
-    layouts = lookup(data, "precracks")
+    precrack, layouts = lookup(data, "particles.precrack"), lookup(data, "precracks")
     if precrack != "none" and precrack not in layouts:
         out.append(f"particles.precrack: {precrack!r} is not allowed; allowed values: none, "
                    f"{', '.join(layouts)} (the layouts under precracks)")
@@ -57,15 +55,11 @@ def memory_estimate(data: dict) -> tuple[float, str]:
     three_d = lookup(data, "domain.dim") == 3
     if three_d:
         n *= int(lookup(data, "particles.thickness_cells"))
-    kappa = float(lookup(data, "numerics.kappa"))
-    hf = float(lookup(data, "numerics.h_factor"))
-    h_max = float(lookup(data, "numerics.h_max"))
-    skin = float(lookup(data, "numerics.neighbour_skin"))
+    kappa, hf, h_max, skin = (float(lookup(data, f"numerics.{key}"))
+                              for key in ("kappa", "h_factor", "h_max", "neighbour_skin"))
     support = 2 * kappa * hf * max(1.0, h_max) * (1 + skin)
     pairs = n * min(n, 4.0 / 3.0 * math.pi * support**3 if three_d else math.pi * support**2)
-    t_end = float(lookup(data, "outputs.t_end"))
-    series_dt = float(lookup(data, "outputs.series_dt"))
-    samples = t_end / series_dt + 2
+    samples = float(lookup(data, "outputs.t_end")) / float(lookup(data, "outputs.series_dt")) + 2
     snaps = len(lookup(data, "outputs.snapshot_times")) + 1
     need = n * 8 * 80 + pairs * 32 + samples * 17 * 8 * 2 + snaps * n * 5 * 8
     return need, f"{n:.3g} particles, {pairs:.3g} neighbour pairs, {samples:.3g} series samples"

@@ -1,6 +1,5 @@
-"""Helpers of the Snakemake file ``workflow/rules/impact.smk`` (kept here so the rule file holds
-rules only): the campaign's run paths from the ``impact`` config section, and the `--set`
-arguments of one variant from its wildcards."""
+"""Helpers of ``workflow/rules/impact.smk`` (so the rule file holds rules only): run paths from
+the ``impact`` config section, and the `--set` arguments of one run from its wildcards."""
 
 from __future__ import annotations
 
@@ -16,15 +15,13 @@ SOURCE_KAPPAS = (0.7, 1.0, 1.5)
 
 
 def case_key(masses: str, precrack: str, kappa) -> str:
-    """Key of one case in summary.json, check 12, the claims and the figures:
-    ``<masses>/<pre-crack>/kappa<k>`` (k as ``%g``)."""
+    """Key of one case in summary.json and check 12: ``<masses>/<pre-crack>/kappa<k:g>``."""
     return f"{masses}/{precrack}/kappa{float(kappa):g}"
 
 
 def case_folder(masses: str, precrack: str, kappa) -> str:
     """Folder of one case's runs, ``<masses>_<pre-crack>/kappa<k>`` (k as the config writes
-    it); called with ``"{masses}"``, ``"{precrack}"``, ``"{kappa}"``: the rules'
-    wildcard pattern."""
+    it; with ``"{masses}"`` etc.: the rules' wildcard pattern)."""
     return f"{masses}_{precrack}/kappa{kappa}"
 
 
@@ -33,10 +30,9 @@ def run_path(scene: str, masses: str, precrack: str, kappa: float, seed: int) ->
 
 
 def campaign_runs(section: dict) -> list[str]:
-    """The homogeneous disc (seed 0) for each kappa and pre-crack; the heterogeneous specimens
-    (seeds) for each kappa of ``heterogeneous_kappas`` (default: every kappa), and with
-    pre-cracks too if ``precrack_heterogeneous``. Pre-crack layouts run at the kappas of
-    ``precrack_kappas`` only (default: every kappa; check 12 judges them at kappa = 1)."""
+    """The homogeneous disc (seed 0) for each kappa and pre-crack; the heterogeneous seeds at
+    ``heterogeneous_kappas``, with pre-cracks if ``precrack_heterogeneous``. Pre-crack layouts
+    run at ``precrack_kappas`` only (both lists default to every kappa)."""
     scene = section["scene"]
     hetero_kappas = section.get("heterogeneous_kappas", section["kappas"])
     precrack_kappas = section.get("precrack_kappas", section["kappas"])
@@ -56,25 +52,19 @@ def campaign_runs(section: dict) -> list[str]:
 
 
 def three_d(section: dict) -> dict | None:
-    """The 3D campaign (config ``impact.three_d`` over the 2D section's keys: its own scene,
-    kappas, seeds, layouts, threads, memory and run time), or None when ``dims`` lacks 3."""
-    if 3 not in section.get("dims", [2]):
-        return None
-    return {**section, **section["three_d"]}
+    """The 3D campaign (``impact.three_d`` over the section's keys); None without 3D."""
+    return {**section, **section["three_d"]} if 3 in section.get("dims", [2]) else None
 
 
 def campaign_runs_3d(section: dict) -> list[str]:
     """The 3D campaign's runs (:func:`campaign_runs` of :func:`three_d`); none without 3D."""
-    cfg = three_d(section)
-    return campaign_runs(cfg) if cfg is not None else []
+    return campaign_runs(cfg) if (cfg := three_d(section)) is not None else []
 
 
 def with_rate_effects(section: dict) -> dict | None:
     """The campaign again with CSCM's rate effects (config ``impact.rate``: the 2D ``scene``
-    and ``three_d.scene`` to use instead, e.g. cscm_rate and cscm3d_rate; every other key is
-    the campaign's), or None without ``impact.rate``."""
-    rate = section.get("rate")
-    if not rate:
+    and ``three_d.scene`` to use instead), or None without ``impact.rate``."""
+    if not (rate := section.get("rate")):
         return None
     return {**section, "scene": rate["scene"],
             "three_d": {**section.get("three_d", {}), **rate.get("three_d", {})}}
@@ -87,8 +77,7 @@ def three_d_scenes(section: dict) -> set[str]:
 
 
 def three_d_overrides(section: dict):
-    """`--set` arguments of the 3D campaign's own scene overrides (``three_d.set``, e.g. a
-    shorter ``outputs.t_end`` in a small profile) for runs of its scenes; none otherwise."""
+    """`--set` arguments of ``three_d.set`` for runs of the 3D campaign's scenes."""
     cfg, scenes = three_d(section), three_d_scenes(section)
 
     def overrides(wildcards) -> str:
@@ -98,14 +87,16 @@ def three_d_overrides(section: dict):
     return overrides
 
 
-def run_resource(section: dict, key: str):
-    """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_run: the 3D campaign's
-    value for runs of its scenes, the 2D section's otherwise (a function of the wildcards)."""
-    cfg, scenes = three_d(section), three_d_scenes(section)
-
+def _scene_value(section: dict, key: str, cfg: dict | None, scenes: set[str]):
+    """A function of the wildcards: ``cfg[key]`` for runs of ``scenes``, else the section's."""
     def value(wildcards) -> int:
         return cfg[key] if wildcards.scene in scenes else section[key]
     return value
+
+
+def run_resource(section: dict, key: str):
+    """Per-run resources of rule impact_run: the 3D campaign's for runs of its scenes."""
+    return _scene_value(section, key, three_d(section), three_d_scenes(section))
 
 
 def figure_runs(section: dict) -> dict:
@@ -129,11 +120,9 @@ def figure_runs(section: dict) -> dict:
 
 
 def judged_runs(section: dict) -> dict:
-    """Runs drawn in the pictures of what check 12 judges: the 3D campaign's when ``dims`` has 3
-    (the source's configuration), the 2D one's otherwise. ``maps``: every seed of the
-    homogeneous and heterogeneous discs at each kappa; ``sequence``: one seed per variant
-    (homogeneous at each kappa, the first heterogeneous seed and each pre-crack layout at
-    kappa = 1); ``energy``: the homogeneous kappa = 1 disc."""
+    """Runs drawn in the pictures of what check 12 judges (the 3D campaign's when ``dims`` has
+    3, the 2D one's otherwise): ``maps`` every disc at each kappa, ``sequence`` one seed per
+    variant, ``energy`` the homogeneous kappa = 1 disc."""
     cfg = three_d(section) or section
     scene, hetero = cfg["scene"], cfg["distribution"]
     kappas, one = cfg["kappas"], 1.0 if 1.0 in cfg["kappas"] else cfg["kappas"][0]
@@ -156,8 +145,7 @@ FIXED_KEYS = {"as_epsilon": "numerics.as_epsilon", "crack_band_width": "material
 
 
 def variant_overrides(section: dict):
-    """`--set` arguments of one variant (masses, pre-crack, kappa) from its wildcards, and the
-    values ``fixed_across_kappa`` holds fixed across kappa (eps_AS, l_c), if any."""
+    """`--set` arguments of one variant from its wildcards and ``fixed_across_kappa``."""
     fixed = " ".join(f"--set {FIXED_KEYS[k]}={v!r}" for k, v in
                      sorted((section.get("fixed_across_kappa") or {}).items()))
 
@@ -184,9 +172,7 @@ def regime_runs(section: dict) -> list[str]:
 
 
 def regime_three_d(section: dict) -> dict | None:
-    """The 3D regime grid (config ``impact.regime.three_d`` over the 2D grid's keys: its own
-    scene, end time, threads, memory, run time and, if given, its own f_t, contact_a and
-    speeds), or None when it is absent or ``impact.dims`` lacks 3."""
+    """The 3D regime grid (``impact.regime.three_d`` over the 2D grid's keys); None without."""
     reg = section["regime"]
     if "three_d" not in reg or 3 not in section.get("dims", [2]):
         return None
@@ -199,25 +185,20 @@ def regime_three_d(section: dict) -> dict | None:
 
 def regime_runs_3d(section: dict) -> list[str]:
     """Runs of the 3D regime map (:func:`regime_three_d`), under its own scene; none without."""
-    cfg = regime_three_d(section)
-    return _grid_runs(cfg["scene"], cfg) if cfg is not None else []
-
-
-def _regime_grid(section: dict, scene: str) -> dict:
-    """The grid a regime run belongs to, by its scene: the 3D one for the 3D scene."""
-    cfg = regime_three_d(section)
-    return cfg if cfg is not None and scene == cfg["scene"] else section["regime"]
+    return _grid_runs(cfg["scene"], cfg) if (cfg := regime_three_d(section)) is not None else []
 
 
 REGIME_SNAPSHOTS = 5  # field snapshots at t_end/5, 2 t_end/5, ...: the class's history
 
 
 def regime_overrides(section: dict):
-    """`--set` arguments of one regime run from its wildcards (scene, f_t in MPa, a, speed);
-    the end time is its grid's (2D or 3D, by scene), with field snapshots at fifths of it so
-    that the map can say from when on each run's class stayed the same."""
+    """`--set` arguments of one regime run from its wildcards (scene, f_t in MPa, a, speed); its
+    grid's end time, with field snapshots at fifths of it (when did the class settle?)."""
+    cfg = regime_three_d(section)
+
     def overrides(wildcards) -> str:
-        t_end = _regime_grid(section, wildcards.scene)["t_end"]
+        grid = cfg if cfg is not None and wildcards.scene == cfg["scene"] else section["regime"]
+        t_end = grid["t_end"]
         snaps = ",".join(f"{k * t_end / REGIME_SNAPSHOTS:.6e}" for k in range(1, REGIME_SNAPSHOTS))
         return (f"--set material.f_t={wildcards.ft}e+6 "
                 f"--set numerics.contact_a={wildcards.a} "
@@ -229,23 +210,14 @@ def regime_overrides(section: dict):
 
 
 def regime_resource(section: dict, key: str):
-    """Per-run ``threads`` / ``mem_mb`` / ``runtime_run`` of rule impact_regime_run: the 3D
-    grid's value for runs of the 3D scene, the 2D section's otherwise (a function of the
-    wildcards)."""
+    """Per-run resources of rule impact_regime_run: the 3D grid's for its scene."""
     cfg = regime_three_d(section)
-
-    def value(wildcards) -> int:
-        return cfg[key] if cfg is not None and wildcards.scene == cfg["scene"] else section[key]
-    return value
+    return _scene_value(section, key, cfg, {cfg["scene"]} if cfg is not None else set())
 
 
 def strength_runs(section: dict) -> list[str]:
-    """Runs of the static-strength sensitivity (config ``impact.strength_sweep``: its 3D
-    ``scene``, ``kappa``, f_t ``factors`` and heterogeneous ``seeds``): the homogeneous disc
-    (seed 0) and each seed's ``distribution`` masses at each factor x the scene's f_t (G_F
-    unchanged); none without the section."""
-    sweep = section.get("strength_sweep")
-    if not sweep:
+    """Runs of the static-strength sensitivity (``impact.strength_sweep``); none without."""
+    if not (sweep := section.get("strength_sweep")):
         return []
     scene = sweep["scene"]
     return [f"results/impact/strength/{scene}/x{factor:g}/{masses}/seed{seed}.nc"
@@ -256,8 +228,7 @@ def strength_runs(section: dict) -> list[str]:
 
 
 def strength_overrides(section: dict):
-    """`--set` arguments of one strength-sweep run from its wildcards (scene, factor, masses):
-    f_t = factor x the scene's f_t, the sweep's kappa, no pre-crack."""
+    """`--set` arguments of one strength-sweep run: f_t = factor x the scene's f_t."""
     from craquelure.scene import load_scene
 
     sweep = section["strength_sweep"]

@@ -15,9 +15,7 @@ hydrostatic tension); Δ is the initial particle spacing ``particles.spacing`` (
 current spacing) and W(Δ; h_ij) uses the same kernel and h_ij as W(r_ij; h_ij), so the kernel
 normalisation cancels and f(Δ) = 1 for every h. The pair term is symmetric in i, j and multiplies
 ∇_iW_ij, so it is antisymmetric and conserves momentum. No separate time-step limit: the AS
-stiffness is ε_AS σ ≈ 1e-4 of the elastic one, and the growth of check 8 at ε_AS = 0.3 (below)
-persists at CFL 0.15 instead of 0.3 (stress noise ×2.5 over steps 500-2000), so it is no
-time-step instability.
+stiffness is ε_AS σ ≈ 1e-4 of the elastic one (the growth below persists at half the CFL).
 
 Decision on ε_AS (spec: 0.3, a [D] value; check 8, tests/impact/test_engine.py). In all-tensile
 states R_j follows the stress fluctuation, δR_j = −ε_AS δσ_j/ρ_j², which with n = 4 weakens only

@@ -29,11 +29,9 @@ elliptical cap between L and X; :math:`L(\kappa) = \max(\kappa, \kappa_0)` and
 
 and :math:`\kappa_0` (where cap and shear surface meet before hardening) follows from
 :math:`X_0 = \kappa_0 + R\,F_f(\kappa_0)`; as the cap hardens, L solves
-:math:`L + R F_f(L) = X` (monotone: :math:`1 + R F_f' > 0`). The LS-DYNA keyword takes the fitted
-number as the input ``X0`` of its cap card (``R, X0, W, D1, D2``; e.g. the public keyword
-generator MatCSCM.py of yurynovozhilov/MAT_CSCM_CONCRETE_NOVOZHILOV writes the fit
-8.769178e-3 f'c² − 0.073302306 f'c + 84.85 into ``X0``). Taking the fit as κ0 instead would put
-X0 = κ0 + R F_f(κ0) = 330.6 MPa: hydrostatic yield at p = 110 MPa instead of X0/3 = 32.7 MPa.
+:math:`L + R F_f(L) = X` (monotone: :math:`1 + R F_f' > 0`). The fit is LS-DYNA's input ``X0``
+of the cap card (as the public keyword generator MatCSCM.py of
+yurynovozhilov/MAT_CSCM_CONCRETE_NOVOZHILOV writes it), not κ0 (which would put X0 at 330.6 MPa).
 
 Lode-angle dependence (Willam-Warnke ellipse, in the role of CSCM's Rubin factor):
 :math:`\Re = 1` on TXC, :math:`\Re = e` on the extension meridian (TXE: uniaxial tension,
@@ -48,16 +46,14 @@ Return (per step): left of L (:math:`I_1' \le L`) the deviator returns radially 
 :math:`I_1'` and Lode angle, :math:`s \leftarrow r s`, :math:`r = \phi\,\Re F_f/\sqrt{J_2}`, zero
 dilatancy as in :mod:`.plasticity`. On the cap (:math:`I_1' > L`, outside) the stress returns to
 the closest point of the coupled surface in the elastic metric :math:`(\Delta I_1')^2/(9K) +
-(\Delta\sqrt{J_2})^2/G` (the metric in which associated flow is the closest-point projection),
-searched (bisection on the distance's slope) over :math:`I_1' \in [L, \min(I_1'^{tr}, X)]`
-(the return compacts, never dilates), the
-pressure drop being the compaction :math:`\Delta\varepsilon_v^p = (I_1'^{tr} - I_1')/(3K)` and
-the cap hardened by it within the same step (implicit: Illinois regula falsi on the scalar
-compaction, :func:`_compaction`); on the hydrostatic axis this is the cap's hardening law
-exactly. :math:`\Delta\bar\varepsilon_p = (1-r)\sqrt{J_2^{tr}}/(\sqrt3 G)`. :math:`\phi = 1 - D_c`
-carries the compressive damage (:mod:`.compressive_damage`). Plastic work density:
-:math:`r(1-r)J_2^{tr}/G + p\,\Delta\varepsilon_v^p` (:math:`p = I_1'/3`). As with the cone, the
-return acts only for :math:`I_1' > 0`: tension is the Rankine damage model's domain.
+(\Delta\sqrt{J_2})^2/G` (where associated flow is the closest-point projection) over
+:math:`I_1' \in [L, \min(I_1'^{tr}, X)]` (the return compacts, never dilates), the pressure drop
+being the compaction :math:`\Delta\varepsilon_v^p = (I_1'^{tr} - I_1')/(3K)` and the cap hardened
+by it within the same step (implicit, :func:`_compaction`); on the hydrostatic axis this is the
+cap's hardening law exactly. :math:`\Delta\bar\varepsilon_p = (1-r)\sqrt{J_2^{tr}}/(\sqrt3 G)`;
+:math:`\phi = 1 - D_c` carries the compressive damage (:mod:`.compressive_damage`). Plastic work
+density: :math:`r(1-r)J_2^{tr}/G + p\,\Delta\varepsilon_v^p` (:math:`p = I_1'/3`). As with the
+cone, the return acts only for :math:`I_1' > 0`: tension is the Rankine damage model's domain.
 
 Differences from CSCM [D]: the return is not CSCM's associated return with subincrementation:
 left of the cap's top the closest point never lies below the trial's I1' (no plastic dilatancy;
@@ -69,19 +65,17 @@ settles on the coupled surface with F_c < 1 (at 25 MPa confinement q = 112.6 MPa
 uncoupled meridian's √3 F_f = 137.4 MPa, −18 %), not on the meridian.
 
 Constants for :math:`f'_c` = 43.1 MPa, every one from Murray (2007)'s default-parameter fits
-("revision 1" polynomials in :math:`f'_c` [MPa], :func:`murray_fits`; the same polynomials as the
-REV_1 branch of the public MatCSCM.py above): :math:`\alpha = -0.003 f'^2_c + 0.3169747 f'_c +
-7.7047` = 15.79 MPa, :math:`\lambda` = 10.5 MPa, :math:`\beta` = 0.01929 1/MPa, :math:`\theta =
-1.3216\times10^{-5} f'^2_c + 2.3548\times10^{-3} f'_c + 0.2140058` = 0.3401, :math:`X_0 =
-8.769178\times10^{-3} f'^2_c - 0.073302306 f'_c + 84.85` = 97.98 MPa, R = 5, W = 0.05,
-D_1 = 2.5e-4 1/MPa, D_2 = 3.49e-7 1/MPa². Derived: κ0 = 20.21 MPa (F_f(κ0) = 15.55 MPa).
-No α shift: with the coupling, Murray's unshifted α gives the unconfined strength 42.53 MPa
-(1.3 % below f_c; the uncoupled meridian alone would give 49.5 MPa, which is what the former
-α shift of −0.99 MPa compensated). One constant is this project's [D] (:func:`surface_constants`):
-e = 0.596 puts the equibiaxial point (f_bc/√3 at I1' = 2 f_bc, f_bc = 1.16 f_c, Kupfer) on the
-uncoupled shear surface, where CSCM uses its own Rubin fits; that point lies at I1' = 100 MPa,
-beyond X0, so the equibiaxial strength is reached only as the cap hardens
-(tests/impact/effects/test_cap_plasticity.py measures it).
+("revision 1" polynomials in :math:`f'_c` [MPa], written out in :func:`murray_fits`; the same
+as the REV_1 branch of the public MatCSCM.py above): :math:`\alpha` = 15.79 MPa,
+:math:`\lambda` = 10.5 MPa, :math:`\beta` = 0.01929 1/MPa, :math:`\theta` = 0.3401,
+:math:`X_0` = 97.98 MPa, R = 5, W = 0.05, D_1 = 2.5e-4 1/MPa, D_2 = 3.49e-7 1/MPa². Derived:
+κ0 = 20.21 MPa (F_f(κ0) = 15.55 MPa).
+With the coupling, Murray's α gives the unconfined strength 42.53 MPa (1.3 % below f_c; the
+uncoupled meridian alone would give 49.5 MPa). One constant is this project's [D]
+(:func:`surface_constants`): e = 0.596 puts the equibiaxial point (f_bc/√3 at I1' = 2 f_bc,
+f_bc = 1.16 f_c, Kupfer) on the uncoupled shear surface, where CSCM uses its own Rubin fits;
+that point lies at I1' = 100 MPa, beyond X0, so the equibiaxial strength is reached only as the
+cap hardens (tests/impact/effects/test_cap_plasticity.py measures it).
 """
 
 import math
@@ -239,11 +233,9 @@ def _distance_slope(y, i1, sq, left, x, alpha, lam, beta, theta, scale, bulk, sh
 
 @njit(cache=True)
 def _closest(i1, sq, left, x, alpha, lam, beta, theta, scale, bulk, shear):
-    """I1' of the closest point of the coupled surface with the cap at X (left end L) to the
-    trial (I1', √J2) in the elastic metric (ΔI1')²/(9K) + (Δ√J2)²/G over [L, min(I1'_trial,
-    X)] (the return compacts, never dilates): the zero of the distance's slope, by bisection
-    (a root is found to round-off, where minimising the distance itself would stop at
-    √(machine epsilon))."""
+    """I1' of the closest point of the coupled surface (cap at X, left end L) to the trial (I1',
+    √J2) in the elastic metric over [L, min(I1'_trial, X)]: the zero of the distance's slope by
+    bisection (exact to round-off, unlike minimising the distance)."""
     hi = min(i1, x)
     if hi <= left or sq == 0.0:
         return hi
@@ -315,12 +307,7 @@ def cap_return(s, epsv, alpha, lam, beta, theta, e, x0, w, d1, d2, kappa0, r_cap
     """Returns (stress, d_eps_v^p, d_eps_p, plastic work density) for the trial stress ``s``,
     both (xx, yy, xy, zz, xz, yz) (xz = yz = 0 in 2D). ``x0``: the cap's initial I1 intercept
     X0, ``kappa0`` its κ0 (X0 = κ0 + R F_f(κ0)), ``r_cap`` R. ``strength`` = 1 - D_c scales
-    the shear surface.
-
-    Left of L (I1' <= L): radial return of the deviator at fixed I1'. On the cap (I1' > L and
-    outside): closest point on the coupled surface in the elastic metric ((ΔI1')²/(9K) +
-    (Δ√J2)²/G) over I1' in [L, min(I1'_trial, X)], with the cap hardened by the compaction
-    ΔI1' = 3K Δε_v^p of the same step (implicit, :func:`_compaction`)."""
+    the shear surface. The return of the module docstring."""
     sxx, syy, sxy, szz, sxz, syz = s
     i1 = -(sxx + syy + szz)
     if i1 <= 0.0:

@@ -15,7 +15,7 @@ compression, the plastic work after the peak is :math:`\varepsilon_{fc}\int\sigm
 G_{fc}/\ell_c`: the crushing band ℓ_c (the tensile crack band, :func:`.damage.crack_band_width`)
 dissipates G_fc per unit area. The curved meridian and CSCM's cap make σ_u fall faster than
 1 − D (the strength drops with the pressure), ∫σ_u dD = 0.30 f_c instead of 0.5 f_c, so
-ε_fc = 0.081 at ℓ_c = 8 mm (0.048 for a linear drop; 0.093 with the cap at κ0 = X0).
+ε_fc = 0.081 at ℓ_c = 8 mm (0.048 for a linear drop).
 :math:`D_{c,max}` = 0.99 keeps a residual shear strength
 of 1 % (a fluid-like crushed zone would let the contact particles interpenetrate).
 

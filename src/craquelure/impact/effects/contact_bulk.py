@@ -7,8 +7,7 @@ Base y = 0, frictionless; contact radius :math:`r_c = \Delta/2`; penetration
     k = a K A/\ell_{max}, \quad A = \Delta^{d-1}, \; \ell_{max} = \sqrt2\Delta
     \;\Rightarrow\; k = a K \Delta^{d-2}/\sqrt2,
 
-the same for every particle, zero masses included (2D: 1.0e9 N/m per metre at the spec's a = 0.1,
-6.3e10 at the project's ``auto``, below). Decision [D]: since
+the same for every particle, zero masses included. Decision [D]: since
 :math:`\sqrt{k/m_i}\Delta t` diverges as :math:`m_i \to 0`, particles with
 :math:`\sqrt{k/m_i}\Delta t > 0.5` (:math:`m_i < m_{kin} = 4k\Delta t^2`) use a kinematic
 constraint instead: after the drift :math:`y_i \leftarrow \max(y_i, r_c - 0.05\Delta)`, around
@@ -22,32 +21,24 @@ Penalty energy :math:`\tfrac12 k g_i^2` enters the energy balance.
 Decision on a (``numerics.contact_a: auto``; spec check 9,
 ``tests/impact/effects/test_contact_bulk.py``). The spec writes formula (2) with LS-DYNA's
 default scale factor 0.1, which in 2D gives every particle k = 1.0e9 N/m whatever Δ: a penalty
-layer as compliant as a concrete layer 30Δ thick. The penalty then governs the contact instead
-of the concrete: at 1 m/s the elastic disc bounces on its springs like a rigid mass, F_max ≈ v
-√(N_c k M) (20-cell disc: 2.44e5 N/m against 5.14e5 N/m with formula (1), which the disc's own
-compliance limits); at the paper's 15 m/s the disc sinks 0.14Δ into the base, the contact lasts
-970 instead of 750 µs and the crushed area is 18 % smaller than with any stiffer penalty (a = 1,
-6.3 and 25 agree within 2 %). A penalty stiffness is a numerical parameter whose results must
-not depend on it, so ``auto`` takes the stiffness of the concrete the spring stands for: the
-contact radius r_c = Δ/2 says the particle's material reaches Δ/2 below its centre, and that
-half cell (face A = Δ^{d−1}, height Δ/2, laterally confined by its neighbours) has the
-uniaxial-strain stiffness
+layer as compliant as a concrete layer 30Δ thick, which then governs the contact instead of the
+concrete (at 1 m/s the elastic disc bounces on its springs like a rigid mass; at the paper's
+15 m/s it sinks 0.14Δ into the base and the crushed area shrinks 18 %). A penalty stiffness is a
+numerical parameter whose results must not depend on it, so ``auto`` takes the stiffness of the
+concrete the spring stands for: the contact radius r_c = Δ/2 says the particle's material
+reaches Δ/2 below its centre, and that half cell (face A = Δ^{d−1}, height Δ/2, laterally
+confined by its neighbours) has the uniaxial-strain stiffness
 
 .. math::
     k = \frac{M A}{\Delta/2} = 2 M \Delta^{d-2}, \quad M = K + \tfrac43 G
     \;(\text{plane strain, 3D}), \quad M = E/(1-\nu^2) \;(\text{plane stress}),
 
 i.e. :math:`a = 2\sqrt2\,M/K` = 6.27 (plane strain; 6.07 plane stress) in the source's
-formula, k = 6.3e10 N/m per metre. With it the peak forces of (1) and (2) agree (check 9) and
-the 15 m/s results are those of the stiff limit. The price: :math:`m_{kin} = 4k\Delta t^2`
-rises from 0.003 m̄ to 0.2 m̄ (κ = 1; 0.5 m̄ at κ = 1.5, whose Δt is longer), so with uniform
-masses the lightest 10-25 % of the particles that reach the base take the kinematic constraint
-instead of a spring. The constraint is applied before and after each half kick: before, a
-particle still moving into the base is stopped (its kinetic energy is logged as removed);
-after, the base's reaction cancels the kick's pull into it, which does no work (the particle
-does not move), so nothing is logged, only the momentum. The balance then closes as well as
-with soft springs (0.2-0.3 % on the 1 ms uniform-mass runs). A number (e.g. the spec's 0.1)
-overrides ``auto``.
+formula, k = 6.3e10 N/m per metre: the peak forces of (1) and (2) agree (check 9) and the
+15 m/s results are those of the stiff limit. The price: :math:`m_{kin} = 4k\Delta t^2` rises
+from 0.003 m̄ to 0.2 m̄ (κ = 1; 0.5 m̄ at κ = 1.5), so with uniform masses the lightest
+10-25 % of the particles that reach the base take the kinematic constraint, whose energy
+balance closes as well as with soft springs. A number (e.g. the spec's 0.1) overrides ``auto``.
 """
 
 from numba import njit

@@ -15,19 +15,16 @@ r"""Rankine tensile damage, crack band with linear softening (spec section 2.3).
 principal values and axes come from Jacobi rotations (:func:`principal`).
 
 Crack-band width [D, calibrated by spec check 7, ``tests/impact/test_experiments.py``]: the spec's
-first guess ℓ_c = h(0) over-dissipates, because the band the SPH kernel actually produces is wider
-than h(0). Measured on the notched 200 mm bar pulled at 0.05 m/s: the crack between
-two particle columns softens *both* columns (the velocity gradient across the opening is shared
-by the particles on either side), so the band is never narrower than 2Δ; at κ = 0.7 and 1.0 it
-is exactly 2 columns, at κ = 1.5 (h(0) = 1.8Δ) 3 columns. With ℓ_c = h(0) = 1.2Δ the dissipation
-was 1.68 G_F (κ = 1); with ℓ_c = 2Δ it is 1.05 G_F at Δ = 4 mm and 1.04 G_F at Δ = 2 mm. Hence
+first guess ℓ_c = h(0) over-dissipates (1.68 G_F at κ = 1 on the notched 200 mm bar pulled at
+0.05 m/s): the crack between two particle columns softens *both* columns (the velocity gradient
+across the opening is shared by the particles on either side), so the band is never narrower
+than 2Δ (2 columns at κ = 0.7 and 1.0, 3 at κ = 1.5); with ℓ_c = 2Δ the bar dissipates 1.05 G_F
+at Δ = 4 mm and 1.04 G_F at Δ = 2 mm. Hence
 
 .. math::
     \ell_c = \max(2\Delta,\; \tfrac53 h(0))
 
 (2Δ for κ ≤ 1.2, 3Δ at κ = 1.5: 1.14 G_F). ``material.crack_band_width`` overrides it.
-The earlier 1.9 G_F of the unnotched bar came from two cracks localising at the gripped ends
-(the 2 %-pre-damaged middle column is 0.02 % weaker only), not from the band width alone.
 
 Cracks close in compression (a fully damaged point
 still carries compressive stress); unloading is secant because D_t depends on ε_max only.
@@ -79,9 +76,8 @@ def damage_from_strain(eps_max, eps_0, eps_f):
 @njit(inline="always", cache=True)
 def principal(s):
     """Eigen-decomposition of the symmetric tensor s = (xx, yy, xy, zz, xz, yz) by cyclic
-    Jacobi rotations: (eigenvalues (3,), eigenvectors as the columns of a (3, 3) array).
-    Converges quadratically; stops when the off-diagonal part is below 1e-30 of the norm²
-    (round-off), at most 20 sweeps."""
+    Jacobi rotations: (eigenvalues (3,), eigenvectors as the columns of a (3, 3) array); stops
+    when the off-diagonal part is below 1e-30 of the norm² (round-off), at most 20 sweeps."""
     a = np.empty((3, 3))
     a[0, 0], a[1, 1], a[2, 2] = s[0], s[1], s[3]
     a[0, 1] = a[1, 0] = s[2]

@@ -17,8 +17,8 @@ speed is then :math:`\sqrt{E/((1-\nu^2)\rho)}`. With :math:`w = \Omega_{xy}`:
 :math:`(\ldots)_{xy} = w(\sigma_{yy}-\sigma_{xx})`, zz unaffected by an in-plane spin. 3D, with
 the full spin :math:`(\Omega_{xy}, \Omega_{xz}, \Omega_{yz})`:
 :math:`(\Omega\sigma-\sigma\Omega)_{ab} = \sum_k \Omega_{ak}\sigma_{kb} - \sigma_{ak}\Omega_{kb}`,
-written out in :func:`jaumann_trial` (checked against the matrix product in the tests).
-The increment is explicit (forward Euler over the step with the mid-step gradient).
+written out in :func:`jaumann_trial`. The increment is explicit (forward Euler over the step
+with the mid-step gradient).
 """
 
 from numba import njit
@@ -53,12 +53,11 @@ def jaumann_trial(s, d, w, bulk, shear, dt):
 
 @njit(inline="always", cache=True)
 def secant_energy_density(nom, s, bulk, shear):
-    """Recoverable (secant) elastic energy density ½ σ : C⁻¹σ̃ of a damaged point (J/m³):
-    the nominal stress σ = ``nom`` times the effective elastic strain C⁻¹σ̃ of the effective
-    stress σ̃ = ``s`` (both (xx, yy, xy, zz, xz, yz)). Unloading is secant (to the origin), so
-    this is what the point gives back; with no damage it is p²/(2K) + s:s/(4G), a
-    fully open crack stores nothing across it, and a cracked point in compression keeps its
-    whole compressive energy (damage acts on the tensile principal stresses only)."""
+    """Recoverable (secant) elastic energy density ½ σ : C⁻¹σ̃ of a damaged point (J/m³): the
+    nominal stress σ = ``nom`` times the effective elastic strain C⁻¹σ̃ of the effective stress σ̃ =
+    ``s`` (both (xx, yy, xy, zz, xz, yz)). Unloading is secant, so this is what the point gives
+    back: p²/(2K) + s:s/(4G) undamaged, nothing across a fully open crack, the whole compressive
+    energy of a cracked point in compression."""
     pn = -(nom[0] + nom[1] + nom[3]) / 3.0
     ps = -(s[0] + s[1] + s[3]) / 3.0
     dev = ((nom[0] + pn) * (s[0] + ps) + (nom[1] + pn) * (s[1] + ps)

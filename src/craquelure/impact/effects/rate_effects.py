@@ -65,31 +65,21 @@ manual's factors are DIF_t = 1.47 / 2.55 / 6.14 and DIF_c = 1.22 / 1.36 / 1.60 a
 1 / 10 / 100 1/s; OVERT caps DIF_t above about 290 1/s, OVERC caps DIF_c above about
 165 1/s.
 
-Sources. The manual's chapter 2 ("Plastic update") defines the trial elastic stress (the
-stored stress plus an elastic increment) and the inviscid stress (its return to the yield
-surface, associated flow); its chapter 3 gives the default parameters for unconfined strengths
-of about 20-58 MPa (2,901-8,412 psi). The equations and units of the fits and of the factor,
-DIF = 1 + min(E ε̇ η, OVER)/f' with E, f' and OVER in MPa and ε̇ in 1/s, are those of the
-public re-implementation of CSCM's default parameters ``MatCSCM.py`` (repository
+Sources. The manual's chapter 2 ("Plastic update") defines the trial elastic stress and the
+inviscid stress (its return to the yield surface); its chapter 3 gives the default parameters
+for unconfined strengths of about 20-58 MPa. The units of the fits and of the factor (E, f' and
+OVER in MPa, ε̇ in 1/s) are those of the public re-implementation ``MatCSCM.py`` (repository
 yurynovozhilov/MAT_CSCM_CONCRETE_NOVOZHILOV, class ``StrainRate``), which agrees with every
-number above. Read in psi, OVERT's fit would give 5.1e5, and the η_0 fits, nearly constant
-over 20-58 MPa, would rise 50 % (keeping the DIF of stronger concrete lower, with E and f_t
-rising with f'_c, is the trend of the CEB data they fit).
+number above (read in psi, OVERT's fit would give 5.1e5).
 
 Three dimensions, decision [D]. The factors are the steady overstress of a 1D element (spring
-E, slider f', dashpot η); the blend reaches exactly E ε̇ η in that setting. A material point
-in uniaxial tension follows DIF_t (the Rankine damage of the principal stress flows along the
-stress). In unconfined compression the inviscid return flows at constant volume, so the
-steady overstress is η C:ε̇^p: 2G ε̇ η axially (E ε̇ η/(1 + ν)) and G ε̇ η of lateral tension,
-which the inviscid stress must balance by a lateral compression; its pressure-dependent
-strength rises, and the point exceeds DIF_c. This belongs to the update, not to the test
-(which holds the lateral stresses at zero): with CSCM's associated, dilatant return the lateral
-overstress is larger still. The manual's algorithm and fits are kept; unconfined compression
-is not forced onto the 1D factor (an overstress held along the stress direction would change
-the rate-independent limit of the model). Decision [D]: the manual's σ^P is the return of σ^T
-itself; here it is the rate-independent history, which keeps the damage and hardening of the
-inviscid model; without damage, an unconfined compression point peaks at the same stresses
-with either.
+E, slider f', dashpot η), which the blend reaches exactly; a material point in uniaxial tension
+follows DIF_t. In unconfined compression the inviscid return flows at constant volume, so the
+steady overstress η C:ε̇^p is 2G ε̇ η axially and G ε̇ η of lateral tension, which the inviscid
+stress balances by a lateral compression that raises its pressure-dependent strength: the point
+exceeds DIF_c. The manual's algorithm and fits are kept rather than forcing the 1D factor. The
+manual's σ^P is the return of σ^T itself; here [D] it is the rate-independent history, which
+keeps the damage and hardening of the inviscid model (without damage both peak alike).
 """
 
 import math
